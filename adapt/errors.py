@@ -1,0 +1,128 @@
+"""The one exception hierarchy of adapt.
+
+Every error a user can cause (a malformed rule file, scenario YAML, image, video
+or trace) is an :class:`AdaptError`.  The command line prints ``str(error)`` and
+exits with status 1; it never shows a Python traceback for bad input.
+
+Errors that point into a text file (rules, YAML) are :class:`LocatedError`\\ s:
+their message starts with ``file:line:col:`` and, when the source line is known,
+shows it with a caret under the column.
+
+This module imports only the standard library, so every layer (including the
+numpy-free engine) may use it.
+
+Examples
+--------
+>>> err = RuleSyntaxError("expected '-->'", file="a.soar", line=3, col=5,
+...                       source_line="sp {x (state <s>) (write hi)}")
+>>> print(err)
+a.soar:3:5: expected '-->'
+    sp {x (state <s>) (write hi)}
+        ^
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "AdaptError",
+    "LocatedError",
+    "RuleError",
+    "RuleSyntaxError",
+    "RuleSemanticError",
+    "EngineError",
+    "ScenarioError",
+    "ImaginationError",
+    "VisionError",
+    "ImageError",
+    "TraceError",
+]
+
+
+class AdaptError(Exception):
+    """Base class of every error adapt raises on purpose."""
+
+
+class LocatedError(AdaptError):
+    """An error at a position in a text file.
+
+    Parameters
+    ----------
+    message : str
+        What was wrong and what was expected.
+    file : str
+        The file's path as the user gave it (``"<string>"`` for text not read
+        from a file).
+    line, col : int
+        1-based line and column.
+    source_line : str, optional
+        The text of the offending line, shown with a caret under ``col``.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        file: str = "<string>",
+        line: int = 1,
+        col: int = 1,
+        source_line: str | None = None,
+    ) -> None:
+        self.message = message
+        self.file = file
+        self.line = line
+        self.col = col
+        self.source_line = source_line
+        super().__init__(self.__str__())
+
+    @property
+    def location(self) -> str:
+        """``file:line:col``."""
+        return f"{self.file}:{self.line}:{self.col}"
+
+    def __str__(self) -> str:
+        text = f"{self.location}: {self.message}"
+        if self.source_line is not None:
+            line = self.source_line.rstrip("\n").expandtabs(1)
+            text += f"\n    {line}\n    {' ' * max(self.col - 1, 0)}^"
+        return text
+
+
+class RuleError(LocatedError):
+    """A rule file could not be loaded; nothing from that file was loaded."""
+
+
+class RuleSyntaxError(RuleError):
+    """Rule text that does not follow the grammar of Soar's ``sp`` productions."""
+
+
+class RuleSemanticError(RuleError):
+    """Well-formed rule text that cannot mean anything (an unbound RHS variable,
+    a condition not linked to a state, two equality tests in one ``{}``, an
+    unknown RHS function, an unsupported Soar construct)."""
+
+
+class EngineError(AdaptError):
+    """The rule engine was used wrongly at run time (for example, writing to the
+    input-link outside the input phase)."""
+
+
+class ScenarioError(LocatedError):
+    """A scenario YAML file is malformed; the message names the key path
+    (``world.walls[2].height``) and what was expected."""
+
+
+class ImaginationError(AdaptError):
+    """The imagination (physics world, camera, renderer) was given an impossible
+    scene or camera."""
+
+
+class VisionError(AdaptError):
+    """Images could not be compared (sizes, dtypes or channels that do not fit)."""
+
+
+class ImageError(VisionError):
+    """An image or video file is missing, unreadable, or not an image."""
+
+
+class TraceError(AdaptError):
+    """A trace file is not a trace, or of another format version."""

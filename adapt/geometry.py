@@ -1,0 +1,288 @@
+"""Coordinate conventions, the pinhole camera and rotation helpers.
+
+The conventions (also in ``docs/conventions.md``):
+
+* **World**: metres, right-handed, the floor is the plane ``z = 0``, ``z`` up.
+  The physics is 2D in ``(x, y)`` on the floor.
+* **Camera frame**: OpenCV's: ``x`` right, ``y`` down, ``z`` forward (the
+  viewing direction).
+* **Pose**: ``R`` is the world-to-camera rotation and ``C`` the camera centre in
+  world coordinates, so a world point ``X`` has camera coordinates
+  ``R (X - C)`` and projects to the pixel ``p ~ K R (X - C)``.
+* **Pixels**: ``(x, y)`` with ``x`` to the right and ``y`` down, the centre of
+  the top-left pixel at ``(0, 0)``; NumPy images are indexed ``[row, col]`` =
+  ``[y, x]``.
+
+This module imports only NumPy.
+
+Examples
+--------
+>>> import numpy as np
+>>> cam = Camera.look_at(fx=500, fy=500, cx=320, cy=240, width=640, height=480,
+...                      position=(0.0, -2.0, 1.0), look_at=(0.0, 0.0, 1.0))
+>>> cam.project(np.array([[0.0, 0.0, 1.0]])).round(6).tolist()
+[[320.0, 240.0]]
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from adapt.errors import ImaginationError
+
+__all__ = [
+    "Camera",
+    "look_at_rotation",
+    "rotation_exp",
+    "rotation_log",
+    "nearest_rotation",
+    "WORLD_UP",
+]
+
+#: World up direction.
+WORLD_UP = np.array([0.0, 0.0, 1.0])
+
+FloatArray = NDArray[np.float64]
+
+
+def look_at_rotation(
+    position: ArrayLike, target: ArrayLike, roll_deg: float = 0.0
+) -> FloatArray:
+    """World-to-camera rotation for a camera at ``position`` looking at ``target``.
+
+    World up is ``+z``; the camera's ``y`` axis points as far down as it can.
+    ``roll_deg`` turns the camera about its viewing axis: a positive roll turns
+    the camera's ``x`` axis towards its ``y`` axis, so the scene appears rotated
+    counter-clockwise in the image.
+
+    Raises
+    ------
+    ImaginationError
+        If the target equals the position, or the camera looks straight up or
+        straight down (the image's up direction is then undefined).
+
+    Examples
+    --------
+    >>> look_at_rotation((0, 0, 1), (0, 1, 1)).round(6).tolist()
+    [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]
+    """
+    c = np.asarray(position, dtype=float).reshape(3)
+    t = np.asarray(target, dtype=float).reshape(3)
+    forward = t - c
+    norm = float(np.linalg.norm(forward))
+    if not np.isfinite(norm) or norm < 1e-12:
+        raise ImaginationError(
+            f"camera look_at {t.tolist()} equals its position {c.tolist()}: "
+            "expected a look_at point away from the camera"
+        )
+    z = forward / norm
+    if abs(float(z @ WORLD_UP)) > 1.0 - 1e-9:
+        raise ImaginationError(
+            "camera looks straight "
+            + ("up" if z[2] > 0 else "down")
+            + ": expected a viewing direction that is not parallel to world up (+z)"
+        )
+    x = np.cross(z, WORLD_UP)
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    r0 = np.stack([x, y, z])
+    a = np.deg2rad(roll_deg)
+    ca, sa = np.cos(a), np.sin(a)
+    roll = np.array([[ca, sa, 0.0], [-sa, ca, 0.0], [0.0, 0.0, 1.0]])
+    return roll @ r0
+
+
+def rotation_exp(rotvec: ArrayLike) -> FloatArray:
+    """Rotation matrix of an axis-angle vector (Rodrigues' formula).
+
+    Examples
+    --------
+    >>> rotation_exp([0, 0, np.pi / 2]).round(6).tolist()
+    [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    """
+    w = np.asarray(rotvec, dtype=float).reshape(3)
+    theta = float(np.linalg.norm(w))
+    if theta < 1e-15:
+        return np.eye(3)
+    k = w / theta
+    kx = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + np.sin(theta) * kx + (1.0 - np.cos(theta)) * (kx @ kx)
+
+
+def rotation_log(rotation: ArrayLike) -> FloatArray:
+    """Axis-angle vector of a rotation matrix (inverse of :func:`rotation_exp`).
+
+    Examples
+    --------
+    >>> v = np.array([0.1, -0.2, 0.3])
+    >>> bool(np.allclose(rotation_log(rotation_exp(v)), v))
+    True
+    """
+    r = np.asarray(rotation, dtype=float).reshape(3, 3)
+    cos = np.clip((np.trace(r) - 1.0) / 2.0, -1.0, 1.0)
+    theta = float(np.arccos(cos))
+    if theta < 1e-12:
+        return np.zeros(3)
+    if np.pi - theta < 1e-6:
+        # Near pi: the axis is the eigenvector of R with eigenvalue 1.
+        vals, vecs = np.linalg.eigh((r + r.T) / 2.0)
+        axis = vecs[:, int(np.argmax(vals))]
+        return axis * theta
+    w = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]])
+    return w * (theta / (2.0 * np.sin(theta)))
+
+
+def nearest_rotation(matrix: ArrayLike) -> FloatArray:
+    """The rotation nearest to ``matrix`` in the Frobenius norm (SVD projection).
+
+    The determinant is normalised first (``A / cbrt(det A)``) so that a
+    homography-derived matrix with an arbitrary scale maps to its rotation.
+
+    Examples
+    --------
+    >>> r = rotation_exp([0.0, 0.1, 0.0])
+    >>> bool(np.allclose(nearest_rotation(3.0 * r), r))
+    True
+    """
+    a = np.asarray(matrix, dtype=float).reshape(3, 3)
+    det = float(np.linalg.det(a))
+    if not np.isfinite(det) or abs(det) < 1e-300:
+        raise ValueError("matrix is singular: it has no nearest rotation")
+    a = a / np.cbrt(det)
+    u, _, vt = np.linalg.svd(a)
+    r = u @ vt
+    if np.linalg.det(r) < 0:
+        u[:, -1] *= -1
+        r = u @ vt
+    return r
+
+
+@dataclass(frozen=True, eq=False)
+class Camera:
+    """A pinhole camera without distortion.
+
+    Parameters
+    ----------
+    fx, fy, cx, cy : float
+        Intrinsics in pixels.
+    width, height : int
+        Image size in pixels.
+    rotation : (3, 3) ndarray
+        World-to-camera rotation ``R``.
+    position : (3,) ndarray
+        Camera centre ``C`` in world coordinates (metres).
+    """
+
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+    width: int
+    height: int
+    rotation: FloatArray = field(repr=False)
+    position: FloatArray
+
+    def __post_init__(self) -> None:
+        for name in ("fx", "fy"):
+            v = float(getattr(self, name))
+            if not np.isfinite(v) or v <= 0:
+                raise ImaginationError(f"camera {name} must be a positive number, got {v}")
+        if int(self.width) <= 0 or int(self.height) <= 0:
+            raise ImaginationError(
+                f"camera width and height must be positive, got {self.width}x{self.height}"
+            )
+        r = np.asarray(self.rotation, dtype=float).reshape(3, 3)
+        if not np.allclose(r @ r.T, np.eye(3), atol=1e-6) or np.linalg.det(r) < 0:
+            raise ImaginationError("camera rotation must be a proper rotation matrix")
+        object.__setattr__(self, "rotation", r)
+        object.__setattr__(self, "position", np.asarray(self.position, dtype=float).reshape(3))
+        object.__setattr__(self, "width", int(self.width))
+        object.__setattr__(self, "height", int(self.height))
+
+    @classmethod
+    def look_at(
+        cls,
+        *,
+        fx: float,
+        fy: float,
+        cx: float,
+        cy: float,
+        width: int,
+        height: int,
+        position: Sequence[float] | ArrayLike,
+        look_at: Sequence[float] | ArrayLike,
+        roll_deg: float = 0.0,
+    ) -> "Camera":
+        """A camera at ``position`` looking at ``look_at`` (world up ``+z``)."""
+        r = look_at_rotation(position, look_at, roll_deg)
+        return cls(fx, fy, cx, cy, width, height, r, np.asarray(position, dtype=float))
+
+    @property
+    def K(self) -> FloatArray:  # noqa: N802 - the conventional name
+        """The 3x3 intrinsic matrix."""
+        return np.array(
+            [[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]]
+        )
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """``(width, height)`` as OpenCV wants it."""
+        return (self.width, self.height)
+
+    @property
+    def projection(self) -> FloatArray:
+        """The 3x4 projection matrix ``K [R | -R C]``."""
+        return self.K @ np.hstack([self.rotation, (-self.rotation @ self.position)[:, None]])
+
+    def with_rotation(self, rotation: ArrayLike) -> "Camera":
+        """The same camera turned to a new world-to-camera rotation."""
+        return replace(self, rotation=np.asarray(rotation, dtype=float))
+
+    def with_pose(self, rotation: ArrayLike, position: ArrayLike) -> "Camera":
+        """The same intrinsics at a new pose."""
+        return replace(
+            self,
+            rotation=np.asarray(rotation, dtype=float),
+            position=np.asarray(position, dtype=float),
+        )
+
+    def to_camera(self, points: ArrayLike) -> FloatArray:
+        """World points ``(N, 3)`` in camera coordinates ``R (X - C)``."""
+        x = np.asarray(points, dtype=float).reshape(-1, 3)
+        return (x - self.position) @ self.rotation.T
+
+    def project(self, points: ArrayLike) -> FloatArray:
+        """Pixels ``(N, 2)`` of world points ``(N, 3)``; points behind the camera
+        give ``nan``."""
+        pc = self.to_camera(points)
+        z = pc[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = self.fx * pc[:, 0] / z + self.cx
+            v = self.fy * pc[:, 1] / z + self.cy
+        out = np.stack([u, v], axis=1)
+        out[z <= 1e-9] = np.nan
+        return out
+
+    def pixel_ray(self, pixels: ArrayLike) -> FloatArray:
+        """Unit viewing directions ``(N, 3)`` in world coordinates of pixels ``(N, 2)``."""
+        p = np.asarray(pixels, dtype=float).reshape(-1, 2)
+        d = np.stack(
+            [(p[:, 0] - self.cx) / self.fx, (p[:, 1] - self.cy) / self.fy, np.ones(len(p))],
+            axis=1,
+        )
+        w = d @ self.rotation  # R^T d for each row
+        return w / np.linalg.norm(w, axis=1, keepdims=True)
+
+    def pixel_to_plane(self, pixels: ArrayLike, z: float = 0.0) -> FloatArray:
+        """World points ``(N, 3)`` where the rays of ``pixels`` meet the plane at
+        height ``z`` (the floor by default); ``nan`` where the ray never does."""
+        rays = self.pixel_ray(pixels)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (z - self.position[2]) / rays[:, 2]
+        pts = self.position + rays * t[:, None]
+        pts[~(t > 0)] = np.nan
+        return pts
