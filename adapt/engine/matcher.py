@@ -1,0 +1,95 @@
+"""The matcher interface shared by the Rete and the brute-force matcher.
+
+A matcher holds productions and the current working memory and reports, on
+request, how the *match set* changed: which matches appeared and which
+disappeared since the last call.  The decision cycle feeds it the WME changes
+of one phase (after working memory has applied its buffered changes) and then
+asks for :meth:`Matcher.take_changes`.
+
+Semantics every implementation keeps:
+
+* A :class:`Match` is one consistent assignment of WMEs to a production's
+  positive conditions (in :attr:`Production.positive_conditions` order) such
+  that every negated condition and conjunctive negation has no match.
+* ``take_changes`` returns ``(added, removed)``, each in the order the changes
+  happened.  A match that appeared and disappeared again between two calls is
+  in neither list; so is one that disappeared and reappeared with the same WMEs.
+* ``add_production`` makes the production's matches against the current WMEs
+  pending additions; ``remove_production`` makes its current matches pending
+  removals.
+* ``matches()`` is the current match set (every production), in no particular
+  order.
+
+Examples
+--------
+Every matcher passes the same conformance checks (see ``tests/engine``); the
+brute-force :class:`adapt.engine.naive.NaiveMatcher` is the reference.
+"""
+
+from __future__ import annotations
+
+from typing import Iterable, Protocol
+
+from adapt.engine.production import Production, Variable
+from adapt.engine.symbols import Symbol
+from adapt.engine.wme import WME
+
+__all__ = ["Match", "Matcher", "MatchKey"]
+
+#: ``(production name, timetags of the matched WMEs)``: a match's identity.
+MatchKey = tuple[str, tuple[int, ...]]
+
+
+class Match:
+    """One match (token) of a production.
+
+    Two matches are equal when they are of the same production over the same
+    WMEs.
+    """
+
+    __slots__ = ("production", "wmes", "key", "_hash")
+
+    def __init__(self, production: Production, wmes: tuple[WME, ...]) -> None:
+        self.production = production
+        self.wmes = wmes
+        self.key: MatchKey = (production.name, tuple(w.timetag for w in wmes))
+        self._hash = hash(self.key)
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Match) and self.key == other.key
+
+    def bindings(self) -> dict[Variable, Symbol]:
+        """The values bound to the production's variables by this match."""
+        return self.production.bindings(self.wmes)
+
+    def __repr__(self) -> str:
+        return f"Match({self.production.name}, {list(self.key[1])})"
+
+
+class Matcher(Protocol):
+    """What the decision cycle needs from a matcher."""
+
+    def add_production(self, production: Production) -> None:
+        """Add a production; its current matches become pending additions.
+
+        A production with the name of one already present must first be
+        removed with :meth:`remove_production`.
+        """
+
+    def remove_production(self, name: str) -> None:
+        """Remove a production; its current matches become pending removals."""
+
+    def add_wme(self, wme: WME) -> None:
+        """Tell the matcher that ``wme`` is now in working memory."""
+
+    def remove_wme(self, wme: WME) -> None:
+        """Tell the matcher that ``wme`` (previously added) has left working memory."""
+
+    def take_changes(self) -> tuple[list[Match], list[Match]]:
+        """``(added, removed)`` matches since the previous call, in order."""
+
+    def matches(self) -> Iterable[Match]:
+        """The current match set."""

@@ -1,0 +1,166 @@
+"""The vocabulary of working memory: identifiers and constants.
+
+A WME's fields hold *symbols*:
+
+* :class:`Identifier` -- a letter and a number (``S1``, ``O3``, ``I2``), created
+  only by the agent (one object per identifier, compared by identity);
+* symbolic constants -- Python ``str``;
+* integer constants -- Python ``int`` (never ``bool``);
+* floating-point constants -- :class:`Float`, a ``float`` that is never equal to
+  an ``int`` (in Soar ``2`` and ``2.0`` are different values) and hashes apart
+  from it.
+
+Every float that enters working memory must be a :class:`Float`; use
+:func:`to_symbol` to turn a Python value into a symbol.
+
+Examples
+--------
+>>> Float(2.0) == 2, Float(2.0) == Float(2.0), len({2, Float(2.0)})
+(False, True, 2)
+>>> format_symbol(Float(1.5)), format_symbol(7), format_symbol("hi")
+('1.500000', '7', 'hi')
+"""
+
+from __future__ import annotations
+
+from typing import Union
+
+__all__ = [
+    "Identifier",
+    "Float",
+    "Symbol",
+    "Constant",
+    "is_number",
+    "to_symbol",
+    "format_symbol",
+    "symbol_sort_key",
+    "IdentifierFactory",
+]
+
+
+class Identifier:
+    """A working-memory identifier such as ``S1``.
+
+    Identifiers compare and hash by identity: an agent creates exactly one
+    object per identifier, through its :class:`IdentifierFactory`.
+    """
+
+    __slots__ = ("letter", "number", "name")
+
+    def __init__(self, letter: str, number: int) -> None:
+        self.letter = letter
+        self.number = number
+        self.name = f"{letter}{number}"
+
+    def __repr__(self) -> str:
+        return self.name
+
+    __str__ = __repr__
+
+    def sort_key(self) -> tuple[str, int]:
+        """``(letter, number)``, the order Soar prints identifiers in."""
+        return (self.letter, self.number)
+
+
+class Float(float):
+    """A floating-point constant: equal only to floats, hashed apart from ints.
+
+    Arithmetic on a :class:`Float` returns a plain ``float``; wrap results with
+    :func:`to_symbol` before they go into working memory.
+    """
+
+    __slots__ = ()
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, float) and float.__eq__(self, other)
+
+    def __ne__(self, other: object) -> bool:
+        return not self.__eq__(other)
+
+    def __hash__(self) -> int:
+        return hash((float(self), "f"))
+
+    def __repr__(self) -> str:
+        return f"Float({float.__repr__(self)})"
+
+
+#: A constant symbol.
+Constant = Union[str, int, Float]
+#: Anything a WME field can hold.
+Symbol = Union[Identifier, str, int, Float]
+
+
+def is_number(value: object) -> bool:
+    """True for int and float constants (not ``bool``, not strings)."""
+    t = type(value)
+    return t is int or t is Float or t is float
+
+
+def to_symbol(value: object) -> Symbol:
+    """Turn a Python value into a symbol (``float`` -> :class:`Float`).
+
+    Raises
+    ------
+    TypeError
+        For values that are not ``str``, ``int``, ``float`` or
+        :class:`Identifier` (``bool`` and ``None`` included).
+
+    Examples
+    --------
+    >>> to_symbol(0.5), to_symbol(3), to_symbol("a")
+    (Float(0.5), 3, 'a')
+    """
+    t = type(value)
+    if t is str or t is int or t is Float or t is Identifier:
+        return value  # type: ignore[return-value]
+    if t is float:
+        return Float(value)  # type: ignore[arg-type]
+    if isinstance(value, bool) or value is None:
+        raise TypeError(f"{value!r} is not a Soar symbol (expected a string, int or float)")
+    if isinstance(value, int):
+        return int(value)
+    if isinstance(value, float):
+        return Float(value)
+    if isinstance(value, str):
+        return str(value)
+    raise TypeError(f"{value!r} is not a Soar symbol (expected a string, int or float)")
+
+
+def format_symbol(value: Symbol) -> str:
+    """Text of a symbol as Soar's ``write`` prints it (floats as ``%f``)."""
+    if type(value) is Float or type(value) is float:
+        return "%f" % value
+    return str(value)
+
+
+def symbol_sort_key(value: Symbol) -> tuple[int, object, object]:
+    """A total order over symbols, for deterministic printing."""
+    if isinstance(value, Identifier):
+        return (3, value.letter, value.number)
+    if isinstance(value, str):
+        return (2, value, 0)
+    return (1, float(value), 0 if type(value) is int else 1)
+
+
+class IdentifierFactory:
+    """Creates identifiers with one counter per letter, as Soar does.
+
+    Examples
+    --------
+    >>> ids = IdentifierFactory()
+    >>> ids.new("S"), ids.new("I"), ids.new("s"), ids.new("<")
+    (S1, I1, S2, I2)
+    """
+
+    __slots__ = ("_counters",)
+
+    def __init__(self) -> None:
+        self._counters: dict[str, int] = {}
+
+    def new(self, hint: str) -> Identifier:
+        """A fresh identifier whose letter is the first letter of ``hint``
+        (upper-cased), or ``I`` when ``hint`` does not start with a letter."""
+        letter = hint[:1].upper() if hint[:1].isalpha() else "I"
+        n = self._counters.get(letter, 0) + 1
+        self._counters[letter] = n
+        return Identifier(letter, n)
