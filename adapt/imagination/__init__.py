@@ -1,0 +1,65 @@
+"""The imagination: a 2D physics world seen through a pinhole camera.
+
+* :mod:`~adapt.imagination.scene` - frozen records describing a scene
+  (:class:`SceneSpec`, :class:`Wall`, :class:`Obstacle`, :class:`Ball`,
+  :class:`Floor`, :class:`RobotSpec`);
+* :mod:`~adapt.imagination.world` - the pymunk :class:`World`, its
+  :class:`WorldState` snapshots and :class:`Contact` events;
+* :mod:`~adapt.imagination.render` - the :class:`Renderer` (BGR image and
+  label image through an :class:`adapt.geometry.Camera`);
+* :mod:`~adapt.imagination.predict` - rollouts, contact prediction, intercepts
+  and seeded ensembles.
+
+This package imports numpy, pymunk, OpenCV (for drawing), ``adapt.geometry``
+and ``adapt.errors`` only.
+"""
+
+from __future__ import annotations
+
+from adapt.imagination.render import (
+    LABEL_BALL,
+    LABEL_FLOOR,
+    LABEL_OBSTACLE,
+    LABEL_ROBOT,
+    LABEL_SKY,
+    LABEL_WALL,
+    Renderer,
+    RenderResult,
+    initial_state,
+    label_names,
+)
+from adapt.imagination.scene import (
+    Ball,
+    Floor,
+    Obstacle,
+    RobotSpec,
+    SceneSpec,
+    Wall,
+)
+from adapt.imagination.texture import Texture, load_texture
+from adapt.imagination.world import BodyState, Contact, World, WorldState
+
+__all__ = [
+    "Ball",
+    "Floor",
+    "Obstacle",
+    "RobotSpec",
+    "SceneSpec",
+    "Wall",
+    "World",
+    "WorldState",
+    "BodyState",
+    "Contact",
+    "Renderer",
+    "RenderResult",
+    "initial_state",
+    "label_names",
+    "Texture",
+    "load_texture",
+    "LABEL_SKY",
+    "LABEL_FLOOR",
+    "LABEL_WALL",
+    "LABEL_OBSTACLE",
+    "LABEL_BALL",
+    "LABEL_ROBOT",
+]

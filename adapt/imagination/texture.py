@@ -1,0 +1,96 @@
+"""Textures: images tiled over the floor, walls and obstacles.
+
+A texture reference is a path to an image file or ``"builtin:NAME"`` for one
+of the CC0 photographs bundled in ``adapt/data/textures`` (see the
+``LICENSE.md`` there).  :func:`load_texture` returns a :class:`Texture`: the
+image mirrored into a 2x2 tile (so wrapping it has no seams) and a mip pyramid
+of that tile, so distant surfaces do not shimmer.  Loaded textures are cached
+per reference.
+
+Examples
+--------
+>>> t = load_texture("builtin:brick")
+>>> t.size, len(t.levels) > 1, t.levels[0].shape
+((512, 512), True, (1024, 1024, 3))
+>>> load_texture("no/such/file.png")
+Traceback (most recent call last):
+...
+adapt.errors.ImageError: texture file 'no/such/file.png' is missing or not a readable image
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from pathlib import Path
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from adapt.errors import ImageError
+from adapt.imagination.scene import BUILTIN_TEXTURES
+
+__all__ = ["Texture", "load_texture", "texture_path", "TEXTURE_DIR"]
+
+#: Where the bundled textures live.
+TEXTURE_DIR = Path(__file__).resolve().parent.parent / "data" / "textures"
+
+#: Smallest mip level kept, in pixels.
+_MIN_LEVEL = 8
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Texture:
+    """A seamless (mirror-tiled) texture with its mip pyramid.
+
+    ``size`` is ``(width, height)`` in pixels of the original image; ``levels[k]``
+    is the 2x2 mirrored tile at ``1 / 2**k`` of full resolution, BGR uint8.
+    ``mean`` is the average BGR colour.
+    """
+
+    ref: str
+    size: tuple[int, int]
+    levels: tuple[NDArray[np.uint8], ...]
+    mean: tuple[float, float, float]
+
+
+def texture_path(ref: str) -> Path:
+    """The file of a texture reference.
+
+    Examples
+    --------
+    >>> texture_path("builtin:grass").name
+    'grass.png'
+    """
+    if ref.startswith("builtin:"):
+        name = ref[len("builtin:"):]
+        if name not in BUILTIN_TEXTURES:
+            raise ImageError(f"unknown builtin texture {ref!r}; expected one of {BUILTIN_TEXTURES}")
+        return TEXTURE_DIR / f"{name}.png"
+    return Path(ref)
+
+
+@functools.lru_cache(maxsize=32)
+def load_texture(ref: str) -> Texture:
+    """Load (once) and prepare a texture.
+
+    Raises
+    ------
+    ImageError
+        If the file is missing or not an image.
+    """
+    path = texture_path(ref)
+    image = cv2.imread(str(path), cv2.IMREAD_COLOR) if path.is_file() else None
+    if image is None or image.size == 0:
+        raise ImageError(f"texture file {str(path)!r} is missing or not a readable image")
+    h, w = image.shape[:2]
+    top = np.hstack([image, image[:, ::-1]])
+    tile = np.ascontiguousarray(np.vstack([top, top[::-1]]))
+    levels = [tile]
+    while min(levels[-1].shape[:2]) >= 2 * _MIN_LEVEL and len(levels) < 8:
+        levels.append(cv2.pyrDown(levels[-1]))
+    for level in levels:
+        level.setflags(write=False)
+    mean = tuple(float(c) for c in image.reshape(-1, 3).mean(axis=0))
+    return Texture(ref, (w, h), tuple(levels), (mean[0], mean[1], mean[2]))
