@@ -1,0 +1,25 @@
+"""Vision: the Match-Mediated Difference (MMD) and camera synchronisation.
+
+Arrays in, frozen result records out; no rules, no physics, no files except
+:func:`~adapt.vision.images.read_image` / :func:`~adapt.vision.images.write_image`.
+Every function takes ``real`` before ``synthetic`` and never modifies its inputs.
+
+Modules
+-------
+images             validation of image pairs, 8-bit/grey conversion, image files
+matching           synthetic -> real corner matches (GFTT + LK, SIFT re-acquisition)
+homography         H_e with USAC_MAGSAC / RANSAC, or an explicit "no alignment"
+mask               the MMD mask I_m (exact and fast sum of Gaussians)
+mmd                the MMD image I_d and MMDResult
+regions            difference regions, expected / unexpected
+camera_correction  eq. 3 as a fractional rotation; full pose from the floor's homography
+sync               the iterative camera loop against a render callback
+threads            OpenCV's thread count
+
+Threads: adapt never changes OpenCV's thread pool on import.  The command line
+and ``bench/mmd.py`` call :func:`~adapt.vision.threads.set_threads` with 2
+(measured faster than 1 at 640x480 on a 2-core machine); libraries embedding
+adapt decide for themselves.
+"""
+
+from __future__ import annotations

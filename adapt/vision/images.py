@@ -1,0 +1,224 @@
+"""Validation and normalisation of the images MMD compares, and image files.
+
+Every vision function takes ``real`` then ``synthetic``: NumPy arrays of shape
+``(H, W)`` (grey) or ``(H, W, 3)`` (BGR, OpenCV's channel order), of dtype
+``uint8``, ``uint16`` or floating point in ``[0, 1]``.  The two must have the
+same size, dtype and number of channels; anything else is a
+:class:`~adapt.errors.VisionError` that says what differs.  Working copies are
+8-bit (:func:`as_uint8`); inputs are never modified.
+
+Examples
+--------
+>>> import numpy as np
+>>> real = np.zeros((40, 60, 3), np.uint8)
+>>> check_pair(real, np.zeros((40, 60), np.uint8))
+Traceback (most recent call last):
+...
+adapt.errors.VisionError: real image is colour (40x60x3) but synthetic image is grey (40x60): convert one of them so both are colour or both grey
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from adapt.errors import ImageError, VisionError
+
+__all__ = [
+    "check_image",
+    "check_pair",
+    "as_uint8",
+    "to_grey",
+    "describe",
+    "read_image",
+    "write_image",
+]
+
+#: Smallest image side MMD accepts (the LK pyramid and the mask need some room).
+MIN_SIDE = 32
+
+_SUPPORTED_INTS = (np.uint8, np.uint16)
+
+
+def describe(image: NDArray) -> str:
+    """``"grey (HxW)"`` or ``"colour (HxWx3)"`` for messages.
+
+    Examples
+    --------
+    >>> describe(np.zeros((2, 3), np.uint8))
+    'grey (2x3)'
+    """
+    if image.ndim == 2:
+        return f"grey ({image.shape[0]}x{image.shape[1]})"
+    return "colour (" + "x".join(str(s) for s in image.shape) + ")"
+
+
+def check_image(image: object, name: str = "image") -> NDArray:
+    """Return ``image`` as an array after checking it is an image MMD can use.
+
+    Raises
+    ------
+    VisionError
+        If it is not a 2-D grey or 3-channel colour array of a supported dtype,
+        is smaller than ``MIN_SIDE`` pixels, or holds NaN/inf values.
+
+    Examples
+    --------
+    >>> check_image(np.zeros((40, 40, 4), np.uint8), "real")
+    Traceback (most recent call last):
+    ...
+    adapt.errors.VisionError: real image has 4 channels: expected grey (HxW) or BGR colour (HxWx3)
+    """
+    if not isinstance(image, np.ndarray):
+        raise VisionError(f"{name} image is a {type(image).__name__}, expected a NumPy array")
+    if image.ndim == 3 and image.shape[2] == 1:
+        image = image[:, :, 0]
+    if image.ndim == 3 and image.shape[2] != 3:
+        raise VisionError(
+            f"{name} image has {image.shape[2]} channels: expected grey (HxW) or BGR colour (HxWx3)"
+        )
+    if image.ndim not in (2, 3):
+        raise VisionError(f"{name} image has {image.ndim} dimensions: expected (HxW) or (HxWx3)")
+    if min(image.shape[:2]) < MIN_SIDE:
+        raise VisionError(
+            f"{name} image is {image.shape[1]}x{image.shape[0]} pixels: "
+            f"expected at least {MIN_SIDE} pixels on each side"
+        )
+    if image.dtype.type in _SUPPORTED_INTS:
+        return image
+    if np.issubdtype(image.dtype, np.floating):
+        if not np.isfinite(image).all():
+            raise VisionError(f"{name} image holds NaN or infinite values")
+        return image
+    raise VisionError(
+        f"{name} image has dtype {image.dtype}: expected uint8, uint16 or float in [0, 1]"
+    )
+
+
+def check_pair(real: object, synthetic: object) -> tuple[NDArray, NDArray]:
+    """Check ``real`` and ``synthetic`` separately and against each other.
+
+    Raises
+    ------
+    VisionError
+        If either is not a usable image, or they differ in size, dtype or
+        channels (the message names both).
+
+    Examples
+    --------
+    >>> check_pair(np.zeros((40, 40), np.uint8), np.zeros((40, 40), np.float32))
+    Traceback (most recent call last):
+    ...
+    adapt.errors.VisionError: real image has dtype uint8 but synthetic image has dtype float32: convert them to the same dtype
+    """
+    r = check_image(real, "real")
+    s = check_image(synthetic, "synthetic")
+    if (r.ndim == 3) != (s.ndim == 3):
+        raise VisionError(
+            f"real image is {describe(r)} but synthetic image is {describe(s)}: "
+            "convert one of them so both are colour or both grey"
+        )
+    if r.shape != s.shape:
+        raise VisionError(
+            f"real image is {r.shape[1]}x{r.shape[0]} but synthetic image is "
+            f"{s.shape[1]}x{s.shape[0]} pixels: render the synthetic view at the real camera's size"
+        )
+    if r.dtype != s.dtype:
+        raise VisionError(
+            f"real image has dtype {r.dtype} but synthetic image has dtype {s.dtype}: "
+            "convert them to the same dtype"
+        )
+    return r, s
+
+
+def as_uint8(image: NDArray) -> NDArray[np.uint8]:
+    """An 8-bit copy (or the array itself when it already is ``uint8``).
+
+    ``uint16`` is scaled by 1/257; floats are taken as ``[0, 1]`` and clipped.
+
+    Examples
+    --------
+    >>> as_uint8(np.array([[0.0, 0.5, 1.0]])).tolist()
+    [[0, 128, 255]]
+    """
+    if image.dtype == np.uint8:
+        return image
+    if image.dtype == np.uint16:
+        return ((image.astype(np.uint32) + 128) // 257).astype(np.uint8)
+    return np.clip(np.rint(image * 255.0), 0, 255).astype(np.uint8)
+
+
+def to_grey(image: NDArray) -> NDArray[np.uint8]:
+    """The 8-bit grey version of a grey or BGR image (never a view of the input
+    when a conversion happens).
+
+    Examples
+    --------
+    >>> to_grey(np.full((2, 2, 3), 100, np.uint8)).tolist()
+    [[100, 100], [100, 100]]
+    """
+    u8 = as_uint8(image)
+    if u8.ndim == 3:
+        return cv2.cvtColor(u8, cv2.COLOR_BGR2GRAY)
+    return u8
+
+
+def read_image(path: str | os.PathLike[str]) -> NDArray[np.uint8]:
+    """Read an image file as it is stored (grey stays grey, colour is BGR).
+
+    Raises
+    ------
+    ImageError
+        If the file is missing, is a directory, or cannot be decoded.
+
+    Examples
+    --------
+    >>> read_image("no/such/file.png")
+    Traceback (most recent call last):
+    ...
+    adapt.errors.ImageError: no/such/file.png: no such file
+    """
+    p = Path(path)
+    if not p.exists():
+        raise ImageError(f"{path}: no such file")
+    if p.is_dir():
+        raise ImageError(f"{path}: is a directory, expected an image file")
+    try:
+        data = np.fromfile(p, dtype=np.uint8)
+    except OSError as exc:
+        raise ImageError(f"{path}: cannot read ({exc.strerror or exc})") from exc
+    image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
+    if image is None:
+        raise ImageError(f"{path}: not an image OpenCV can decode (PNG, JPEG, ...)")
+    if image.ndim == 3 and image.shape[2] == 4:
+        image = cv2.cvtColor(image, cv2.COLOR_BGRA2BGR)
+    return image
+
+
+def write_image(path: str | os.PathLike[str], image: NDArray) -> Path:
+    """Write ``image`` atomically: encode in memory, write a temporary file
+    beside the target, then rename it over the target.
+
+    Raises
+    ------
+    ImageError
+        If the extension is not one OpenCV can encode or the directory is not
+        writable; no partial file is left behind.
+    """
+    p = Path(path)
+    ext = p.suffix or ".png"
+    ok, buf = cv2.imencode(ext, as_uint8(image))
+    if not ok:
+        raise ImageError(f"{path}: cannot encode an image as {ext!r}")
+    tmp = p.with_name(f".{p.name}.tmp{os.getpid()}")
+    try:
+        tmp.write_bytes(buf.tobytes())
+        os.replace(tmp, p)
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        raise ImageError(f"{path}: cannot write ({exc.strerror or exc})") from exc
+    return p

@@ -1,0 +1,241 @@
+"""The Match-Mediated Difference (MMD): what the imagination does not explain.
+
+:func:`mmd` compares a real image ``I_r`` with a synthetic (rendered) one
+``I_s`` of the same scene:
+
+1. corners of ``I_s`` are matched into ``I_r``
+   (:func:`~adapt.vision.matching.match`; SIFT re-acquisition when fewer than
+   :data:`REACQUIRE_INLIERS` tracked matches fit the homography);
+2. ``H_e`` maps synthetic pixels to real ones
+   (:func:`~adapt.vision.homography.estimate_homography`; below its minimum
+   inlier count the result says "no alignment" and every pixel is unknown);
+3. ``W = warp(I_s, H_e)`` is the synthetic image seen in the real frame;
+4. the mask ``I_m`` (:mod:`~adapt.vision.mask`) is the clipped sum of
+   Gaussians on the inlier matches' real positions, weighted by ``q(p)``;
+5. a per-channel gain and bias ``a_c W_c + b_c`` is fitted by least squares to
+   ``I_r`` over the pixels the matches explain (``I_m >= 0.5``), so a global
+   brightness or colour difference between renderer and camera is not a
+   difference;
+6. ``I_d = max_c |I_r,c - (a_c W_c + b_c)| * (1 - I_m)``, in grey levels
+   (0-255), and ``0`` at *unknown* pixels: those the warped synthetic image
+   does not cover (``MMDResult.known`` is False there).  Unknown is not
+   difference.
+
+The result is a frozen :class:`MMDResult`; :mod:`~adapt.vision.regions` turns
+``difference`` into regions.
+
+Examples
+--------
+>>> import numpy as np, cv2
+>>> from adapt.vision.homography import corner_error
+>>> rng = np.random.default_rng(0)
+>>> scene = cv2.GaussianBlur(rng.integers(0, 256, (240, 320), dtype=np.uint8), (0, 0), 1.5)
+>>> synthetic = scene[20:220, 20:300]
+>>> real = scene[22:222, 25:305]                       # the camera moved a little
+>>> real = cv2.convertScaleAbs(real, alpha=0.8, beta=30)  # and sees it dimmer
+>>> r = mmd(real, synthetic)
+>>> shift = np.array([[1, 0, -5.0], [0, 1, -2.0], [0, 0, 1]])   # synthetic -> real
+>>> r.aligned, corner_error(r.homography, shift, real.shape) < 0.3
+(True, True)
+>>> float(r.gain[0]).__round__(2), float(np.percentile(r.difference[r.known], 99)) < 10
+(0.8, True)
+>>> bool(r.known[:, -3:].any())                       # the uncovered strip
+False
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from adapt.vision.homography import MIN_INLIERS, Alignment, estimate_homography
+from adapt.vision.images import as_uint8, check_pair
+from adapt.vision.mask import SIGMA, exact_mask, fast_mask
+from adapt.vision.matching import Matches, PreparedImage, match_descriptors, prepare, track
+
+__all__ = ["MMDResult", "mmd", "REACQUIRE_INLIERS", "EXPLAINED"]
+
+#: Fewer tracked inliers than this: re-acquire with SIFT and keep the better fit.
+REACQUIRE_INLIERS = 40
+#: Mask level above which a pixel counts as explained (used for the gain/bias fit).
+EXPLAINED = 0.5
+#: Gain/bias fit uses every FIT_STEP-th pixel in each direction.
+FIT_STEP = 4
+#: Bounds of the fitted gain.
+GAIN_RANGE = (0.25, 4.0)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class MMDResult:
+    """The match-mediated difference of a real and a synthetic image.
+
+    Attributes
+    ----------
+    alignment : Alignment
+        ``H_e`` (synthetic -> real pixels) and its inliers, or "no alignment".
+    matches : Matches
+        The matches ``H_e`` was fitted to.
+    warped : ndarray
+        The synthetic image warped into the real frame (uint8, real's shape;
+        zeros where unknown).
+    mask : (H, W) float32 ndarray
+        ``I_m`` in [0, 1], in the real frame.
+    known : (H, W) bool ndarray
+        Pixels the warped synthetic image covers.
+    difference : (H, W) float32 ndarray
+        ``I_d`` in grey levels, 0 where unknown.
+    gain, bias : (C,) float64 ndarray
+        The per-channel fit ``real ~ gain * warped + bias``.
+    """
+
+    alignment: Alignment
+    matches: Matches = field(repr=False)
+    warped: NDArray[np.uint8] = field(repr=False)
+    mask: NDArray[np.float32] = field(repr=False)
+    known: NDArray[np.bool_] = field(repr=False)
+    difference: NDArray[np.float32] = field(repr=False)
+    gain: NDArray[np.float64]
+    bias: NDArray[np.float64]
+
+    @property
+    def aligned(self) -> bool:
+        """True when ``H_e`` was found."""
+        return self.alignment.aligned
+
+    @property
+    def homography(self) -> NDArray[np.float64] | None:
+        """``H_e`` mapping synthetic pixels to real ones, or None."""
+        return self.alignment.homography
+
+    @property
+    def n_inliers(self) -> int:
+        """Number of inlier matches."""
+        return self.alignment.n_inliers
+
+    @property
+    def inlier_points(self) -> NDArray[np.float64]:
+        """Real-frame positions of the inlier matches, ``(N, 2)``."""
+        return self.matches.real_points[self.alignment.inliers]
+
+
+def _align(
+    real: PreparedImage, synthetic: PreparedImage, min_inliers: int, reacquire: bool
+) -> tuple[Matches, Alignment]:
+    shape = real.image.shape
+    m = track(real, synthetic)
+    a = estimate_homography(m, shape, min_inliers=min_inliers)
+    if reacquire and a.n_inliers < REACQUIRE_INLIERS:
+        d = match_descriptors(real, synthetic)
+        b = estimate_homography(d, shape, min_inliers=min_inliers)
+        if b.aligned and (not a.aligned or b.n_inliers > a.n_inliers):
+            return d, b
+    return m, a
+
+
+def _known(h: NDArray, shape: tuple[int, int]) -> NDArray[np.bool_]:
+    """Real-frame pixels inside the warped synthetic image (1 px inset, so the
+    interpolated border is excluded)."""
+    hh, ww = shape
+    quad = np.array([[1, 1, 1], [ww - 2, 1, 1], [ww - 2, hh - 2, 1], [1, hh - 2, 1]], float)
+    p = quad @ h.T
+    p = p[:, :2] / p[:, 2:]
+    out = np.zeros((hh, ww), np.uint8)
+    cv2.fillConvexPoly(out, np.round(p * 16).astype(np.int32), 1, lineType=cv2.LINE_8, shift=4)
+    return out.astype(bool)
+
+
+def _fit_gain(
+    real: NDArray[np.uint8], warped: NDArray[np.uint8], use: NDArray[np.bool_]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    sel = use[::FIT_STEP, ::FIT_STEP]
+    r = real[::FIT_STEP, ::FIT_STEP][sel].astype(np.float64).reshape(-1, real.shape[2] if real.ndim == 3 else 1)
+    w = warped[::FIT_STEP, ::FIT_STEP][sel].astype(np.float64).reshape(r.shape)
+    c = r.shape[1]
+    gain = np.ones(c)
+    bias = np.zeros(c)
+    if len(r) < 16:
+        return gain, bias
+    mw, mr = w.mean(axis=0), r.mean(axis=0)
+    var = ((w - mw) ** 2).mean(axis=0)
+    cov = ((w - mw) * (r - mr)).mean(axis=0)
+    for k in range(c):
+        gain[k] = np.clip(cov[k] / var[k], *GAIN_RANGE) if var[k] > 1.0 else 1.0
+        bias[k] = mr[k] - gain[k] * mw[k]
+    return gain, bias
+
+
+def mmd(
+    real: NDArray | PreparedImage,
+    synthetic: NDArray | PreparedImage,
+    *,
+    sigma: float = SIGMA,
+    exact: bool = False,
+    reacquire: bool = True,
+    min_inliers: int = MIN_INLIERS,
+) -> MMDResult:
+    """Match-mediated difference of ``real`` and ``synthetic``.
+
+    Parameters
+    ----------
+    real, synthetic : ndarray or PreparedImage
+        Same size, dtype and channels (see :mod:`~adapt.vision.images`).  Pass a
+        :class:`~adapt.vision.matching.PreparedImage` to reuse a rendered
+        background's corners across frames.
+    sigma : float
+        Width of the mask's Gaussians, pixels.
+    exact : bool
+        Use :func:`~adapt.vision.mask.exact_mask` instead of the fast one.
+    reacquire : bool
+        Allow SIFT re-acquisition when tracking gives too few inliers.
+    min_inliers : int
+        Fewer inliers than this is "no alignment".
+
+    Raises
+    ------
+    VisionError
+        If the images cannot be compared.
+    """
+    r = real if isinstance(real, PreparedImage) else prepare(real, corners=False)
+    s = synthetic if isinstance(synthetic, PreparedImage) else prepare(synthetic)
+    check_pair(r.image, s.image)
+    real8 = as_uint8(r.image)
+    syn8 = as_uint8(s.image)
+    hh, ww = real8.shape[:2]
+    channels = real8.shape[2] if real8.ndim == 3 else 1
+    matches, alignment = _align(r, s, min_inliers, reacquire)
+    if not alignment.aligned:
+        zero = np.zeros((hh, ww), np.float32)
+        return MMDResult(
+            alignment, matches, np.zeros_like(real8), zero, np.zeros((hh, ww), bool),
+            zero.copy(), np.ones(channels), np.zeros(channels),
+        )
+    h = alignment.homography
+    assert h is not None
+    warped = cv2.warpPerspective(syn8, h, (ww, hh), flags=cv2.INTER_LINEAR,
+                                 borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    known = _known(h, (hh, ww))
+    pts = matches.real_points[alignment.inliers]
+    q = matches.quality[alignment.inliers]
+    mask = (exact_mask if exact else fast_mask)(pts, q, (hh, ww), sigma=sigma)
+    explained = known & (mask >= EXPLAINED)
+    gain, bias = _fit_gain(real8, warped, explained if np.count_nonzero(explained) > 0 else known)
+    if channels == 1:
+        adjusted = cv2.convertScaleAbs(warped, alpha=float(gain[0]), beta=float(bias[0]))
+        diff = cv2.absdiff(real8, adjusted)
+    else:
+        m = np.zeros((channels, channels + 1), np.float64)
+        m[np.arange(channels), np.arange(channels)] = gain
+        m[:, -1] = bias
+        adjusted = cv2.transform(warped, m)
+        per_channel = cv2.split(cv2.absdiff(real8, adjusted))
+        diff = per_channel[0]
+        for d in per_channel[1:]:
+            diff = cv2.max(diff, d)
+    difference = diff.astype(np.float32)
+    difference *= 1.0 - mask
+    difference[~known] = 0.0
+    warped[~known] = 0
+    return MMDResult(alignment, matches, warped, mask, known, difference, gain, bias)
