@@ -16,6 +16,16 @@ and ``adapt.errors`` only.
 
 from __future__ import annotations
 
+from adapt.imagination.predict import (
+    ENSEMBLE_PARAMETERS,
+    Ensemble,
+    Intercept,
+    Trajectory,
+    ensemble,
+    intercept,
+    rollout,
+    time_to_reach,
+)
 from adapt.imagination.render import (
     LABEL_BALL,
     LABEL_FLOOR,
@@ -51,6 +61,14 @@ __all__ = [
     "BodyState",
     "Contact",
     "Renderer",
+    "Trajectory",
+    "Intercept",
+    "Ensemble",
+    "ENSEMBLE_PARAMETERS",
+    "rollout",
+    "intercept",
+    "time_to_reach",
+    "ensemble",
     "RenderResult",
     "initial_state",
     "label_names",

@@ -390,11 +390,10 @@ class Renderer:
         nz = (lam - sc[2]) / r
         lc = self._light_cam
         lam_dot = np.maximum(nx * lc[0] + ny * lc[1] + nz * lc[2], 0.0)
-        view = -np.stack([np.broadcast_to(dx, a.shape), np.broadcast_to(dy, a.shape),
-                          np.ones_like(a)], axis=-1) / np.sqrt(a)[..., None]
-        half = view + lc
-        half /= np.linalg.norm(half, axis=-1, keepdims=True)
-        spec = np.maximum(nx * half[..., 0] + ny * half[..., 1] + nz * half[..., 2], 0.0) ** 40
+        # Blinn highlight with the view direction of the ball's centre.
+        half = lc - sc / math.sqrt(float(sc @ sc))
+        half /= np.linalg.norm(half)
+        spec = np.maximum(nx * half[0] + ny * half[1] + nz * half[2], 0.0) ** 40
         if ball.texture is None:
             base = np.broadcast_to(np.array(ball.color[::-1], float), (*a.shape, 3))
         else:
@@ -476,9 +475,33 @@ class Renderer:
         outline = tuple(
             (x + ca * px - sa * py, y + sa * px + ca * py) for px, py in robot.outline()
         )
+        if not self._prism_in_view(outline, robot.height):
+            return
         for face in _prism_faces(outline, robot.height, robot.color, None, 1.0,
                                  LABEL_ROBOT, self.camera.position):
             self._draw_face(face, image, labels, depth)
+
+    def _prism_in_view(self, polygon: Sequence[tuple[float, float]], height: float) -> bool:
+        """Whether any part of a prism can fall inside the image (conservative)."""
+        cam = self.camera
+        n = len(polygon)
+        base = np.array([[px, py, 0.0] for px, py in polygon])
+        top = base + np.array([0.0, 0.0, height])
+        pc = cam.to_camera(np.vstack([base, top]))
+        idx = np.arange(n)
+        ea = np.concatenate([idx, idx + n, idx])
+        eb = np.concatenate([(idx + 1) % n, (idx + 1) % n + n, idx + n])
+        za, zb = pc[ea, 2], pc[eb, 2]
+        cross = (za - NEAR) * (zb - NEAR) < 0
+        f = (NEAR - za[cross]) / (zb[cross] - za[cross])
+        cut = pc[ea[cross]] + f[:, None] * (pc[eb[cross]] - pc[ea[cross]])
+        pts = np.vstack([pc[pc[:, 2] >= NEAR], cut])
+        if len(pts) == 0:
+            return False
+        px = pts[:, 0] / pts[:, 2] * cam.fx + cam.cx
+        py = pts[:, 1] / pts[:, 2] * cam.fy + cam.cy
+        return bool(px.max() >= -1 and px.min() <= cam.width and py.max() >= -1
+                    and py.min() <= cam.height)
 
 
 def _prism_faces(

@@ -1,0 +1,389 @@
+"""Prediction: run forks of a world ahead of time.
+
+* :func:`rollout` - one fork run to a horizon, sampled at requested times, with
+  the contact events on the way;
+* :func:`intercept` / :func:`time_to_reach` - the earliest point of a
+  predicted path that a robot with a maximum speed and acceleration can reach
+  in time;
+* :func:`ensemble` - N seeded rollouts with ball parameters drawn from ranges,
+  summarised by mean and percentile positions.
+
+A fork never disturbs the world it was taken from.  Times are world times in
+seconds (a rollout from a world at ``t = 2`` samples ``2 + offset``).
+
+Examples
+--------
+>>> from adapt.imagination.scene import Ball, SceneSpec, Wall
+>>> from adapt.imagination.world import World
+>>> scene = SceneSpec(balls=(Ball("ball", radius=0.1, velocity=(1.0, 0.0)),),
+...                   walls=(Wall("east", (1.0, -1.0), (1.0, 1.0)),))
+>>> path = rollout(World(scene), 1.5, times=[0.5, 1.5])
+>>> path.positions.round(3).tolist()
+[[0.5, 0.0], [0.427, 0.0]]
+>>> [c.surface for c in path.contacts]
+['east']
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Mapping, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from adapt.errors import ImaginationError
+from adapt.imagination.scene import Ball, SceneSpec, Vec2
+from adapt.imagination.world import BodyState, Contact, World, WorldState
+
+__all__ = [
+    "Trajectory",
+    "Intercept",
+    "Ensemble",
+    "ENSEMBLE_PARAMETERS",
+    "rollout",
+    "time_to_reach",
+    "intercept",
+    "ensemble",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Parameters an ensemble may vary: ball properties, and ``speed_scale``
+#: (factor on the initial speed) and ``heading_deg`` (turn of the initial
+#: velocity, degrees counter-clockwise).
+ENSEMBLE_PARAMETERS = (
+    "restitution",
+    "friction",
+    "rolling_resistance",
+    "mass",
+    "speed_scale",
+    "heading_deg",
+)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Trajectory:
+    """A predicted path of one body.
+
+    Attributes
+    ----------
+    body : str
+        The body's name.
+    times : (T,) ndarray
+        World times of the samples (whole physics steps).
+    positions, velocities : (T, 2) ndarray
+        ``(x, y)`` and ``(vx, vy)`` at those times.
+    contacts : tuple of Contact
+        Contacts of any ball during the rollout, in time order.
+    """
+
+    body: str
+    times: FloatArray
+    positions: FloatArray
+    velocities: FloatArray
+    contacts: tuple[Contact, ...]
+
+    def position_at(self, time: float) -> Vec2:
+        """Position at ``time``, linearly interpolated between samples."""
+        x = float(np.interp(time, self.times, self.positions[:, 0]))
+        y = float(np.interp(time, self.times, self.positions[:, 1]))
+        return (x, y)
+
+
+@dataclass(frozen=True, slots=True)
+class Intercept:
+    """Where and when a robot can first meet a predicted path.
+
+    ``time`` is the world time of the meeting, ``position`` the ball's
+    position then, ``travel`` the distance the robot covers (its centre stops
+    ``reach`` short of the ball) and ``robot_time`` how long that takes it,
+    never more than ``time - start``.
+    """
+
+    time: float
+    position: Vec2
+    travel: float
+    robot_time: float
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Ensemble:
+    """Summary of N rollouts with drawn parameters.
+
+    Attributes
+    ----------
+    times : (T,) ndarray
+        Sample times.
+    samples : (N, T, 2) ndarray
+        Every member's position at every time.
+    mean : (T, 2) ndarray
+        Mean position.
+    percentiles : dict of float to (T, 2) ndarray
+        Per-axis percentiles of the position (``x`` and ``y`` separately).
+    parameters : dict of str to (N,) ndarray
+        The drawn values of each varied parameter.
+    """
+
+    body: str
+    times: FloatArray
+    samples: FloatArray
+    mean: FloatArray
+    percentiles: dict[float, FloatArray]
+    parameters: dict[str, FloatArray]
+
+    @property
+    def spread(self) -> FloatArray:
+        """RMS distance of the members from the mean at each time, ``(T,)``."""
+        d = self.samples - self.mean[None]
+        return np.sqrt((d**2).sum(axis=2).mean(axis=0))
+
+
+def _default_body(world: World, body: str | None) -> str:
+    if body is not None:
+        world.body(body)  # raises if unknown
+        return body
+    if not world.scene.balls:
+        raise ImaginationError("the scene has no ball to predict")
+    return world.scene.balls[0].name
+
+
+def _offsets(horizon: float, times: Sequence[float] | None, dt: float) -> list[int]:
+    if not math.isfinite(horizon) or horizon < 0:
+        raise ImaginationError(f"horizon: expected a non-negative number of seconds, got {horizon}")
+    total = int(round(horizon / dt))
+    if times is None:
+        return list(range(total + 1))
+    steps = []
+    for t in times:
+        if not 0 <= t <= horizon + 1e-12:
+            raise ImaginationError(f"sample time {t} is outside [0, {horizon}] (seconds ahead)")
+        steps.append(int(round(t / dt)))
+    return sorted(set(steps))
+
+
+def rollout(
+    world: World,
+    horizon: float,
+    *,
+    times: Sequence[float] | None = None,
+    body: str | None = None,
+    state: WorldState | None = None,
+) -> Trajectory:
+    """Run a fork of ``world`` for ``horizon`` seconds.
+
+    Parameters
+    ----------
+    world : World
+        Left untouched.
+    horizon : float
+        Seconds ahead.
+    times : sequence of float, optional
+        Offsets (seconds ahead, ``0..horizon``) to sample; default every step.
+        Each is rounded to a whole step.
+    body : str, optional
+        Which body to follow; default the first ball.
+    state : WorldState, optional
+        Start from this state instead of the world's current one.
+    """
+    name = _default_body(world, body)
+    fork = world.fork(state)
+    steps = _offsets(horizon, times, fork.dt)
+    b = fork.body(name)
+    out_t = np.empty(len(steps))
+    out_p = np.empty((len(steps), 2))
+    out_v = np.empty((len(steps), 2))
+    done = 0
+    for i, k in enumerate(steps):
+        if k > done:
+            fork.step(k - done)
+            done = k
+        out_t[i] = fork.time
+        p, v = b.position, b.velocity
+        out_p[i] = (p[0], p[1])
+        out_v[i] = (v[0], v[1])
+    total = int(round(horizon / fork.dt))
+    if total > done:
+        fork.step(total - done)  # contacts up to the horizon even past the last sample
+    return Trajectory(name, out_t, out_p, out_v, tuple(fork.contacts))
+
+
+def time_to_reach(distance: float, max_speed: float, max_accel: float) -> float:
+    """Shortest time to cover ``distance`` from rest with bounded speed and acceleration.
+
+    The robot accelerates at ``max_accel`` up to ``max_speed`` and cruises; it
+    need not stop at the end.
+
+    Examples
+    --------
+    >>> time_to_reach(1.0, max_speed=10.0, max_accel=2.0)  # sqrt(2 d / a)
+    1.0
+    >>> time_to_reach(3.0, max_speed=1.0, max_accel=2.0)   # d/v + v/(2a)
+    3.25
+    """
+    if distance <= 0:
+        return 0.0
+    ramp = max_speed * max_speed / (2.0 * max_accel)
+    if distance <= ramp:
+        return math.sqrt(2.0 * distance / max_accel)
+    return distance / max_speed + max_speed / (2.0 * max_accel)
+
+
+def intercept(
+    trajectory: Trajectory,
+    robot_position: Sequence[float],
+    max_speed: float,
+    max_accel: float,
+    *,
+    reach: float = 0.0,
+    start: float | None = None,
+) -> Intercept | None:
+    """The earliest point of ``trajectory`` a robot starting at rest can reach in time.
+
+    The robot starts at ``start`` (default the trajectory's first time); it
+    meets the ball when its centre is within ``reach`` of the ball's centre
+    (for example the sum of the two radii).  Between samples the path is
+    linear and the meeting time is refined by bisection.  Returns ``None`` if
+    the robot cannot make it within the trajectory.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 4.0, 41)
+    >>> path = Trajectory("ball", t, np.stack([t, np.full_like(t, 2.0)], 1),
+    ...                   np.tile([1.0, 0.0], (41, 1)), ())
+    >>> hit = intercept(path, (3.0, 0.0), max_speed=2.0, max_accel=4.0)
+    >>> round(hit.time, 3), [round(c, 3) for c in hit.position]
+    (1.5, [1.5, 2.0])
+    """
+    if max_speed <= 0 or max_accel <= 0:
+        raise ImaginationError("intercept: max_speed and max_accel must be positive")
+    t0 = float(trajectory.times[0]) if start is None else float(start)
+    rx, ry = float(robot_position[0]), float(robot_position[1])
+
+    def slack(time: float, pos: Sequence[float]) -> float:
+        d = max(0.0, math.hypot(pos[0] - rx, pos[1] - ry) - reach)
+        return (time - t0) - time_to_reach(d, max_speed, max_accel)
+
+    times, pos = trajectory.times, trajectory.positions
+    prev: int | None = None
+    for k in range(len(times)):
+        if times[k] < t0:
+            continue
+        if slack(float(times[k]), pos[k]) >= 0:
+            lo_t, hi_t = (float(times[prev]), float(times[k])) if prev is not None else (
+                float(times[k]), float(times[k]))
+            for _ in range(40):
+                if hi_t - lo_t < 1e-9:
+                    break
+                mid = 0.5 * (lo_t + hi_t)
+                if slack(mid, trajectory.position_at(mid)) >= 0:
+                    hi_t = mid
+                else:
+                    lo_t = mid
+            p = trajectory.position_at(hi_t)
+            travel = max(0.0, math.hypot(p[0] - rx, p[1] - ry) - reach)
+            return Intercept(hi_t, p, travel, time_to_reach(travel, max_speed, max_accel))
+        prev = k
+    return None
+
+
+def ensemble(
+    world: World,
+    horizon: float,
+    ranges: Mapping[str, tuple[float, float]],
+    *,
+    n: int = 100,
+    times: Sequence[float] | None = None,
+    body: str | None = None,
+    percentiles: Sequence[float] = (5.0, 50.0, 95.0),
+    seed: int | np.random.Generator | None = None,
+    state: WorldState | None = None,
+) -> Ensemble:
+    """``n`` rollouts of forks of ``world`` with parameters drawn uniformly from ``ranges``.
+
+    Parameters
+    ----------
+    ranges : mapping of str to (low, high)
+        Parameters of the followed ball to vary (see
+        :data:`ENSEMBLE_PARAMETERS`); others keep the scene's values.
+    times : sequence of float, optional
+        Offsets to sample (default: 21 evenly spaced from 0 to ``horizon``).
+    seed : int or Generator, optional
+        Default ``world.seed``.  The same seed gives the same ensemble.
+
+    Examples
+    --------
+    >>> from adapt.imagination.scene import Ball, SceneSpec
+    >>> w = World(SceneSpec(balls=(Ball("b", velocity=(1.0, 0.0)),)))
+    >>> e = ensemble(w, 1.0, {"speed_scale": (0.5, 1.5)}, n=50, times=[1.0], seed=1)
+    >>> bool(abs(e.mean[-1, 0] - 1.0) < 0.1), bool(e.percentiles[95.0][-1, 0] > 1.3)
+    (True, True)
+    """
+    name = _default_body(world, body)
+    if n < 1:
+        raise ImaginationError(f"ensemble size must be at least 1, got {n}")
+    for key, (lo, hi) in ranges.items():
+        if key not in ENSEMBLE_PARAMETERS:
+            raise ImaginationError(
+                f"cannot vary {key!r}; expected one of {', '.join(ENSEMBLE_PARAMETERS)}"
+            )
+        if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
+            raise ImaginationError(f"{key}: expected a range low <= high, got ({lo}, {hi})")
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(
+        world.seed if seed is None else seed
+    )
+    if times is None:
+        times = list(np.linspace(0.0, horizon, 21))
+    steps = _offsets(horizon, times, world.dt)
+    start = world.snapshot() if state is None else state
+    scene = world.scene
+    base_ball = scene.ball(name) if any(b.name == name for b in scene.balls) else None
+    if base_ball is None:
+        raise ImaginationError(f"{name!r} is not a ball; ensembles vary ball parameters")
+    drawn = {key: rng.uniform(lo, hi, size=n) for key, (lo, hi) in ranges.items()}
+    samples = np.empty((n, len(steps), 2))
+    out_t = np.empty(len(steps))
+    for m in range(n):
+        member_scene, member_state = _member(scene, base_ball, start, name,
+                                             {k: float(v[m]) for k, v in drawn.items()})
+        fork = World(member_scene, dt=world.dt, seed=world.seed, state=member_state,
+                     record_contacts=False)
+        b = fork.body(name)
+        done = 0
+        for i, k in enumerate(steps):
+            if k > done:
+                fork.step(k - done)
+                done = k
+            p = b.position
+            samples[m, i] = (p[0], p[1])
+            out_t[i] = fork.time
+    pct = {float(q): np.percentile(samples, q, axis=0) for q in percentiles}
+    return Ensemble(name, out_t, samples, samples.mean(axis=0), pct, drawn)
+
+
+def _member(
+    scene: SceneSpec, ball: Ball, state: WorldState, name: str, values: dict[str, float]
+) -> tuple[SceneSpec, WorldState]:
+    changes = {k: v for k, v in values.items() if k in ("restitution", "friction",
+                                                         "rolling_resistance", "mass")}
+    member_scene = scene
+    if changes:
+        new_ball = replace(ball, **changes)
+        member_scene = replace(
+            scene, balls=tuple(new_ball if b.name == name else b for b in scene.balls)
+        )
+    scale = values.get("speed_scale", 1.0)
+    turn = math.radians(values.get("heading_deg", 0.0))
+    if scale == 1.0 and turn == 0.0:
+        return member_scene, state
+    bodies = []
+    for b in state.bodies:
+        if b.name == name:
+            c, s = math.cos(turn), math.sin(turn)
+            vx, vy = b.velocity
+            b = BodyState(b.name, b.position,
+                          (scale * (c * vx - s * vy), scale * (s * vx + c * vy)),
+                          b.angle, b.angular_velocity)
+        bodies.append(b)
+    return member_scene, replace(state, bodies=tuple(bodies))
