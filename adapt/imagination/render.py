@@ -431,9 +431,12 @@ class Renderer:
     ) -> None:
         cam = self.camera
         r = ball.radius
-        reach = 1.6 * r
+        # A soft dark ellipse where the sphere's centre casts its shadow along the light.
+        sx = position[0] - LIGHT[0] / LIGHT[2] * r
+        sy = position[1] - LIGHT[1] / LIGHT[2] * r
+        reach = 2.5 * r
         ring = np.array(
-            [[position[0] + reach * math.cos(a), position[1] + reach * math.sin(a), 0.0]
+            [[sx + reach * math.cos(a), sy + reach * math.sin(a), 0.0]
              for a in np.linspace(0, 2 * math.pi, 12, endpoint=False)]
         )
         pc = cam.to_camera(ring)
@@ -452,11 +455,11 @@ class Renderer:
         wz = rt[2, 0] * dx + rt[2, 1] * dy + rt[2, 2]
         with np.errstate(divide="ignore", invalid="ignore"):
             lam = -cam.position[2] / wz
-        fx_ = cam.position[0] + lam * (rt[0, 0] * dx + rt[0, 1] * dy + rt[0, 2]) - position[0]
-        fy_ = cam.position[1] + lam * (rt[1, 0] * dx + rt[1, 1] * dy + rt[1, 2]) - position[1]
-        d2 = (fx_ * fx_ + fy_ * fy_) / (0.75 * r) ** 2
-        dark = 1.0 - 0.55 * np.exp(-d2)
-        floor = (bg_labels[y0:y1, x0:x1] == LABEL_FLOOR) & (lam > 0) & (d2 < 9.0)
+        fx_ = cam.position[0] + lam * (rt[0, 0] * dx + rt[0, 1] * dy + rt[0, 2]) - sx
+        fy_ = cam.position[1] + lam * (rt[1, 0] * dx + rt[1, 1] * dy + rt[1, 2]) - sy
+        d2 = (fx_ * fx_ + fy_ * fy_) / r**2
+        dark = 1.0 - 0.6 * np.exp(-d2)
+        floor = (bg_labels[y0:y1, x0:x1] == LABEL_FLOOR) & (lam > 0) & (d2 < 6.0)
         if not floor.any():
             return
         view = image[y0:y1, x0:x1]

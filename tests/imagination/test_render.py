@@ -1,0 +1,157 @@
+"""The rasterizer: projection, ball centroid, labels, occlusion, caching."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from adapt.errors import ImageError
+from adapt.geometry import Camera
+from adapt.imagination import (
+    LABEL_BALL,
+    LABEL_FLOOR,
+    LABEL_OBSTACLE,
+    LABEL_ROBOT,
+    LABEL_SKY,
+    LABEL_WALL,
+    Ball,
+    BodyState,
+    Floor,
+    Obstacle,
+    Renderer,
+    RobotSpec,
+    SceneSpec,
+    Wall,
+    World,
+    WorldState,
+    label_names,
+)
+from adapt.scenario import Scenario
+
+
+def camera(**kw: object) -> Camera:
+    args: dict[str, object] = dict(fx=400, fy=400, cx=159.5, cy=119.5, width=320, height=240,
+                                   position=(0.0, -2.0, 1.0), look_at=(0.0, 1.0, 0.2))
+    args.update(kw)
+    return Camera.look_at(**args)  # type: ignore[arg-type]
+
+
+def state_with(name: str, x: float, y: float) -> WorldState:
+    return WorldState(0.0, 0, (BodyState(name, (x, y), (0.0, 0.0)),))
+
+
+@pytest.mark.parametrize("xy", [(0.0, 0.5), (0.6, 1.2), (-0.5, 0.1), (0.3, 2.0)])
+@pytest.mark.parametrize("roll", [0.0, 7.0])
+def test_ball_label_centroid_is_within_one_pixel_of_projected_centre(
+    xy: tuple[float, float], roll: float
+) -> None:
+    r = 0.08
+    scene = SceneSpec(floor=Floor(texture=None), balls=(Ball("b", radius=r),))
+    cam = camera(roll_deg=roll)
+    out = Renderer(scene, cam).render(state_with("b", *xy))
+    ys, xs = np.nonzero(out.labels == LABEL_BALL)
+    assert len(xs) > 20
+    centre = cam.project(np.array([[xy[0], xy[1], r]]))[0]
+    assert np.hypot(xs.mean() - centre[0], ys.mean() - centre[1]) < 1.0
+
+
+def test_wall_corner_lands_on_its_projected_pixel() -> None:
+    scene = SceneSpec(floor=Floor(texture=None, color=(0, 0, 0)),
+                      walls=(Wall("w", (-0.5, 1.0), (0.5, 1.0), height=0.5, texture=None,
+                                  color=(255, 255, 255)),))
+    cam = camera()
+    out = Renderer(scene, cam).render()
+    corners = cam.project(np.array([[-0.5, 1.0, 0.5], [0.5, 1.0, 0.0]]))
+    # Just inside each projected corner is wall; just outside is not.
+    (x0, y0), (x1, y1) = corners
+    assert out.labels[int(np.ceil(y0)) + 1, int(np.ceil(x0)) + 1] == LABEL_WALL
+    assert out.labels[int(np.floor(y1)) - 1, int(np.floor(x1)) - 1] == LABEL_WALL
+    assert out.labels[int(np.floor(y0)) - 2, int(np.ceil(x0)) + 1] != LABEL_WALL
+    assert out.labels[int(np.floor(y1)) - 1, int(np.ceil(x1)) + 2] != LABEL_WALL
+
+
+def test_obstacle_hides_the_ball_behind_it() -> None:
+    box = Obstacle("box", ((-0.3, 0.4), (0.3, 0.4), (0.3, 0.6), (-0.3, 0.6)), height=0.5)
+    scene = SceneSpec(obstacles=(box,), balls=(Ball("b", radius=0.08),))
+    r = Renderer(scene, camera(position=(0.0, -2.0, 0.3), look_at=(0.0, 1.0, 0.2)))
+    hidden = r.render(state_with("b", 0.0, 1.2)).labels
+    seen = r.render(state_with("b", 0.0, 0.0)).labels
+    assert not (hidden == LABEL_BALL).any() and (hidden == LABEL_OBSTACLE).any()
+    assert (seen == LABEL_BALL).sum() > 50
+
+
+def test_labels_follow_the_documented_scheme(bundled: Scenario) -> None:
+    out = Renderer(bundled.scene, bundled.camera).render()
+    found = set(np.unique(out.labels).tolist())
+    names = label_names(bundled.scene)
+    assert found <= set(names)
+    assert {LABEL_SKY, LABEL_FLOOR, LABEL_WALL + 0, LABEL_OBSTACLE + 0,
+            LABEL_OBSTACLE + 1, LABEL_OBSTACLE + 2} <= found
+    assert names[LABEL_WALL] == "north" and names[LABEL_BALL] == "ball"
+
+
+def test_background_is_cached_and_frames_do_not_modify_it(bundled: Scenario) -> None:
+    r = Renderer(bundled.scene, bundled.camera)
+    world = World(bundled.scene)
+    world.run(1.6)  # the ball is in view by the north wall
+    bg = r.background.image.copy()
+    out = r.render(world.snapshot())
+    assert (out.labels == LABEL_BALL).any()
+    assert np.array_equal(r.background.image, bg)
+    assert r.background.image is r.background.image and not r.background.image.flags.writeable
+    changed = np.any(out.image != bg, axis=2)
+    ys, xs = np.nonzero(changed)
+    # Only the ball and its shadow differ from the background.
+    assert changed.sum() < 3 * (out.labels == LABEL_BALL).sum() + 200
+
+
+def test_shadow_darkens_the_floor_by_the_ball() -> None:
+    from adapt.imagination.render import LIGHT
+
+    r = 0.1
+    scene = SceneSpec(floor=Floor(texture=None, color=(200, 200, 200)), balls=(Ball("b", radius=r),))
+    cam = camera(position=(0.0, -1.0, 1.5), look_at=(0.0, 0.5, 0.0))
+    rend = Renderer(scene, cam)
+    out = rend.render(state_with("b", 0.0, 0.5))
+    centre = np.array([0.0, 0.5]) - LIGHT[:2] / LIGHT[2] * r
+    ring = np.array([[*(centre + 0.8 * r * np.array([np.cos(a), np.sin(a)])), 0.0]
+                     for a in np.linspace(0, 2 * np.pi, 24, endpoint=False)])
+    px = np.round(cam.project(ring)).astype(int)
+    floor = out.labels[px[:, 1], px[:, 0]] == LABEL_FLOOR
+    assert floor.sum() >= 6
+    ratio = out.image[px[floor, 1], px[floor, 0]].mean() / rend.background.image[
+        px[floor, 1], px[floor, 0]].mean()
+    assert ratio < 0.85
+    far = cam.project(np.array([[0.6, 0.5, 0.0]]))[0].round().astype(int)
+    assert np.array_equal(out.image[far[1], far[0]], rend.background.image[far[1], far[0]])
+
+
+def test_with_camera_renders_a_new_background(bundled: Scenario) -> None:
+    r = Renderer(bundled.scene, bundled.camera)
+    cam2 = bundled.camera.with_pose(bundled.camera.rotation, bundled.camera.position + [0.3, 0, 0])
+    r2 = r.with_camera(cam2)
+    assert r2.camera is cam2 and r2.scene is r.scene
+    assert not np.array_equal(r.background.image, r2.background.image)
+
+
+def test_robot_is_drawn_when_in_view() -> None:
+    scene = SceneSpec(robot=RobotSpec(position=(0.0, 1.0), shape="box", size=(0.5, 0.3)))
+    r = Renderer(scene, camera())
+    assert (r.render().labels == LABEL_ROBOT).sum() > 500
+    moved = WorldState(0.0, 0, (BodyState("robot", (5.0, -5.0), (0.0, 0.0)),))
+    assert not (r.render(moved).labels == LABEL_ROBOT).any()
+
+
+def test_textured_ball_and_missing_texture(tmp_path: object) -> None:
+    scene = SceneSpec(balls=(Ball("b", radius=0.1, texture="builtin:coffee"),))
+    out = Renderer(scene, camera()).render(state_with("b", 0.0, 0.5))
+    assert (out.labels == LABEL_BALL).sum() > 100
+    bad = SceneSpec(walls=(Wall("w", (-1, 1), (1, 1), texture="/no/such/texture.png"),))
+    with pytest.raises(ImageError, match="/no/such/texture.png"):
+        Renderer(bad, camera()).render()
+
+
+def test_camera_inside_the_room_sees_no_gaps(bundled: Scenario) -> None:
+    out = Renderer(bundled.scene, bundled.camera).render()
+    lower = out.labels[bundled.camera.height // 2:]
+    assert not (lower == LABEL_SKY).any()  # floor and walls cover the lower half
