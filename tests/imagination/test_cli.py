@@ -1,0 +1,87 @@
+"""``adapt render`` and ``adapt imagine`` through ``adapt.cli.main``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from adapt.cli import main
+from adapt.imagination import LABEL_BALL, Renderer, World
+from adapt.scenario import Scenario
+
+BUNDLED = Path(__file__).resolve().parents[2] / "scenarios" / "bouncing-ball.yaml"
+
+
+def test_render_writes_the_frame_and_labels(tmp_path: Path, bundled: Scenario,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    out, lab = tmp_path / "f.png", tmp_path / "sub" / "l.png"
+    assert main(["render", str(BUNDLED), "--out", str(out), "--t", "1.5", "--labels", str(lab)]) == 0
+    image = cv2.imread(str(out))
+    labels = cv2.imread(str(lab), cv2.IMREAD_UNCHANGED)
+    world = World(bundled.scene)
+    world.run(1.5)
+    expected = Renderer(bundled.scene, bundled.camera).render(world.snapshot())
+    assert np.array_equal(image, expected.image)
+    assert np.array_equal(labels.astype(np.int32), expected.labels)
+    assert (labels == LABEL_BALL).any()
+    assert "wrote" in capsys.readouterr().out
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f.png", "sub"]  # no temp files left
+
+
+def test_imagine_json(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["imagine", str(BUNDLED), "--horizon", "3", "--json", "--samples", "7"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [c["surface"] for c in data["contacts"]][:2] == ["north", "wedge"]
+    assert set(data["contacts"][0]) >= {"t", "position", "surface"}
+    assert len(data["trajectory"]) == 7 and data["trajectory"][-1]["t"] == pytest.approx(3.0)
+    assert data["trajectory"][0]["position"] == pytest.approx([-2.1, 0.9])
+    assert data["trajectory"][0]["velocity"] == pytest.approx([1.6, 1.5])
+    assert "intercept" in data
+
+
+def test_imagine_text_dt_and_intercept(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["imagine", str(BUNDLED), "--horizon", "5", "--dt", "0.008333333333333333"]) == 0
+    text = capsys.readouterr().out
+    assert "hit north" in text and "dt = 0.00833333 s" in text
+    assert "intercept: robot meets ball at t=" in text
+
+
+def test_imagine_video(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    video = tmp_path / "v.avi"
+    assert main(["imagine", str(BUNDLED), "--horizon", "0.5", "--video", str(video),
+                 "--fps", "10"]) == 0
+    cap = cv2.VideoCapture(str(video))
+    frames = 0
+    while cap.read()[0]:
+        frames += 1
+    assert frames == 6
+    assert [p.name for p in tmp_path.iterdir()] == ["v.avi"]
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["imagine", "missing.yaml", "--horizon", "1"], "missing.yaml:1:1: no such scenario file"),
+        (["imagine", str(BUNDLED), "--horizon", "-1"], "--horizon"),
+        (["imagine", str(BUNDLED), "--horizon", "1", "--video", "x.gif"], ".mp4 or .avi"),
+        (["render", str(BUNDLED), "--out", "x.png", "--t", "-2"], "--t"),
+        (["imagine", str(BUNDLED), "--horizon", "1", "--body", "nobody"], "nobody"),
+    ],
+)
+def test_bad_arguments_are_errors(argv: list[str], message: str,
+                                  capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(argv) == 1
+    assert message in capsys.readouterr().err
+
+
+def test_bad_scenario_error_is_located(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(BUNDLED.read_text().replace("radius: 0.11", "radius: -0.11"))
+    assert main(["render", str(bad), "--out", str(tmp_path / "x.png")]) == 1
+    err = capsys.readouterr().err
+    assert f"{bad}:" in err and "world.objects[0].radius" in err
+    assert not (tmp_path / "x.png").exists()
