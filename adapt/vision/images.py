@@ -211,7 +211,10 @@ def write_image(path: str | os.PathLike[str], image: NDArray) -> Path:
     """
     p = Path(path)
     ext = p.suffix or ".png"
-    ok, buf = cv2.imencode(ext, as_uint8(image))
+    try:
+        ok, buf = cv2.imencode(ext, as_uint8(image))
+    except cv2.error:
+        ok = False
     if not ok:
         raise ImageError(f"{path}: cannot encode an image as {ext!r}")
     tmp = p.with_name(f".{p.name}.tmp{os.getpid()}")

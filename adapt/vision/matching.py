@@ -75,6 +75,8 @@ LK_LEVELS = 3
 FB_MAX = 0.5
 #: Floor of q(p), so every kept match still counts a little.
 Q_MIN = 0.05
+#: Standard deviation the grey working images are stretched to before matching.
+GREY_STD = 50.0
 #: Lowe's ratio for descriptor re-acquisition.
 RATIO = 0.75
 #: SIFT features per image during re-acquisition.
@@ -94,6 +96,7 @@ class PreparedImage:
     image : ndarray
         The original image (not copied; do not modify it afterwards).
     grey : (H, W) uint8 ndarray
+        The grey image, standardised to mean 128 and deviation ``GREY_STD``.
     corners : (N, 2) float32 ndarray
         Shi–Tomasi corners ``(x, y)``; empty when the image is textureless.
     """
@@ -139,6 +142,18 @@ def _empty(method: Literal["lk", "sift", "none"] = "none", corners: int = 0) -> 
     return Matches(z, z.copy(), np.zeros(0), method, corners)
 
 
+def _standardise(grey: NDArray[np.uint8]) -> NDArray[np.uint8]:
+    """Map grey levels to mean 128 and standard deviation :data:`GREY_STD`
+    (LK assumes constant brightness; a renderer and a camera disagree on
+    gain and bias).  A flat image stays flat."""
+    mean, std = cv2.meanStdDev(grey)
+    m, sd = float(mean.ravel()[0]), float(std.ravel()[0])
+    if sd < 1e-6:
+        return np.full_like(grey, 128)
+    a = GREY_STD / sd
+    return cv2.convertScaleAbs(grey, alpha=a, beta=128.0 - a * m)
+
+
 def prepare(
     image: NDArray | PreparedImage,
     *,
@@ -158,7 +173,7 @@ def prepare(
             return prepare(image.image, corners=True, max_corners=max_corners)
         return image
     img = check_image(image)
-    grey = to_grey(img)
+    grey = _standardise(to_grey(img))
     pts = np.zeros((0, 2), np.float32)
     if corners:
         found = cv2.goodFeaturesToTrack(

@@ -4,8 +4,9 @@
 ``I_s`` of the same scene:
 
 1. corners of ``I_s`` are matched into ``I_r``
-   (:func:`~adapt.vision.matching.match`; SIFT re-acquisition when fewer than
-   :data:`REACQUIRE_INLIERS` tracked matches fit the homography);
+   (:func:`~adapt.vision.matching.track`; SIFT re-acquisition when fewer than
+   :data:`REACQUIRE_INLIERS` tracked matches, or less than
+   :data:`REACQUIRE_RATIO` of them, fit the homography);
 2. ``H_e`` maps synthetic pixels to real ones
    (:func:`~adapt.vision.homography.estimate_homography`; below its minimum
    inlier count the result says "no alignment" and every pixel is unknown);
@@ -56,10 +57,13 @@ from adapt.vision.images import as_uint8, check_pair
 from adapt.vision.mask import SIGMA, exact_mask, fast_mask
 from adapt.vision.matching import Matches, PreparedImage, match_descriptors, prepare, track
 
-__all__ = ["MMDResult", "mmd", "REACQUIRE_INLIERS", "EXPLAINED"]
+__all__ = ["MMDResult", "mmd", "REACQUIRE_INLIERS", "REACQUIRE_RATIO", "EXPLAINED"]
 
 #: Fewer tracked inliers than this: re-acquire with SIFT and keep the better fit.
 REACQUIRE_INLIERS = 40
+#: A smaller share of tracked matches agreeing with H_e (repetitive texture,
+#: where LK can lock onto the neighbouring period) also triggers re-acquisition.
+REACQUIRE_RATIO = 0.5
 #: Mask level above which a pixel counts as explained (used for the gain/bias fit).
 EXPLAINED = 0.5
 #: Gain/bias fit uses every FIT_STEP-th pixel in each direction.
@@ -127,7 +131,8 @@ def _align(
     shape = real.image.shape
     m = track(real, synthetic)
     a = estimate_homography(m, shape, min_inliers=min_inliers)
-    if reacquire and a.n_inliers < REACQUIRE_INLIERS:
+    ratio = a.n_inliers / max(len(m), 1)
+    if reacquire and (a.n_inliers < REACQUIRE_INLIERS or ratio < REACQUIRE_RATIO):
         d = match_descriptors(real, synthetic)
         b = estimate_homography(d, shape, min_inliers=min_inliers)
         if b.aligned and (not a.aligned or b.n_inliers > a.n_inliers):
