@@ -134,3 +134,13 @@ def test_file_level_errors(tmp_path: Path) -> None:
         loads_scenario(CAMERA + "world: {}\nworld: {}\n")
     with pytest.raises(ScenarioError, match="seed: expected an integer"):
         loads_scenario(CAMERA + "world: {}\nseed: 1.5\n")
+
+
+def test_the_example_in_docs_scenario_md_loads() -> None:
+    import re
+
+    doc = Path(__file__).resolve().parents[2] / "docs" / "scenario.md"
+    example = re.search(r"```yaml\n(.*?)```", doc.read_text(encoding="utf-8"), re.S)
+    assert example is not None
+    sc = loads_scenario(example.group(1))
+    assert sc.scene.walls[0].name == "north" and sc.scene.robot is not None
