@@ -94,6 +94,7 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
     agent = kernel.CreateAgent("harness")
     events: list[dict[str, Any]] = []
     flags = {"halted": False, "timed_out": False}
+    clock = {"d": 0}  # decision phases begun, counted from the phase markers
     deadline = time.time() + timeout
 
     def on_xml(_eid: int, _data: object, _agent: object, xml: Any) -> None:
@@ -101,7 +102,9 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
         raw = raw.replace("\r", "&#13;").replace("\n", "&#10;").replace("\t", "&#9;")
         for el in ET.fromstring(raw).iter():
             a = el.attrib
-            if el.tag == "operator" and "current_operator_id" in a:
+            if el.tag == "phase" and a.get("name") == "decision" and "status" not in a:
+                clock["d"] += 1
+            elif el.tag == "operator" and "current_operator_id" in a:
                 events.append({"t": "op", "d": int(a["decision_cycle_count"]),
                                "level": int(a.get("stack_level", 0)), "name": a.get("name")})
             elif el.tag == "state" and "current_state_id" in a:
@@ -109,7 +112,7 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
                                "level": int(a.get("stack_level", 0)),
                                "type": a.get("impasse_type"), "attr": a.get("impasse_object")})
             elif el.tag == "rhs_write":
-                events.append({"t": "write", "d": agent.GetDecisionCycleCounter(),
+                events.append({"t": "write", "d": clock["d"],
                                "text": a.get("string", "")})
             elif el.tag in ("message", "warning", "error"):
                 events.append({"t": "msg", "text": a.get("string", el.text or "")})
@@ -125,6 +128,8 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
     agent.RegisterForXMLEvent(soar_sml.smlEVENT_XML_TRACE_OUTPUT, on_xml, None)
     agent.RegisterForRunEvent(soar_sml.smlEVENT_AFTER_HALTED, on_halt, None)
     agent.RegisterForRunEvent(soar_sml.smlEVENT_AFTER_DECISION_CYCLE, on_after_dc, None)
+    # XML trace events arrive in batches; phase markers in the stream date the writes.
+    agent.ExecuteCommandLine("trace --phases")
     agent.ExecuteCommandLine("chunk never")
     agent.ExecuteCommandLine(f"decide set-random-seed {seed}")
     text = agent.ExecuteCommandLine(f'source "{path}"')
