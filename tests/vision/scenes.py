@@ -115,7 +115,10 @@ def paste_object(
     shade = 0.6 + 0.4 * np.clip(1.0 - ((xx - cx + a / 3) ** 2 + (yy - cy + b / 3) ** 2) / (a * b), 0, 1)
     out = image.copy()
     if image.ndim == 3:
-        colour = np.array([40.0, 60.0, 230.0])  # a red ball (BGR)
+        # the palette colour (BGR) farthest from what the ball covers
+        palette = np.array([[40, 60, 230], [230, 90, 30], [40, 200, 40], [30, 230, 240]], float)
+        local = image[sil].reshape(-1, 3).mean(axis=0)
+        colour = palette[int(np.argmax(np.linalg.norm(palette - local, axis=1)))]
         out[sil] = np.clip(shade[sil, None] * colour, 0, 255).astype(np.uint8)
     else:
         base = 255.0 if image[sil].mean() < 128 else 20.0
