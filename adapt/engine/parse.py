@@ -1,0 +1,766 @@
+"""Soar ``sp {...}`` rule text -> normalised :class:`~adapt.engine.production.Production` records.
+
+:func:`parse_rules` parses a whole rule file (several productions and
+comments); :func:`load_rule_file` reads one from disk.  The grammar and the
+normalisation are documented in ``docs/rule-language.md`` and in the module
+docstring of :mod:`adapt.engine.production`.  Loading is all or nothing: the
+first syntax or semantic error raises a :class:`~adapt.errors.RuleSyntaxError`
+or :class:`~adapt.errors.RuleSemanticError` that points at the offending
+token (``file:line:col``, the line and a caret), and nothing from the file is
+returned.
+
+Examples
+--------
+>>> rules = parse_rules('''
+... sp {count*propose
+...    (state <s> ^count < 3)
+... -->
+...    (<s> ^operator <o> + =)
+...    (<o> ^name count)}
+... ''')
+>>> p, = rules.productions
+>>> p.name, len(p.conditions), [a.preference.name for a in p.actions]
+('count*propose', 2, ['ACCEPTABLE', 'UNARY_INDIFFERENT', 'ACCEPTABLE'])
+>>> p.conditions[1]  # doctest: +NORMALIZE_WHITESPACE
+Condition(id=<s>, attr=EqualityTest(term='count'), value=RelationalTest(relation='<', term=3),
+          acceptable=False, negated=False, location=SourceLocation(file='<string>', line=3, col=4))
+>>> parse_rules("sp {p1 (state <s>) --> (halt)}")
+Traceback (most recent call last):
+  ...
+adapt.errors.RuleSemanticError: <string>:1:5: production name 'p1' is shaped like an identifier (a letter followed by digits), which Soar does not accept as a name
+    sp {p1 (state <s>) --> (halt)}
+        ^
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from dataclasses import dataclass
+from typing import Union
+
+from adapt.engine.functions import FunctionTable, default_functions
+from adapt.engine.lexer import CONSTANT_KINDS, Token, tokenize
+from adapt.engine.production import (
+    Action,
+    CallAction,
+    Condition,
+    ConditionElement,
+    ConjunctiveNegation,
+    ConjunctiveTest,
+    DisjunctionTest,
+    EqualityTest,
+    FunctionCall,
+    MakeAction,
+    PreferenceKind,
+    Production,
+    RelationalTest,
+    RhsValue,
+    SourceLocation,
+    Test,
+    Variable,
+    equality_variable,
+    variables_in_test,
+)
+from adapt.engine.symbols import Constant, Float
+from adapt.errors import RuleError, RuleSemanticError, RuleSyntaxError
+
+__all__ = ["RuleFile", "parse_rules", "load_rule_file"]
+
+
+@dataclass(frozen=True)
+class RuleFile:
+    """The productions of one rule file, in file order, and load warnings.
+
+    A later ``sp`` with the name of an earlier one replaces it (the earlier
+    one is dropped, the later one keeps its own position, as if Soar excised
+    the first and added the second) and adds a warning
+    ``file:line:col: warning: production 'x' replaces an earlier one``.
+    """
+
+    productions: tuple[Production, ...]
+    warnings: tuple[str, ...] = ()
+
+
+#: Soar commands that may appear in Soar rule files but not in ours, with why.
+_COMMANDS: dict[str, str] = {
+    "gp": "gp (generated productions) is not supported; write each production with sp",
+    "chunk": "chunking is not implemented",
+    "learn": "chunking is not implemented",
+    "rl": "reinforcement learning is not implemented",
+    "smem": "semantic memory is not implemented",
+    "epmem": "episodic memory is not implemented",
+    "svs": "the spatial visual system is not implemented",
+    "source": "rule files cannot include other files; load each file yourself",
+    "pushd": "rule files cannot include other files; load each file yourself",
+    "popd": "rule files cannot include other files; load each file yourself",
+    "cd": "rule files cannot include other files; load each file yourself",
+    "load": "rule files cannot include other files; load each file yourself",
+}
+for _cmd in (
+    "watch trace srand excise multi-attributes indifferent-selection set-stop-phase decide "
+    "soar run stats print p wm echo alias max-elaborations max-goal-depth init-soar "
+    "preferences matches timers waitsnc save-backtraces o-support-mode "
+    "numeric-indifferent-mode production explain visualize output capture-input "
+    "replay-input wma debug help version sp-local firing-counts memories "
+    "default-wme-depth predict select stop-soar interrupt set-parameter"
+).split():
+    _COMMANDS.setdefault(_cmd, "Soar commands are not supported in rule files")
+
+_FLAGS = {":o-support": "o-support", ":i-support": "i-support", ":default": "default"}
+_UNSUPPORTED_FLAGS = {
+    ":chunk": "chunking is not implemented",
+    ":interrupt": "interrupting on a firing is not supported",
+    ":template": "Soar-RL templates are not supported (reinforcement learning is not implemented)",
+}
+_UNARY_PREFS = {
+    "+": PreferenceKind.ACCEPTABLE,
+    "-": PreferenceKind.REJECT,
+    "!": PreferenceKind.REQUIRE,
+    "~": PreferenceKind.PROHIBIT,
+}
+_BINARY_PREFS = {
+    ">": (PreferenceKind.BEST, PreferenceKind.BETTER),
+    "<": (PreferenceKind.WORST, PreferenceKind.WORSE),
+    "=": (PreferenceKind.UNARY_INDIFFERENT, PreferenceKind.BINARY_INDIFFERENT),
+}
+_VALUE_TEST_START = CONSTANT_KINDS | {"variable", "relation", "<<", "{", "+"}
+_RHS_VALUE_START = CONSTANT_KINDS | {"variable", "("}
+_TYPE_STATE = (EqualityTest("type"), EqualityTest("state"))
+
+_Located = Union[Token, SourceLocation]
+
+
+def _describe(tok: Token) -> str:
+    if tok.kind == "eof":
+        return "the end of the file"
+    return repr(tok.text)
+
+
+def _is_state_test(c: ConditionElement) -> bool:
+    return isinstance(c, Condition) and not c.negated and (c.attr, c.value) == _TYPE_STATE
+
+
+def _equality_vars(c: Condition) -> set[Variable]:
+    out = {c.id}
+    for t in (c.attr, c.value):
+        v = equality_variable(t)
+        if v is not None:
+            out.add(v)
+    return out
+
+
+def _relational_vars(t: Test | None) -> list[Variable]:
+    if isinstance(t, RelationalTest):
+        return [t.term] if isinstance(t.term, Variable) else []
+    if isinstance(t, ConjunctiveTest):
+        return [v for sub in t.tests for v in _relational_vars(sub)]
+    return []
+
+
+class _Parser:
+    def __init__(self, text: str, file: str, table: FunctionTable) -> None:
+        self.text = text
+        self.file = file
+        self.table = table
+        self.lines = text.splitlines()
+        self.toks = tokenize(text, file)
+        self.i = 0
+        self._reset_production()
+
+    def _reset_production(self) -> None:
+        self.hidden = 0
+        self.rel_tokens: dict[tuple[str, int, int], Token] = {}
+        self.rhs_uses: list[tuple[str, Variable, Token]] = []
+
+    # ------------------------------------------------------------ helpers
+    def peek(self, k: int = 0) -> Token:
+        return self.toks[min(self.i + k, len(self.toks) - 1)]
+
+    def advance(self) -> Token:
+        tok = self.toks[self.i]
+        if tok.kind != "eof":
+            self.i += 1
+        return tok
+
+    def loc(self, tok: Token) -> SourceLocation:
+        return SourceLocation(self.file, tok.line, tok.col)
+
+    def _source(self, line: int) -> str | None:
+        return self.lines[line - 1] if 0 < line <= len(self.lines) else None
+
+    def syntax(self, message: str, at: _Located) -> RuleSyntaxError:
+        return RuleSyntaxError(
+            message, file=self.file, line=at.line, col=at.col, source_line=self._source(at.line)
+        )
+
+    def semantic(self, message: str, at: _Located) -> RuleSemanticError:
+        return RuleSemanticError(
+            message, file=self.file, line=at.line, col=at.col, source_line=self._source(at.line)
+        )
+
+    def expect(self, kind: str, what: str) -> Token:
+        tok = self.peek()
+        if tok.kind != kind:
+            raise self.syntax(f"expected {what}, found {_describe(tok)}", tok)
+        return self.advance()
+
+    def new_hidden(self) -> Variable:
+        self.hidden += 1
+        return Variable(f"<#{self.hidden}>")
+
+    @staticmethod
+    def constant(tok: Token) -> Constant:
+        assert tok.value is not None
+        return tok.value
+
+    # ------------------------------------------------------------ file level
+    def parse_file(self) -> RuleFile:
+        productions: dict[str, Production] = {}
+        warnings: list[str] = []
+        while self.peek().kind != "eof":
+            tok = self.peek()
+            if tok.kind == "symbol" and tok.value == "sp":
+                p = self.parse_production()
+                if p.name in productions:
+                    del productions[p.name]
+                    warnings.append(
+                        f"{self.file}:{tok.line}:{tok.col}: warning: "
+                        f"production '{p.name}' replaces an earlier one"
+                    )
+                productions[p.name] = p
+            elif tok.kind in ("symbol", "idshaped") and tok.text in _COMMANDS:
+                raise self.semantic(
+                    f"the Soar command '{tok.text}' is not supported in rule files "
+                    f"({_COMMANDS[tok.text]}); a rule file holds only 'sp {{...}}' productions "
+                    "and comments",
+                    tok,
+                )
+            else:
+                raise self.syntax(
+                    f"expected 'sp {{' to begin a production, found {_describe(tok)}", tok
+                )
+        return RuleFile(tuple(productions.values()), tuple(warnings))
+
+    # ------------------------------------------------------------ production
+    def parse_production(self) -> Production:
+        self._reset_production()
+        sp = self.advance()
+        self.expect("{", "'{' after 'sp'")
+        name_tok = self.peek()
+        if name_tok.kind == "idshaped":
+            raise self.semantic(
+                f"production name '{name_tok.text}' is shaped like an identifier (a letter "
+                "followed by digits), which Soar does not accept as a name",
+                name_tok,
+            )
+        if name_tok.kind not in ("symbol", "quoted"):
+            raise self.syntax(f"expected a production name, found {_describe(name_tok)}", name_tok)
+        self.advance()
+        name = str(name_tok.value)
+        documentation = None
+        if self.peek().kind == "doc":
+            documentation = str(self.advance().value)
+        flags: set[str] = set()
+        while self.peek().kind == "symbol" and str(self.peek().value).startswith(":"):
+            flag = self.advance()
+            if flag.text in _UNSUPPORTED_FLAGS:
+                raise self.semantic(
+                    f"the flag '{flag.text}' is not supported ({_UNSUPPORTED_FLAGS[flag.text]})",
+                    flag,
+                )
+            if flag.text not in _FLAGS:
+                raise self.syntax(
+                    f"unknown production flag '{flag.text}' (expected :o-support, :i-support "
+                    "or :default)",
+                    flag,
+                )
+            flags.add(_FLAGS[flag.text])
+            if {"o-support", "i-support"} <= flags:
+                raise self.semantic("a production cannot be both :o-support and :i-support", flag)
+        conditions: list[ConditionElement] = []
+        while self.peek().kind != "-->":
+            tok = self.peek()
+            if tok.kind not in ("(", "-", "{"):
+                raise self.syntax(
+                    f"expected a condition ('(', '-' or '{{') or '-->', found {_describe(tok)}",
+                    tok,
+                )
+            conditions.extend(self.parse_cond())
+        arrow = self.advance()
+        lhs_bound = self.check_conditions(conditions, arrow)
+        actions: list[Action] = []
+        while self.peek().kind != "}":
+            tok = self.peek()
+            if tok.kind != "(":
+                hint = ""
+                if tok.kind == "eof" or (tok.kind == "symbol" and tok.value == "sp"):
+                    hint = f" (is the '}}' that ends production '{name}' missing?)"
+                raise self.syntax(
+                    f"expected '(' to begin an action, or '}}', found {_describe(tok)}{hint}", tok
+                )
+            actions.extend(self.parse_action())
+        self.advance()
+        self.check_actions(lhs_bound)
+        return Production(
+            name,
+            tuple(conditions),
+            tuple(actions),
+            documentation=documentation,
+            flags=frozenset(flags),
+            location=self.loc(sp),
+        )
+
+    # ------------------------------------------------------------ conditions
+    def negate(self, conds: list[ConditionElement], tok: Token) -> list[ConditionElement]:
+        """Soar's negate_condition_list: one condition toggles, several form a -{...}."""
+        if len(conds) == 1:
+            c = conds[0]
+            if isinstance(c, Condition):
+                return [dataclasses.replace(c, negated=not c.negated)]
+            return list(c.conditions)
+        return [ConjunctiveNegation(tuple(conds), location=self.loc(tok))]
+
+    def parse_cond(self) -> list[ConditionElement]:
+        if self.peek().kind == "-":
+            minus = self.advance()
+            if self.peek().kind not in ("(", "{"):
+                raise self.syntax(
+                    f"expected '(' or '{{' after '-', found {_describe(self.peek())}", self.peek()
+                )
+            return self.negate(self.parse_cond_plus(), minus)
+        return self.parse_cond_plus()
+
+    def parse_cond_plus(self) -> list[ConditionElement]:
+        tok = self.peek()
+        if tok.kind == "(":
+            return self.parse_condition()
+        if tok.kind == "{":
+            self.advance()
+            out: list[ConditionElement] = []
+            while self.peek().kind != "}":
+                if self.peek().kind not in ("(", "-", "{"):
+                    raise self.syntax(
+                        f"expected a condition or '}}', found {_describe(self.peek())}", self.peek()
+                    )
+                out.extend(self.parse_cond())
+            self.advance()
+            if not out:
+                raise self.syntax("empty '{ }': a conjunction needs at least one condition", tok)
+            return out
+        raise self.syntax(f"expected '(' to begin a condition, found {_describe(tok)}", tok)
+
+    def parse_condition(self) -> list[ConditionElement]:
+        opening = self.advance()
+        loc = self.loc(opening)
+        is_state = False
+        head = self.peek()
+        if head.kind == "symbol" and head.value == "state":
+            self.advance()
+            is_state = True
+        elif head.kind == "symbol" and head.value == "impasse":
+            raise self.semantic(
+                "'impasse' conditions are not supported: Soar 9 has no impasse objects; "
+                "test the substate's ^impasse attribute instead",
+                head,
+            )
+        id_tok = self.peek()
+        if id_tok.kind != "variable":
+            if id_tok.kind in ("{", "<<", "relation") or id_tok.kind in CONSTANT_KINDS:
+                raise self.semantic(
+                    "a condition's identifier must be tested by a plain variable such as <s>",
+                    id_tok,
+                )
+            raise self.syntax(
+                f"expected a variable for the condition's identifier, found {_describe(id_tok)}",
+                id_tok,
+            )
+        self.advance()
+        ident = Variable(str(id_tok.value))
+        out: list[ConditionElement] = []
+        if is_state:
+            out.append(Condition(ident, *_TYPE_STATE, location=loc))
+        while self.peek().kind != ")":
+            tok = self.peek()
+            if tok.kind not in ("^", "-"):
+                raise self.syntax(
+                    f"expected '^attribute' or ')' in the condition opened at "
+                    f"{opening.line}:{opening.col}, found {_describe(tok)}",
+                    tok,
+                )
+            out.extend(self.parse_attr_value_tests(ident, loc))
+        self.advance()
+        if not out:
+            out.append(Condition(ident, None, None, location=loc))
+        return out
+
+    def parse_attr_value_tests(self, ident: Variable, loc: SourceLocation) -> list[ConditionElement]:
+        minus = None
+        if self.peek().kind == "-":
+            minus = self.advance()
+        self.expect("^", "'^' before an attribute")
+        attrs = [self.parse_test(loc)]
+        while self.peek().kind == ".":
+            self.advance()
+            attrs.append(self.parse_test(loc))
+        values: list[tuple[Test | None, bool]] = []
+        while self.peek().kind in _VALUE_TEST_START:
+            if self.peek().kind == "+":
+                self.advance()
+                values.append((None, True))
+                continue
+            test = self.parse_test(loc)
+            acceptable = False
+            if self.peek().kind == "+":
+                self.advance()
+                acceptable = True
+            values.append((test, acceptable))
+        if not values:
+            values.append((None, False))
+        conds: list[ConditionElement] = []
+        current = ident
+        for attr in attrs[:-1]:
+            hidden = self.new_hidden()
+            conds.append(Condition(current, attr, EqualityTest(hidden), location=loc))
+            current = hidden
+        for value, acceptable in values:
+            conds.append(Condition(current, attrs[-1], value, acceptable, location=loc))
+        return self.negate(conds, minus) if minus is not None else conds
+
+    def parse_test(self, loc: SourceLocation) -> Test:
+        tok = self.peek()
+        if tok.kind != "{":
+            return self.parse_simple_test(loc)[0]
+        self.advance()
+        tests: list[Test] = []
+        first_equality: Token | None = None
+        while self.peek().kind != "}":
+            test, at = self.parse_simple_test(loc)
+            if isinstance(test, EqualityTest):
+                if first_equality is not None:
+                    raise self.semantic(
+                        f"a conjunctive test may hold only one equality test; "
+                        f"'{first_equality.text}' is already one",
+                        at,
+                    )
+                first_equality = at
+            tests.append(test)
+        self.advance()
+        if not tests:
+            raise self.syntax("empty conjunctive test '{ }'", tok)
+        return tests[0] if len(tests) == 1 else ConjunctiveTest(tuple(tests))
+
+    def parse_simple_test(self, loc: SourceLocation) -> tuple[Test, Token]:
+        tok = self.peek()
+        if tok.kind == "<<":
+            self.advance()
+            values: list[Constant] = []
+            while self.peek().kind != ">>":
+                v = self.peek()
+                if v.kind not in CONSTANT_KINDS:
+                    raise self.syntax(
+                        f"expected a constant or '>>' in a disjunction, found {_describe(v)}", v
+                    )
+                values.append(self.constant(self.advance()))
+            self.advance()
+            if not values:
+                raise self.syntax("empty disjunction '<< >>'", tok)
+            return DisjunctionTest(tuple(values)), tok
+        relation = None
+        if tok.kind == "relation":
+            relation = str(self.advance().value)
+        term_tok = self.peek()
+        if term_tok.kind == "variable":
+            term: Variable | Constant = Variable(str(term_tok.value))
+        elif term_tok.kind in CONSTANT_KINDS:
+            term = self.constant(term_tok)
+        elif relation is not None:
+            raise self.syntax(
+                f"expected a variable or a constant after '{relation}', found {_describe(term_tok)}",
+                term_tok,
+            )
+        else:
+            raise self.syntax(
+                f"expected a test (a variable, a constant, '<<', '{{' or a relation), "
+                f"found {_describe(term_tok)}",
+                term_tok,
+            )
+        self.advance()
+        if relation is None or relation == "=":
+            return EqualityTest(term), (tok if relation else term_tok)
+        if isinstance(term, Variable):
+            self.rel_tokens.setdefault((term.name, loc.line, loc.col), term_tok)
+        return RelationalTest(relation, term), tok
+
+    def check_conditions(self, conditions: list[ConditionElement], arrow: Token) -> set[Variable]:
+        """First condition a state, every condition linked, relational variables bound."""
+        if not conditions or not _is_state_test(conditions[0]):
+            at: _Located = arrow
+            if conditions and conditions[0].location is not None:
+                at = conditions[0].location  # type: ignore[assignment]
+            raise self.semantic(
+                "the first condition must test a state: '(state <s> ...)'", at
+            )
+        self.check_links(conditions, set())
+        self.check_relations(conditions, set())
+        bound: set[Variable] = set()
+        for c in conditions:
+            if isinstance(c, Condition) and not c.negated:
+                bound |= _equality_vars(c)
+        return bound
+
+    def check_links(self, elements: tuple[ConditionElement, ...] | list[ConditionElement],
+                    reach_in: set[Variable]) -> None:
+        reach = set(reach_in)
+        positives = [c for c in elements if isinstance(c, Condition) and not c.negated]
+        reach |= {c.id for c in positives if _is_state_test(c)}
+        pending = list(positives)
+        changed = True
+        while changed:
+            changed = False
+            for c in list(pending):
+                if c.id in reach:
+                    reach |= _equality_vars(c)
+                    pending.remove(c)
+                    changed = True
+        for c in elements:
+            if isinstance(c, ConjunctiveNegation):
+                self.check_links(c.conditions, reach)
+            elif c in pending or (c.negated and c.id not in reach):
+                assert c.location is not None
+                raise self.semantic(
+                    f"condition on {c.id} is not linked to a state: {c.id} is not the value of "
+                    "another condition that is itself linked to a state variable",
+                    c.location,
+                )
+
+    def check_relations(self, elements: tuple[ConditionElement, ...] | list[ConditionElement],
+                        outer: set[Variable]) -> None:
+        local = set(outer)
+        for c in elements:
+            if isinstance(c, Condition) and not c.negated:
+                local |= _equality_vars(c)
+        for c in elements:
+            if isinstance(c, ConjunctiveNegation):
+                self.check_relations(c.conditions, local)
+                continue
+            allowed = local | _equality_vars(c) if c.negated else local
+            for v in _relational_vars(c.attr) + _relational_vars(c.value):
+                if v not in allowed:
+                    assert c.location is not None
+                    where = c.location
+                    at: _Located = self.rel_tokens.get((v.name, where.line, where.col), where)
+                    raise self.semantic(
+                        f"variable {v} is used in a relational test but never bound by an "
+                        "equality test in a positive condition, so the test cannot be evaluated",
+                        at,
+                    )
+
+    # ------------------------------------------------------------ actions
+    def parse_action(self) -> list[Action]:
+        opening = self.advance()
+        tok = self.peek()
+        if tok.kind == "variable":
+            self.advance()
+            ident = Variable(str(tok.value))
+            self.rhs_uses.append(("id", ident, tok))
+            actions: list[Action] = []
+            if self.peek().kind != "^":
+                raise self.syntax(
+                    f"expected '^attribute' after {ident}, found {_describe(self.peek())}",
+                    self.peek(),
+                )
+            while self.peek().kind != ")":
+                actions.extend(self.parse_make(ident))
+            self.advance()
+            return actions
+        if tok.kind in ("symbol", "+", "-"):
+            call = self.parse_call(opening, as_action=True)
+            return [CallAction(call, location=self.loc(opening))]
+        raise self.syntax(
+            f"expected a variable or a function name after '(', found {_describe(tok)}", tok
+        )
+
+    def parse_call(self, opening: Token, *, as_action: bool) -> FunctionCall:
+        name_tok = self.peek()
+        if name_tok.kind not in ("symbol", "+", "-"):
+            raise self.syntax(f"expected a function name, found {_describe(name_tok)}", name_tok)
+        self.advance()
+        args: list[RhsValue] = []
+        while self.peek().kind != ")":
+            args.append(self.parse_rhs_value("arg"))
+        self.advance()
+        name = str(name_tok.value)
+        problem = self.table.check_call(name, len(args), as_action=as_action)
+        if problem is not None:
+            raise self.semantic(problem, name_tok)
+        return FunctionCall(name, tuple(args), location=self.loc(opening))
+
+    def parse_rhs_value(self, role: str) -> RhsValue:
+        tok = self.peek()
+        if tok.kind == "(":
+            self.advance()
+            return self.parse_call(tok, as_action=False)
+        if tok.kind == "variable":
+            self.advance()
+            var = Variable(str(tok.value))
+            self.rhs_uses.append((role, var, tok))
+            return var
+        if tok.kind in CONSTANT_KINDS:
+            return self.constant(self.advance())
+        raise self.syntax(
+            f"expected a value (a variable, a constant or a function call), found {_describe(tok)}",
+            tok,
+        )
+
+    def parse_make(self, ident: Variable) -> list[Action]:
+        caret = self.peek()
+        if caret.kind != "^":
+            raise self.syntax(f"expected '^attribute' or ')', found {_describe(caret)}", caret)
+        self.advance()
+        loc = self.loc(caret)
+        attrs = [self.parse_rhs_value("make")]
+        while self.peek().kind == ".":
+            self.advance()
+            attrs.append(self.parse_rhs_value("make"))
+        if self.peek().kind not in _RHS_VALUE_START:
+            raise self.syntax(
+                f"expected a value after the attribute, found {_describe(self.peek())}", self.peek()
+            )
+        actions: list[Action] = []
+        current = ident
+        for attr in attrs[:-1]:
+            hidden = self.new_hidden()
+            actions.append(MakeAction(current, attr, hidden, location=loc))
+            current = hidden
+        while self.peek().kind in _RHS_VALUE_START:
+            value = self.parse_rhs_value("make")
+            for kind, referent in self.parse_preferences():
+                actions.append(MakeAction(current, attrs[-1], value, kind, referent, location=loc))
+        tok = self.peek()
+        if tok.kind not in ("^", ")"):
+            raise self.syntax(
+                f"expected a value, a preference, '^attribute' or ')', found {_describe(tok)}", tok
+            )
+        return actions
+
+    def parse_preferences(self) -> list[tuple[PreferenceKind, RhsValue | None]]:
+        prefs: list[tuple[PreferenceKind, RhsValue | None]] = []
+        while True:
+            tok = self.peek()
+            if tok.kind in _UNARY_PREFS:
+                self.advance()
+                prefs.append((_UNARY_PREFS[tok.kind], None))
+            elif tok.kind == "relation" and tok.value in _BINARY_PREFS:
+                self.advance()
+                unary, binary = _BINARY_PREFS[str(tok.value)]
+                if self.peek().kind in _RHS_VALUE_START:
+                    referent = self.parse_rhs_value("referent")
+                    kind = binary
+                    if kind is PreferenceKind.BINARY_INDIFFERENT and (
+                        type(referent) is int or type(referent) is Float
+                    ):
+                        kind = PreferenceKind.NUMERIC_INDIFFERENT
+                    prefs.append((kind, referent))
+                else:
+                    prefs.append((unary, None))
+            else:
+                break
+            if self.peek().kind == ",":
+                self.advance()
+        return prefs or [(PreferenceKind.ACCEPTABLE, None)]
+
+    def check_actions(self, lhs_bound: set[Variable]) -> None:
+        known = set(lhs_bound)
+        known |= {v for role, v, _ in self.rhs_uses if role == "make"}
+        for role, var, tok in self.rhs_uses:
+            if var in known:
+                continue
+            if role == "id":
+                raise self.semantic(
+                    f"variable {var} is used as an action's identifier but is neither bound by "
+                    "a positive condition nor created as a value by an action",
+                    tok,
+                )
+            what = "a function call" if role == "arg" else "a preference's referent"
+            raise self.semantic(
+                f"variable {var} is used in {what} but is neither bound by a positive condition "
+                "nor created as a value by an action",
+                tok,
+            )
+
+
+def parse_rules(
+    text: str, *, file: str = "<string>", functions: FunctionTable | None = None
+) -> RuleFile:
+    """Parse rule text (any number of ``sp {...}`` productions and comments).
+
+    Parameters
+    ----------
+    text : str
+        The rule text.
+    file : str
+        The name used in error positions and warnings.
+    functions : FunctionTable, optional
+        The RHS functions calls are checked against (default: the built-ins).
+
+    Returns
+    -------
+    RuleFile
+        The productions, normalised, and any warnings.
+
+    Raises
+    ------
+    RuleSyntaxError, RuleSemanticError
+        At the first error; nothing is returned from a text with an error.
+
+    Examples
+    --------
+    >>> parse_rules("sp {a (state <s>) --> (<s> ^b.c 1)}").productions[0].actions
+    ... # doctest: +NORMALIZE_WHITESPACE, +ELLIPSIS
+    (MakeAction(id=<s>, attr='b', value=<#1>, preference=<PreferenceKind.ACCEPTABLE: '+'>,
+                referent=None, location=...),
+     MakeAction(id=<#1>, attr='c', value=1, preference=<PreferenceKind.ACCEPTABLE: '+'>,
+                referent=None, location=...))
+    """
+    table = functions if functions is not None else _default_table()
+    try:
+        return _Parser(text, file, table).parse_file()
+    except RecursionError:
+        raise RuleSyntaxError("rule text is nested too deeply", file=file) from None
+
+
+_DEFAULT: list[FunctionTable] = []
+
+
+def _default_table() -> FunctionTable:
+    if not _DEFAULT:
+        _DEFAULT.append(default_functions())
+    return _DEFAULT[0]
+
+
+def load_rule_file(
+    path: str | os.PathLike[str], *, functions: FunctionTable | None = None
+) -> RuleFile:
+    """Read and parse a rule file (UTF-8); errors name the path as given.
+
+    Raises
+    ------
+    RuleError
+        When the file cannot be read or is not UTF-8 text, and every
+        :func:`parse_rules` error.
+    """
+    name = os.fspath(path)
+    try:
+        with open(name, "rb") as handle:
+            data = handle.read()
+    except OSError as exc:
+        raise RuleError(f"cannot read rule file: {exc.strerror or exc}", file=name) from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        before = data[: exc.start]
+        line = before.count(b"\n") + 1
+        col = exc.start - (before.rfind(b"\n") + 1) + 1
+        raise RuleSyntaxError("the file is not UTF-8 text", file=name, line=line, col=col) from None
+    return parse_rules(text, file=name, functions=functions)
