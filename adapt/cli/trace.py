@@ -1,0 +1,164 @@
+"""``adapt trace show|wm|why|stats|diff|html``: reading a run's trace.
+
+Thin: parse arguments, call :mod:`adapt.traceview`, print.  Warnings about a
+truncated trace go to standard error as ``adapt: warning: ...``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+import warnings
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+
+from adapt.errors import AdaptError, TraceError
+
+__all__ = ["register", "parse_range", "write_atomically"]
+
+
+def parse_range(text: str) -> tuple[int | None, int | None]:
+    """``A..B``, ``A..``, ``..B`` or ``N`` as inclusive bounds.
+
+    >>> parse_range("10..20"), parse_range("5"), parse_range("..7"), parse_range("3..")
+    ((10, 20), (5, 5), (None, 7), (3, None))
+    """
+    try:
+        if ".." in text:
+            lo, hi = text.split("..", 1)
+            first = int(lo) if lo.strip() else None
+            last = int(hi) if hi.strip() else None
+        else:
+            first = last = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a decision range like 10..20") from None
+    if first is not None and last is not None and first > last:
+        raise argparse.ArgumentTypeError(f"{text!r}: the range is empty ({first} > {last})")
+    return first, last
+
+
+def _level(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if not 1 <= value <= 5:
+        raise argparse.ArgumentTypeError(f"{text!r}: the level is 1..5")
+    return value
+
+
+def write_atomically(path: str, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file and a rename."""
+    directory = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=".adapt-", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+@contextmanager
+def _warnings_to_stderr() -> Iterator[None]:
+    from adapt.traceview.reader import TraceWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", TraceWarning)
+        try:
+            yield
+        finally:
+            seen: set[str] = set()
+            for w in caught:
+                if issubclass(w.category, TraceWarning) and str(w.message) not in seen:
+                    seen.add(str(w.message))
+                    print(f"adapt: warning: {w.message}", file=sys.stderr)
+
+
+def _open(path: str):  # type: ignore[no-untyped-def]
+    from adapt.traceview.reader import Trace
+
+    return Trace(path)
+
+
+def _cmd_show(args: argparse.Namespace) -> int:
+    from adapt.traceview.show import ShowFilter, show_lines
+
+    trace = _open(args.trace)
+    first, last = args.decisions or (None, None)
+    if args.level > trace.header.level:
+        print(f"adapt: note: the trace was written at level {trace.header.level}; "
+              f"showing what it has", file=sys.stderr)
+    flt = ShowFilter(first=first, last=last, rule=args.rule, ident=args.id, level=args.level)
+    out = sys.stdout
+    for line in show_lines(trace, flt):
+        out.write(line + "\n")
+    return 0
+
+
+def _cmd_wm(args: argparse.Namespace) -> int:
+    from adapt.traceview.memory import format_tree, memory_at
+
+    trace = _open(args.trace)
+    wm = memory_at(trace, args.at)
+    print(f"; working memory at the end of decision {args.at}: {len(wm)} WMEs")
+    print(format_tree(wm, args.root, args.depth, internal=args.internal))
+    return 0
+
+
+def _cmd_stats(args: argparse.Namespace) -> int:
+    from adapt.traceview.stats import compute_stats, format_stats
+
+    stats = compute_stats(_open(args.trace))
+    if args.json:
+        print(json.dumps(stats.to_json(), indent=2))
+    else:
+        print(format_stats(stats))
+    return 0
+
+
+def _with_warnings(func: Callable[[argparse.Namespace], int]) -> Callable[[argparse.Namespace], int]:
+    def run(args: argparse.Namespace) -> int:
+        with _warnings_to_stderr():
+            return func(args)
+
+    run.__doc__ = func.__doc__
+    return run
+
+
+def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Add ``adapt trace ...`` to the top-level parser's subcommands."""
+    parser = sub.add_parser("trace", help="inspect a run's trace (show, wm, why, stats, diff, html)",
+                            description="Inspect a JSON Lines trace written by "
+                                        "`adapt rules run --trace PATH`.")
+    cmds = parser.add_subparsers(dest="trace_command", metavar="COMMAND")
+    cmds.required = True
+
+    p = cmds.add_parser("show", help="Soar-style text of the run")
+    p.add_argument("trace", metavar="TRACE")
+    p.add_argument("--decisions", type=parse_range, metavar="A..B",
+                   help="only these decision cycles (A..B, A.., ..B or N)")
+    p.add_argument("--rule", metavar="NAME", help="only where this rule fired or retracted")
+    p.add_argument("--id", metavar="ID", help="only what mentions this identifier")
+    p.add_argument("--level", type=_level, default=1, metavar="1..5",
+                   help="1 decisions, 2 phases, 3 firings, 4 WME changes, 5 preferences (default 1)")
+    p.set_defaults(func=_with_warnings(_cmd_show))
+
+    p = cmds.add_parser("wm", help="working memory at a decision, as a tree")
+    p.add_argument("trace", metavar="TRACE")
+    p.add_argument("--at", type=int, required=True, metavar="D",
+                   help="the decision cycle (memory as it was when the cycle ended)")
+    p.add_argument("--root", default="S1", metavar="ID", help="the identifier to print from (S1)")
+    p.add_argument("--depth", type=int, default=2, metavar="N", help="levels to print (2)")
+    p.add_argument("--internal", action="store_true", help="one WME per line, with timetags")
+    p.set_defaults(func=_with_warnings(_cmd_wm))
+
+    p = cmds.add_parser("stats", help="decisions, firings per rule, WM size, impasses")
+    p.add_argument("trace", metavar="TRACE")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=_with_warnings(_cmd_stats))

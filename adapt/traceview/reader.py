@@ -1,0 +1,270 @@
+"""Streaming reader of adapt traces (``docs/trace-format.md``).
+
+A :class:`Trace` reads and checks the header when it is opened, then yields
+the records after it one at a time, so a trace of any length is read in
+constant memory.  A truncated last line (a run that was killed mid-write) is
+skipped with a :class:`TraceWarning` that says so; a file that is not a trace,
+or a trace of another format version, raises :class:`adapt.errors.TraceError`.
+
+Records are grouped into *decision cycles* the way Soar counts them: cycle
+``D`` is the input and proposal phases whose ``d`` is ``D - 1``, then decision
+phase ``D`` (its ``phase`` and ``decision`` records) and the apply and output
+phases after it.  :func:`cycle_of` gives a record's cycle.
+
+Examples
+--------
+>>> import json, os, tempfile
+>>> path = os.path.join(tempfile.mkdtemp(), "t.jsonl")
+>>> lines = [{"kind": "header", "format": "adapt-trace", "version": 1, "files": [],
+...           "level": 1},
+...          {"kind": "decision", "d": 1, "level": 0, "selected": None, "impasse": None}]
+>>> with open(path, "w") as f:
+...     _ = f.write("".join(json.dumps(r) + "\\n" for r in lines) + '{"kind": "foot')
+>>> trace = Trace(path)
+>>> trace.header.level, trace.header.version
+(1, 1)
+>>> import warnings
+>>> with warnings.catch_warnings(record=True) as caught:
+...     warnings.simplefilter("always")
+...     [r["kind"] for r in trace.records()]
+['decision']
+>>> print(caught[0].message)  # doctest: +ELLIPSIS
+/...t.jsonl:3: the last line is truncated (an interrupted run?); read the 1 complete records before it
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import warnings
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import Any
+
+from adapt.errors import TraceError
+
+__all__ = [
+    "FORMAT",
+    "VERSION",
+    "TraceWarning",
+    "TraceHeader",
+    "Trace",
+    "cycle_of",
+    "PRE_DECISION_PHASES",
+]
+
+#: The ``format`` value of every adapt trace header.
+FORMAT = "adapt-trace"
+#: The format version this reader understands.
+VERSION = 1
+#: Phases that run before the decision phase of their cycle (their ``d`` is one less).
+PRE_DECISION_PHASES = frozenset({"input", "proposal"})
+
+Record = dict[str, Any]
+
+
+class TraceWarning(UserWarning):
+    """A trace was read, but not all of it (a truncated last line)."""
+
+
+@dataclass(frozen=True)
+class TraceHeader:
+    """The first record of a trace.
+
+    Attributes
+    ----------
+    version : int
+        The format version (always :data:`VERSION` once read).
+    level : int
+        The trace level 1..5 the run was written at.
+    files : tuple of str
+        The rule files the agent loaded, as the run named them.
+    seed : int or None
+        The run's random seed.
+    adapt : str
+        The adapt version that wrote the trace.
+    created : str
+        When the run started (ISO 8601), or ``""``.
+    raw : dict
+        The whole record, for fields added by later writers.
+    """
+
+    version: int
+    level: int
+    files: tuple[str, ...]
+    seed: int | None = None
+    adapt: str = ""
+    created: str = ""
+    raw: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
+
+
+def cycle_of(record: Record) -> int | None:
+    """The decision cycle a record belongs to (``None`` for header and footer).
+
+    >>> cycle_of({"kind": "phase", "d": 4, "phase": "proposal"})
+    5
+    >>> cycle_of({"kind": "phase", "d": 5, "phase": "apply"}), cycle_of({"kind": "decision", "d": 5})
+    (5, 5)
+    """
+    d = record.get("d")
+    if not isinstance(d, int):
+        return None
+    if record.get("kind") == "phase" and record.get("phase") in PRE_DECISION_PHASES:
+        return d + 1
+    return d
+
+
+def _parse_header(path: str, line: bytes) -> TraceHeader:
+    try:
+        record = json.loads(line)
+    except (ValueError, UnicodeDecodeError):
+        record = None
+    if not isinstance(record, dict) or record.get("kind") != "header" or (
+        record.get("format") != FORMAT
+    ):
+        raise TraceError(
+            f"{path}: not an adapt trace (the first line is not a header record with "
+            f'"format": "{FORMAT}"; traces are written by `adapt rules run --trace`)'
+        )
+    version = record.get("version")
+    if version != VERSION:
+        raise TraceError(
+            f"{path}: trace format version {version!r}; this adapt reads version {VERSION}"
+        )
+    level = record.get("level", 5)
+    if not isinstance(level, int) or not 1 <= level <= 5:
+        raise TraceError(f"{path}: header has trace level {level!r}; expected 1..5")
+    files = record.get("files") or []
+    if not isinstance(files, list) or not all(isinstance(f, str) for f in files):
+        raise TraceError(f"{path}: header field \"files\" is not a list of paths")
+    seed = record.get("seed")
+    return TraceHeader(
+        version=version,
+        level=level,
+        files=tuple(files),
+        seed=seed if isinstance(seed, int) else None,
+        adapt=str(record.get("adapt", "")),
+        created=str(record.get("created", "")),
+        raw=record,
+    )
+
+
+class Trace:
+    """A trace file, opened for streaming.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.jsonl`` trace.
+
+    Raises
+    ------
+    adapt.errors.TraceError
+        If the file is missing, empty, not a trace, or of another format version.
+    """
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = os.fspath(path)
+        try:
+            with open(self.path, "rb") as f:
+                first = f.readline()
+        except FileNotFoundError:
+            raise TraceError(f"{self.path}: no such trace file") from None
+        except IsADirectoryError:
+            raise TraceError(f"{self.path}: is a directory, not a trace file") from None
+        except OSError as exc:
+            raise TraceError(f"{self.path}: cannot read: {exc.strerror}") from None
+        if not first.strip():
+            raise TraceError(f"{self.path}: empty file, not an adapt trace")
+        self.header = _parse_header(self.path, first)
+        #: Messages about incomplete reading, once a pass has found them.
+        self.notices: list[str] = []
+
+    def _notice(self, message: str) -> None:
+        if message not in self.notices:
+            self.notices.append(message)
+            warnings.warn(message, TraceWarning, stacklevel=3)
+
+    def records(self) -> Iterator[Record]:
+        """Every record after the header, in file order (the footer included).
+
+        Each call reads the file again from the start.  A truncated last line
+        ends the iteration with a :class:`TraceWarning`; any other line that is
+        not a JSON object with a ``"kind"`` raises :class:`TraceError`.
+        """
+        loads = json.loads
+        with open(self.path, "rb") as f:
+            f.readline()
+            lineno = 1
+            for line in f:
+                lineno += 1
+                try:
+                    record = loads(line)
+                except (ValueError, UnicodeDecodeError):
+                    if not line.endswith(b"\n"):
+                        self._notice(
+                            f"{self.path}:{lineno}: the last line is truncated (an interrupted "
+                            f"run?); read the {lineno - 2} complete records before it"
+                        )
+                        return
+                    if not line.strip():
+                        continue
+                    raise TraceError(f"{self.path}:{lineno}: not a JSON record") from None
+                if not isinstance(record, dict) or not isinstance(record.get("kind"), str):
+                    raise TraceError(f"{self.path}:{lineno}: not a trace record (no \"kind\")")
+                yield record
+
+    def cycles(
+        self, first: int | None = None, last: int | None = None
+    ) -> Iterator[tuple[int, list[Record]]]:
+        """The records of each decision cycle, ``(D, records)``, from ``first`` to ``last``.
+
+        Stops reading once past ``last``.  Records without a cycle (the
+        footer) are not yielded.
+        """
+        current: int | None = None
+        group: list[Record] = []
+        for record in self.records():
+            cycle = cycle_of(record)
+            if cycle is None:
+                continue
+            if cycle != current:
+                if current is not None and group:
+                    yield current, group
+                group = []
+                current = cycle
+                if last is not None and cycle > last:
+                    return
+            if first is None or cycle >= first:
+                group.append(record)
+        if current is not None and group:
+            yield current, group
+
+    def footer(self) -> Record | None:
+        """The footer record, or ``None`` (a run that did not end normally).
+
+        Reads only the end of the file.
+        """
+        with open(self.path, "rb") as f:
+            f.seek(0, os.SEEK_END)
+            size = f.tell()
+            f.seek(max(0, size - 65536))
+            tail = f.read().splitlines()
+        for line in reversed(tail):
+            try:
+                record = json.loads(line)
+            except (ValueError, UnicodeDecodeError):
+                continue
+            if isinstance(record, dict) and record.get("kind") == "footer":
+                return record
+            if isinstance(record, dict):
+                return None
+        return None
+
+    def require_level(self, level: int, what: str) -> None:
+        """Raise :class:`TraceError` unless the trace was written at ``level`` or more."""
+        if self.header.level < level:
+            raise TraceError(
+                f"{self.path}: {what} needs a trace written at level {level} or more; "
+                f"this one is level {self.header.level} (run with --trace-level {level})"
+            )
