@@ -16,8 +16,9 @@ def test_counts_of_a_run_with_ties(counter_trace) -> None:
     assert stats.max_goal_depth == 2
     assert stats.schema_events == 4
     assert stats.stop_reason == "max-decisions"
-    # 6 top-state WMEs + count + operator + its name; 16 during a tie.
-    assert (stats.wm_final, stats.wm_min, stats.wm_max) == (8, 8, 16)
+    # 5 top-state WMEs + count + operator + its name = 8; a tie (the last cycle is one)
+    # keeps two proposals (4 WMEs) and a substate of 6 WMEs instead of the operator's 2.
+    assert (stats.wm_final, stats.wm_min, stats.wm_max) == (16, 8, 16)
 
 
 def test_json_is_serialisable_and_complete(counter_trace) -> None:
