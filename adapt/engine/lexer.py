@@ -29,12 +29,12 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-from typing import Union
+from typing import Iterator, Union
 
 from adapt.engine.symbols import Float
 from adapt.errors import RuleSyntaxError
 
-__all__ = ["Token", "tokenize", "CONSTANT_KINDS"]
+__all__ = ["Token", "tokenize", "iter_tokens", "CONSTANT_KINDS"]
 
 _CONSTITUENT = frozenset(
     "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789$%&*+-/:<=>?_@"
@@ -84,8 +84,14 @@ class _Lexer:
         return RuleSyntaxError(message, file=self.file, line=line, col=col, source_line=source)
 
     def run(self) -> list[Token]:
+        return list(self.iter_tokens())
+
+    def iter_tokens(self) -> Iterator[Token]:
         text, n = self.text, len(self.text)
         while self.pos < n:
+            if self.tokens:
+                yield from self.tokens
+                self.tokens.clear()
             ch = text[self.pos]
             if ch == "\n":
                 self.pos += 1
@@ -110,7 +116,8 @@ class _Lexer:
                     f"unexpected character {ch!r} in rule text", self.line, self.pos - self.line_start + 1
                 )
         self.emit("eof", "", None, self.pos)
-        return self.tokens
+        yield from self.tokens
+        self.tokens.clear()
 
     def emit(self, kind: str, text: str, value: TokenValue, start: int) -> None:
         col = start - self.line_start + 1
@@ -233,3 +240,9 @@ def tokenize(text: str, file: str = "<string>") -> list[Token]:
     [Float(1.2), Float(0.3), -5, Float(0.5), '5a', 'E5', None]
     """
     return _Lexer(text, file).run()
+
+
+def iter_tokens(text: str, file: str = "<string>") -> Iterator[Token]:
+    """Tokens one at a time, so that an error late in the text is raised only
+    when the reader gets there (see :func:`tokenize`)."""
+    return _Lexer(text, file).iter_tokens()

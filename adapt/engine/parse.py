@@ -40,7 +40,7 @@ from dataclasses import dataclass
 from typing import Union
 
 from adapt.engine.functions import FunctionTable, default_functions
-from adapt.engine.lexer import CONSTANT_KINDS, Token, tokenize
+from adapt.engine.lexer import CONSTANT_KINDS, Token, iter_tokens
 from adapt.engine.production import (
     Action,
     CallAction,
@@ -84,7 +84,7 @@ class RuleFile:
 
 #: Soar commands that may appear in Soar rule files but not in ours, with why.
 _COMMANDS: dict[str, str] = {
-    "gp": "gp (generated productions) is not supported; write each production with sp",
+    "gp": "generated productions are not supported; write each production with sp",
     "chunk": "chunking is not implemented",
     "learn": "chunking is not implemented",
     "rl": "reinforcement learning is not implemented",
@@ -105,13 +105,13 @@ for _cmd in (
     "replay-input wma debug help version sp-local firing-counts memories "
     "default-wme-depth predict select stop-soar interrupt set-parameter"
 ).split():
-    _COMMANDS.setdefault(_cmd, "Soar commands are not supported in rule files")
+    _COMMANDS.setdefault(_cmd, "")
 
 _FLAGS = {":o-support": "o-support", ":i-support": "i-support", ":default": "default"}
 _UNSUPPORTED_FLAGS = {
     ":chunk": "chunking is not implemented",
-    ":interrupt": "interrupting on a firing is not supported",
-    ":template": "Soar-RL templates are not supported (reinforcement learning is not implemented)",
+    ":interrupt": "stopping the run when a rule fires is not implemented; call (interrupt)",
+    ":template": "Soar-RL templates need reinforcement learning, which is not implemented",
 }
 _UNARY_PREFS = {
     "+": PreferenceKind.ACCEPTABLE,
@@ -164,7 +164,8 @@ class _Parser:
         self.file = file
         self.table = table
         self.lines = text.splitlines()
-        self.toks = tokenize(text, file)
+        self._stream = iter_tokens(text, file)
+        self.toks: list[Token] = []
         self.i = 0
         self._reset_production()
 
@@ -175,10 +176,13 @@ class _Parser:
 
     # ------------------------------------------------------------ helpers
     def peek(self, k: int = 0) -> Token:
-        return self.toks[min(self.i + k, len(self.toks) - 1)]
+        toks = self.toks
+        while len(toks) <= self.i + k and (not toks or toks[-1].kind != "eof"):
+            toks.append(next(self._stream))
+        return toks[min(self.i + k, len(toks) - 1)]
 
     def advance(self) -> Token:
-        tok = self.toks[self.i]
+        tok = self.peek()
         if tok.kind != "eof":
             self.i += 1
         return tok
@@ -230,10 +234,11 @@ class _Parser:
                     )
                 productions[p.name] = p
             elif tok.kind in ("symbol", "idshaped") and tok.text in _COMMANDS:
+                why = _COMMANDS[tok.text]
                 raise self.semantic(
-                    f"the Soar command '{tok.text}' is not supported in rule files "
-                    f"({_COMMANDS[tok.text]}); a rule file holds only 'sp {{...}}' productions "
-                    "and comments",
+                    f"'{tok.text}' is a Soar command, which rule files cannot contain"
+                    + (f" ({why})" if why else "")
+                    + "; a rule file holds only 'sp {...}' productions and comments",
                     tok,
                 )
             else:
@@ -266,7 +271,7 @@ class _Parser:
             flag = self.advance()
             if flag.text in _UNSUPPORTED_FLAGS:
                 raise self.semantic(
-                    f"the flag '{flag.text}' is not supported ({_UNSUPPORTED_FLAGS[flag.text]})",
+                    f"the flag '{flag.text}' is not supported: {_UNSUPPORTED_FLAGS[flag.text]}",
                     flag,
                 )
             if flag.text not in _FLAGS:
@@ -366,6 +371,12 @@ class _Parser:
             )
         id_tok = self.peek()
         if id_tok.kind != "variable":
+            if id_tok.kind == "symbol" and id_tok.value in self.table:
+                raise self.syntax(
+                    f"expected a variable for the condition's identifier, found "
+                    f"{_describe(id_tok)} (is '-->' missing before the actions?)",
+                    id_tok,
+                )
             if id_tok.kind in ("{", "<<", "relation") or id_tok.kind in CONSTANT_KINDS:
                 raise self.semantic(
                     "a condition's identifier must be tested by a plain variable such as <s>",
@@ -529,8 +540,8 @@ class _Parser:
             elif c in pending or (c.negated and c.id not in reach):
                 assert c.location is not None
                 raise self.semantic(
-                    f"condition on {c.id} is not linked to a state: {c.id} is not the value of "
-                    "another condition that is itself linked to a state variable",
+                    f"condition on {c.id} is not linked to a state: {c.id} is not the value "
+                    "of any condition reachable from a state variable",
                     c.location,
                 )
 
