@@ -1,4 +1,35 @@
 """The production-rule engine: a faithful subset of Soar in pure Python.
 
 Imports only the standard library and :mod:`adapt.errors`.
+
+Examples
+--------
+>>> from adapt.engine import Agent
+>>> agent = Agent()
+>>> _ = agent.load_text("sp {hello (state <s> ^superstate nil) --> (write |hello|) (halt)}")
+>>> agent.run().output
+'hello'
 """
+
+from adapt.engine.agent import Agent
+from adapt.engine.io import InputWriter, OutputView
+from adapt.engine.memory import WorkingMemory
+from adapt.engine.report import REPORT_KEYS, RunReport
+from adapt.engine.symbols import Float, Identifier, format_symbol, to_symbol
+from adapt.engine.trace import TraceWriter
+from adapt.engine.wme import WME
+
+__all__ = [
+    "Agent",
+    "RunReport",
+    "REPORT_KEYS",
+    "WME",
+    "Identifier",
+    "Float",
+    "to_symbol",
+    "format_symbol",
+    "WorkingMemory",
+    "InputWriter",
+    "OutputView",
+    "TraceWriter",
+]

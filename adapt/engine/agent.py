@@ -1,0 +1,367 @@
+"""The public face of the engine: :class:`Agent`.
+
+An agent owns a kernel (working memory, matcher, goal stack), loads Soar
+rules, runs decision cycles, and reports what happened in a
+:class:`~adapt.engine.report.RunReport`.
+
+Examples
+--------
+>>> agent = Agent(seed=1)
+>>> _ = agent.load_text('''
+... sp {init (state <s> ^superstate nil) --> (<s> ^count 0)}
+... sp {propose*count (state <s> ^count {<c> < 3})
+...    --> (<s> ^operator <o> +) (<o> ^name count ^value <c>)}
+... sp {apply*count (state <s> ^operator <o> ^count <c>) (<o> ^name count ^value <c>)
+...    --> (<s> ^count <c> -) (<s> ^count (+ <c> 1))}
+... sp {done (state <s> ^count 3) --> (write |three|) (halt)}
+... ''')
+>>> report = agent.run()
+>>> report.halted, report.decisions, report.output, report.operators
+(True, 3, 'three', [[1, 0, 'count'], [2, 0, 'count'], [3, 0, 'count']])
+>>> print(agent.print_state(depth=1))
+(S1 ^count 3 ^io I1 ^superstate nil ^type state)
+"""
+
+from __future__ import annotations
+
+import os
+import random
+import time
+from typing import Any, Callable, Iterator
+
+from adapt.engine import cycle
+from adapt.engine.functions import FunctionTable, default_functions
+from adapt.engine.goals import Goal
+from adapt.engine.instantiation import Instantiation
+from adapt.engine.io import InputWriter, IoLinks, OutputView
+from adapt.engine.kernel import Kernel
+from adapt.engine.matcher import Matcher
+from adapt.engine.parse import RuleFile, load_rule_file, parse_rules
+from adapt.engine.preferences import SlotDecision
+from adapt.engine.report import RunReport
+from adapt.engine.symbols import Identifier, Symbol
+from adapt.engine.trace import TraceWriter, symbol_json
+from adapt.engine.wme import WME
+from adapt.errors import EngineError
+
+__all__ = ["Agent"]
+
+
+def _make_matcher(name: str) -> Matcher:
+    if name == "naive":
+        from adapt.engine.naive import NaiveMatcher
+
+        return NaiveMatcher()
+    if name == "rete":
+        try:
+            from adapt.engine.rete import Rete
+        except ImportError:  # the Rete is being written: the reference matcher stands in
+            from adapt.engine.naive import NaiveMatcher
+
+            return NaiveMatcher()
+        return Rete()
+    raise EngineError(f"unknown matcher {name!r} (expected 'rete' or 'naive')")
+
+
+class _Context:
+    """What right-hand-side functions may do to the agent (``RhsContext``)."""
+
+    __slots__ = ("agent", "_constants")
+
+    def __init__(self, agent: Agent) -> None:
+        self.agent = agent
+        self._constants = 0
+
+    def write(self, text: str) -> None:
+        self.agent._write(text)
+
+    def halt(self) -> None:
+        self.agent.halted = True
+
+    def interrupt(self) -> None:
+        if self.agent.stop_reason is None:
+            self.agent.stop_reason = "interrupted"
+
+    def error(self, message: str) -> None:
+        self.agent.message(f"Error: {message}")
+
+    def make_constant_symbol(self, prefix: str) -> str:
+        while True:
+            self._constants += 1
+            name = f"{prefix}{self._constants}"
+            if name not in self.agent._symbols_in_use():
+                return name
+
+
+class Agent:
+    """A Soar-compatible rule engine agent.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of the generator used for indifferent operator selection.
+    matcher : {"rete", "naive"}
+    trace : path, text stream, TraceWriter or None
+        Where to write a JSON Lines trace (``docs/trace-format.md``).
+    trace_level : int
+        1..5.
+    max_elaborations : int
+        Elaboration cycles per proposal or apply phase (Soar: 100).
+    max_goal_depth : int
+        Deepest substate level before the run stops (Soar: 100).
+    """
+
+    def __init__(self, *, seed: int = 1, matcher: str = "rete", trace: Any = None,
+                 trace_level: int = 5, max_elaborations: int = 100,
+                 max_goal_depth: int = 100) -> None:
+        self.seed = seed
+        self.rng = random.Random(seed)
+        self.functions: FunctionTable = default_functions()
+        self.max_elaborations = max_elaborations
+        self.max_goal_depth = max_goal_depth
+        self.warnings: list[str] = []
+        self.messages: list[str] = []
+        self.files: list[str] = []
+        self.halted = False
+        self.stop_reason: str | None = None
+        self.decisions = 0
+        self.elaboration_cycles = 0
+        self.operators: list[list[Any]] = []
+        self.impasses: list[list[Any]] = []
+        self.next_phase = "input"
+        self._output: list[str] = []
+        self._context = _Context(self)
+        self.kernel = Kernel(_make_matcher(matcher), self.functions, self._context)
+        self.io = IoLinks(self.kernel, lambda: self.decisions)
+        self.kernel.commit()
+        self._trace_arg = trace
+        self._trace_level = trace_level
+        self.tracer: TraceWriter | None = None
+        self._decision_record: dict[str, Any] | None = None
+        if trace is not None and not 1 <= trace_level <= 5:
+            raise EngineError(f"trace level must be 1..5, not {trace_level}")
+
+    # -- rules --------------------------------------------------------------
+    def load_text(self, text: str, file: str = "<string>") -> RuleFile:
+        """Load rules from text; a production with an existing name replaces it.
+
+        Raises
+        ------
+        RuleError
+            At the first error; nothing from ``text`` is loaded then.
+        """
+        return self._load(parse_rules(text, file=file, functions=self.functions))
+
+    def load_file(self, path: str | os.PathLike[str]) -> RuleFile:
+        """Load a rule file (see :meth:`load_text`)."""
+        rules = load_rule_file(path, functions=self.functions)
+        self.files.append(os.fspath(path))
+        return self._load(rules)
+
+    def _load(self, rules: RuleFile) -> RuleFile:
+        self.warnings.extend(rules.warnings)
+        for p in rules.productions:
+            if p.name in self.kernel.rules:
+                where = f"{p.location}: " if p.location is not None else ""
+                self.warnings.append(f"{where}production {p.name} replaces an earlier one")
+            self.kernel.add_production(p)
+        self.kernel.commit()
+        return rules
+
+    def register_function(self, name: str, fn: Callable[..., object], *, min_args: int = 0,
+                          max_args: int | None = None) -> None:
+        """Make a Python function callable from rules as ``(name ...)``.
+
+        Register functions before loading rules that call them.
+        """
+        self.functions.register(name, fn, min_args=min_args, max_args=max_args)
+
+    # -- running ----------------------------------------------------------------
+    def run(self, max_decisions: int | None = None) -> RunReport:
+        """Run until halt, an interrupt, the goal-depth limit, or ``max_decisions``
+        decisions (stopping before the apply phase of the last one).
+
+        May be called again to continue; the report covers the whole life of
+        the agent.  A Python exception from a user RHS function ends the run
+        (the trace gets its footer) and propagates.
+        """
+        if max_decisions is not None and max_decisions < 0:
+            raise EngineError("max_decisions must be >= 0")
+        self._open_trace()
+        started = time.perf_counter()
+        if not self.halted:
+            self.stop_reason = None
+        error: str | None = None
+        try:
+            if not self.halted:
+                cycle.run(self, max_decisions)
+        except BaseException as exc:
+            error = f"{type(exc).__name__}: {exc}"
+            if self.stop_reason is None:
+                self.stop_reason = "interrupted"
+            raise
+        finally:
+            if self.halted:
+                self.stop_reason = "halt"
+            if self.tracer is not None:
+                self.tracer.footer(self.report().to_dict(), time.perf_counter() - started,
+                                   error)
+        return self.report()
+
+    def step(self) -> RunReport:
+        """Run one decision cycle (``run(1)``)."""
+        return self.run(1)
+
+    def report(self) -> RunReport:
+        """The report so far."""
+        return RunReport(
+            halted=self.halted, stop_reason=self.stop_reason or "interrupted",
+            decisions=self.decisions, output="".join(self._output),
+            operators=[list(o) for o in self.operators],
+            impasses=[list(i) for i in self.impasses],
+            production_firings=self.kernel.firings,
+            elaboration_cycles=self.elaboration_cycles,
+            wm_size_final=len(self.kernel.wm), messages=list(self.messages))
+
+    def close(self) -> None:
+        """Close the trace file (if the agent opened one)."""
+        if self.tracer is not None:
+            self.tracer.close()
+
+    # -- working memory ----------------------------------------------------------
+    @property
+    def wm(self) -> Iterator[WME]:
+        """Iterate over working memory."""
+        return iter(self.kernel.wm)
+
+    @property
+    def top_state(self) -> Identifier:
+        """``S1``."""
+        return self.kernel.top.id
+
+    @property
+    def input_link(self) -> Identifier:
+        """The ``^input-link`` identifier."""
+        return self.kernel.input_link
+
+    @property
+    def output_link(self) -> Identifier:
+        """The ``^output-link`` identifier."""
+        return self.kernel.output_link
+
+    @property
+    def goals(self) -> list[Identifier]:
+        """The goal stack's state identifiers, top first."""
+        out: list[Identifier] = []
+        goal: Goal | None = self.kernel.top
+        while goal is not None:
+            out.append(goal.id)
+            goal = goal.lower
+        return out
+
+    def print_state(self, ident: Identifier | None = None, depth: int = 1) -> str:
+        """Like Soar's ``print --depth N S1``."""
+        return self.kernel.wm.tree(ident if ident is not None else self.top_state, depth)
+
+    def on_input(self, callback: Callable[[InputWriter], None]) -> None:
+        """Call ``callback(writer)`` in every input phase."""
+        self.io.input_callbacks.append(callback)
+
+    def on_output(self, callback: Callable[[OutputView], None]) -> None:
+        """Call ``callback(view)`` after each output phase that changed the output-link."""
+        self.io.output_callbacks.append(callback)
+
+    # -- hooks used by the cycle -------------------------------------------------
+    def message(self, text: str) -> None:
+        """Record a kernel message."""
+        self.messages.append(text)
+        if self.tracer is not None:
+            self.tracer.message(text)
+
+    def _write(self, text: str) -> None:
+        self._output.append(text)
+        if self.tracer is not None:
+            self.tracer.write_text(text)
+
+    def _symbols_in_use(self) -> set[Symbol]:
+        used: set[Symbol] = set()
+        for w in self.kernel.wm:
+            used.update((w.attr, w.value))
+        return used
+
+    def begin_phase(self, phase: str) -> None:
+        """Called by the cycle as a phase starts."""
+        if self.tracer is not None:
+            self.tracer.begin_phase(self.decisions + (phase == "decision"), phase)
+
+    def end_phase(self, phase: str) -> None:
+        """Called by the cycle as a phase ends."""
+        if self.halted and "This Agent halted." not in self.messages[-1:]:
+            self.message("This Agent halted.")
+        tw = self.tracer
+        if tw is None:
+            return
+        tw.end_phase()
+        if phase == "decision":
+            rec = self._decision_record or {"d": self.decisions, "level": None,
+                                            "candidates": [], "selected": None,
+                                            "impasse": None}
+            self._decision_record = None
+            tw.decision(rec)
+
+    def note_decision(self, goal: Goal, d: SlotDecision) -> None:
+        """The decision phase ran preference semantics on ``goal``'s slot."""
+        if self.tracer is None:
+            return
+        k = self.kernel
+        cands: dict[Symbol, list[Any]] = {}
+        for sp in goal.prefs:
+            p = sp.preference
+            cands.setdefault(p.value, []).append([p.kind.value, symbol_json(p.referent)])
+        self._decision_record = {
+            "d": self.decisions, "level": goal.level,
+            "candidates": [{"id": symbol_json(v), "name": k.operator_name(v),
+                            "preferences": prefs} for v, prefs in cands.items()],
+            "selected": (None if d.selected is None else
+                         {"id": symbol_json(d.selected), "name": k.operator_name(d.selected)}),
+            "impasse": None}
+
+    def note_impasse(self, goal: Goal, sub: Goal) -> None:
+        """A substate was created below ``goal``."""
+        if self.tracer is None:
+            return
+        rec = self._decision_record or {"d": self.decisions, "level": goal.level,
+                                        "candidates": [], "selected": None}
+        rec["impasse"] = {"type": sub.impasse, "attribute": sub.attribute,
+                          "items": [symbol_json(v) for v in sub.items],
+                          "state": symbol_json(sub.id)}
+        self._decision_record = rec
+
+    # -- tracing -------------------------------------------------------------------
+    def _open_trace(self) -> None:
+        if self.tracer is not None or self._trace_arg is None:
+            return
+        arg = self._trace_arg
+        tw = arg if isinstance(arg, TraceWriter) else TraceWriter(
+            arg, level=self._trace_level, files=self.files, seed=self.seed)
+        self.tracer = tw
+        k = self.kernel
+
+        def on_event(kind: str, payload: object) -> None:
+            if kind == "wm":
+                added, removed = payload  # type: ignore[misc]
+                tw.wm_changes(added, removed)
+            elif kind == "fire":
+                inst: Instantiation = payload  # type: ignore[assignment]
+                tw.firing(inst.name, inst.goal.level, inst.support, inst.bindings or {},
+                          inst.wmes)
+            elif kind == "retract":
+                inst = payload  # type: ignore[assignment]
+                tw.retraction(inst.name, inst.goal.level, inst.wmes)
+
+        k.tracer = on_event
+
+    def __repr__(self) -> str:
+        return (f"Agent(decisions={self.decisions}, wmes={len(self.kernel.wm)}, "
+                f"rules={len(self.kernel.rules)}, halted={self.halted})")
+

@@ -1,0 +1,183 @@
+"""Goals (states) and their operator slots; the architectural WMEs of states.
+
+Each state in the goal stack is a :class:`Goal`: its identifier, its level
+(0 = the top state), its operator slot (the preferences made for ``^operator``
+and the selected operator), the impasse that created it, and its pending
+match-set changes (i-assertions, o-assertions, retractions), which the
+waterfall uses to find the active level.
+
+The WMEs Soar builds for states:
+
+* top state: ``(S1 ^superstate nil ^type state ^io I1)`` and
+  ``(I1 ^input-link I2 ^output-link I3)``;
+* substate: ``^type state ^superstate <sup> ^impasse <type> ^choices
+  <multiple|none> ^attribute <operator|state> ^quiescence t``, then for
+  tie / conflict / constraint-failure one ``^item`` per candidate and
+  ``^item-count``, ``^non-numeric`` per non-numeric candidate and
+  ``^non-numeric-count``.
+
+Soar also gives every state ``^epmem``, ``^smem`` and ``^reward-link``
+structures; adapt does not (epmem, smem and RL are not supported), so
+``wm_size`` differs from Soar's by those WMEs.  Nothing else depends on them.
+
+Examples
+--------
+>>> from adapt.engine.symbols import IdentifierFactory
+>>> ids = IdentifierFactory()
+>>> s1, i1, i2, i3 = ids.new("S"), ids.new("I"), ids.new("I"), ids.new("I")
+>>> [w[1:] for w in top_state_wmes(s1, i1, i2, i3)]
+[('superstate', 'nil'), ('type', 'state'), ('io', I1), ('input-link', I2), ('output-link', I3)]
+>>> s2 = ids.new("S")
+>>> for w in substate_wmes(s2, s1, "tie", "operator", (O1 := ids.new("O"), ids.new("O")),
+...                        (O1,)):
+...     print(w[1], w[2])
+type state
+superstate S1
+impasse tie
+choices multiple
+attribute operator
+quiescence t
+item O1
+item O2
+item-count 2
+non-numeric O1
+non-numeric-count 1
+"""
+
+from __future__ import annotations
+
+from adapt.engine.instantiation import Instantiation
+from adapt.engine.matcher import Match, MatchKey
+from adapt.engine.preferences import Preference
+from adapt.engine.symbols import Identifier, Symbol
+
+__all__ = ["Goal", "SlotPreference", "top_state_wmes", "substate_wmes", "item_wmes",
+           "NO_CHANGE", "IMPASSE_KINDS"]
+
+NO_CHANGE = "no-change"
+#: Impasse types as Soar names them (``^impasse`` values).
+IMPASSE_KINDS = ("tie", "conflict", "constraint-failure", NO_CHANGE)
+
+Triple = tuple[Symbol, Symbol, Symbol]
+
+
+class SlotPreference:
+    """One preference in an operator slot, and the instantiation that made it."""
+
+    __slots__ = ("preference", "inst")
+
+    def __init__(self, preference: Preference, inst: Instantiation | None) -> None:
+        self.preference = preference
+        self.inst = inst
+
+    def __repr__(self) -> str:
+        p = self.preference
+        ref = "" if p.referent is None else f" {p.referent}"
+        return f"<{p.value} {p.kind.value}{ref}>"
+
+
+class Goal:
+    """One state of the goal stack.
+
+    Attributes
+    ----------
+    id : Identifier
+    level : int
+        0 for the top state, 1 for its substate, ...
+    superstate, lower : Goal or None
+        The goal above and below.
+    impasse, attribute : str or None
+        For substates: the impasse type (``tie``, ``conflict``,
+        ``constraint-failure``, ``no-change``) and attribute (``operator`` or
+        ``state``).
+    items : tuple
+        The current ``^item`` values.
+    prefs : list of SlotPreference
+        The operator slot's preferences, oldest first.
+    operator : Identifier or None
+        The selected operator.
+    changed : bool
+        The slot's preferences changed since the last decision about it.
+    pending_i, pending_o : dict
+        Matches waiting to fire, by match key.
+    retractions : dict
+        Fired instantiations whose match disappeared, waiting to retract.
+    gds : set of int
+        Timetags of the superstate WMEs this goal depends on.
+    arch : list of WmeKey
+        The goal's architectural WMEs (removed with it).
+    """
+
+    __slots__ = ("id", "level", "superstate", "lower", "impasse", "attribute", "items",
+                 "non_numeric", "prefs", "operator", "changed", "pending_i", "pending_o",
+                 "retractions", "instantiations", "gds", "arch", "saved_firing")
+
+    def __init__(self, ident: Identifier, level: int, superstate: Goal | None) -> None:
+        self.id = ident
+        self.level = level
+        self.superstate = superstate
+        self.lower: Goal | None = None
+        self.impasse: str | None = None
+        self.attribute: str | None = None
+        self.items: tuple[Symbol, ...] = ()
+        self.non_numeric: tuple[Symbol, ...] = ()
+        self.prefs: list[SlotPreference] = []
+        self.operator: Identifier | None = None
+        self.changed = False
+        self.pending_i: dict[MatchKey, Match] = {}
+        self.pending_o: dict[MatchKey, Match] = {}
+        self.retractions: dict[object, Instantiation] = {}
+        self.instantiations: dict[object, Instantiation] = {}
+        self.gds: set[int] = set()
+        self.arch: list[tuple] = []
+        self.saved_firing: str | None = None
+
+    def i_activity(self) -> bool:
+        """i-assertions or retractions are pending here."""
+        return bool(self.pending_i or self.retractions)
+
+    def any_activity(self) -> bool:
+        """Anything is pending here."""
+        return bool(self.pending_i or self.pending_o or self.retractions)
+
+    def preferences(self) -> list[Preference]:
+        """The slot's preferences, oldest first."""
+        return [sp.preference for sp in self.prefs]
+
+    def __repr__(self) -> str:
+        return f"Goal({self.id}, level {self.level})"
+
+
+def top_state_wmes(s1: Identifier, io: Identifier, input_link: Identifier,
+                   output_link: Identifier) -> list[Triple]:
+    """The top state's WMEs, in the order they are created."""
+    return [(s1, "superstate", "nil"), (s1, "type", "state"), (s1, "io", io),
+            (io, "input-link", input_link), (io, "output-link", output_link)]
+
+
+def item_wmes(state: Identifier, impasse: str, items: tuple[Symbol, ...],
+              non_numeric: tuple[Symbol, ...]) -> list[Triple]:
+    """``^item``/``^item-count`` and ``^non-numeric``/``^non-numeric-count``.
+
+    Soar adds ``^non-numeric`` to every impasse with items (tie, conflict and
+    constraint failure), not only to ties.
+    """
+    if impasse == NO_CHANGE:
+        return []
+    out: list[Triple] = [(state, "item", v) for v in items]
+    out.append((state, "item-count", len(items)))
+    out.extend((state, "non-numeric", v) for v in non_numeric)
+    out.append((state, "non-numeric-count", len(non_numeric)))
+    return out
+
+
+def substate_wmes(state: Identifier, superstate: Identifier, impasse: str, attribute: str,
+                  items: tuple[Symbol, ...] = (),
+                  non_numeric: tuple[Symbol, ...] = ()) -> list[Triple]:
+    """A new substate's WMEs, in the order they are created."""
+    choices = "multiple" if impasse in ("tie", "conflict") else "none"
+    out: list[Triple] = [(state, "type", "state"), (state, "superstate", superstate),
+                         (state, "impasse", impasse), (state, "choices", choices),
+                         (state, "attribute", attribute), (state, "quiescence", "t")]
+    out.extend(item_wmes(state, impasse, items, non_numeric))
+    return out

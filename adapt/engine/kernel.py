@@ -1,0 +1,446 @@
+"""The kernel's mechanics: firing, support, retraction, goals and WM phases.
+
+:class:`Kernel` holds one agent's state -- working memory, the matcher,
+preference memory, the goal stack -- and the operations the decision cycle
+(:mod:`adapt.engine.cycle`) sequences:
+
+* :meth:`Kernel.commit` -- Soar's working-memory phase: apply the buffered WME
+  changes, feed the matcher, sort its match-set changes into the goals'
+  pending i-assertions, o-assertions and retractions, and remove goals whose
+  goal dependency set changed;
+* :meth:`Kernel.fire` -- one elaboration cycle at one goal: retract, then fire
+  every pending match of one kind in parallel (all right-hand sides are
+  evaluated before any preference is asserted; o-rejects go first);
+* :meth:`Kernel.select`, :meth:`Kernel.create_impasse`,
+  :meth:`Kernel.remove_goal` -- what decisions do.
+
+Preference memory for ordinary attributes is a support count: a WME
+``(id ^attr value)`` is in working memory while some live i-supported
+instantiation supports it or some o-supported preference holds it
+(:attr:`Kernel.isup`, :attr:`Kernel.osup`).  A ``-`` action of an o-supported
+instantiation removes every preference for that WME (i-supported ones
+included, as Soar's ``process_o_rejects`` does); a ``-`` action of an
+i-supported instantiation on an ordinary attribute is ignored.
+Operator slots keep every preference (:class:`adapt.engine.goals.Goal`).
+"""
+
+from __future__ import annotations
+
+import random
+from typing import Callable
+
+from adapt.engine.functions import FunctionTable, evaluate
+from adapt.engine.goals import Goal, SlotPreference, item_wmes, substate_wmes, top_state_wmes
+from adapt.engine.instantiation import SUPPORT_O, Instantiation, RuleInfo
+from adapt.engine.matcher import Match, Matcher
+from adapt.engine.memory import WmeKey, WorkingMemory
+from adapt.engine.preferences import Preference
+from adapt.engine.production import MakeAction, PreferenceKind, Production, Variable
+from adapt.engine.results import ResultMaker
+from adapt.engine.symbols import Identifier, IdentifierFactory, Symbol, format_symbol
+from adapt.engine.wme import WME
+
+__all__ = ["Kernel", "Listener"]
+
+_ACCEPTABLE = PreferenceKind.ACCEPTABLE
+_REJECT = PreferenceKind.REJECT
+_REQUIRE = PreferenceKind.REQUIRE
+
+#: Called for trace events: ``listener(kind, payload)``.
+Listener = Callable[[str, object], None]
+
+
+class Kernel:
+    """One agent's state and the mechanics of changing it.
+
+    Parameters
+    ----------
+    matcher : Matcher
+    functions : FunctionTable
+    context : RhsContext-like object
+        Passed to right-hand-side functions (``write``, ``halt`` ...).
+    """
+
+    def __init__(self, matcher: Matcher, functions: FunctionTable, context: object) -> None:
+        self.ids = IdentifierFactory()
+        self.matcher = matcher
+        self.functions = functions
+        self.context = context
+        self.wm = WorkingMemory(matcher)
+        self.rules: dict[str, RuleInfo] = {}
+        self.goals: dict[Symbol, Goal] = {}
+        self.id_level: dict[Symbol, int] = {}
+        self.isup: dict[WmeKey, list[Instantiation]] = {}
+        self.osup: dict[WmeKey, Instantiation] = {}
+        self.pending_goal: dict[object, Goal] = {}
+        self.fired: dict[object, Instantiation] = {}
+        self.gds_index: dict[int, set[Goal]] = {}
+        self.results = ResultMaker(self)
+        self.firings = 0
+        self.tracer: Listener | None = None
+        self.events: list[tuple[str, object]] = []
+        s1 = self.ids.new("S")
+        io, il, ol = self.ids.new("I"), self.ids.new("I"), self.ids.new("I")
+        self.top = Goal(s1, 0, None)
+        self.bottom = self.top
+        self.goals[s1] = self.top
+        self.input_link, self.output_link = il, ol
+        for ident in (s1, io, il, ol):
+            self.id_level[ident] = 0
+        self.wm.add_root(s1)
+        for t in top_state_wmes(s1, io, il, ol):
+            self.wm.add(*t)
+            self.top.arch.append((t[0], t[1], t[2], False))
+
+    # -- productions -------------------------------------------------------
+    def add_production(self, production: Production) -> None:
+        """Add (or replace) a production; its matches become pending."""
+        if production.name in self.rules:
+            self.matcher.remove_production(production.name)
+        self.rules[production.name] = RuleInfo(production)
+        self.matcher.add_production(production)
+
+    # -- working-memory phase ----------------------------------------------
+    def commit(self) -> tuple[list[WME], list[WME]]:
+        """Apply buffered WME changes and schedule the match-set changes.
+
+        Returns every WME added and removed (goal removals included).
+        """
+        all_added: list[WME] = []
+        all_removed: list[WME] = []
+        while True:
+            added, removed = self.wm.commit()
+            all_added.extend(added)
+            all_removed.extend(removed)
+            doomed: list[Goal] = []
+            if removed:
+                osup = self.osup
+                gds = self.gds_index
+                just = self.results.grounds_index
+                for w in removed:
+                    osup.pop(w.key, None)
+                    tt = w.timetag
+                    if tt in gds:
+                        doomed.extend(gds.pop(tt))
+                    if tt in just:
+                        for j in just.pop(tt):
+                            self._schedule_retraction(j)
+            self._schedule(*self.matcher.take_changes())
+            live = [g for g in doomed if self.goals.get(g.id) is g]
+            if not live:
+                break
+            top = min(live, key=lambda g: g.level)
+            self.emit("gds", top)
+            self.remove_goal(top)
+        if self.tracer is not None and (all_added or all_removed):
+            self.tracer("wm", (all_added, all_removed))
+        return all_added, all_removed
+
+    def _schedule(self, added: list[Match], removed: list[Match]) -> None:
+        pending_goal = self.pending_goal
+        for m in removed:
+            key = m.key
+            goal = pending_goal.pop(key, None)
+            if goal is not None:
+                if goal.pending_i.pop(key, None) is None:
+                    goal.pending_o.pop(key, None)
+                continue
+            inst = self.fired.pop(key, None)
+            if inst is not None:  # every fired instantiation retracts (o-supported too)
+                self._schedule_retraction(inst)
+        goals = self.goals
+        rules = self.rules
+        for m in added:
+            goal = None
+            for w in m.wmes:
+                g = goals.get(w.id)
+                if g is not None and (goal is None or g.level > goal.level):
+                    goal = g
+            if goal is None:
+                goal = self.top
+            key = m.key
+            if rules[m.production.name].support(m, goal.id) == SUPPORT_O:
+                goal.pending_o[key] = m
+            else:
+                goal.pending_i[key] = m
+            pending_goal[key] = goal
+
+    def _schedule_retraction(self, inst: Instantiation) -> None:
+        if inst.retracted:
+            return
+        goal = inst.goal
+        if self.goals.get(goal.id) is goal:
+            goal.retractions[inst.key if inst.key is not None else id(inst)] = inst
+        else:
+            self.retract(inst)
+
+    # -- firing ----------------------------------------------------------------
+    def fire(self, goal: Goal, kind: str) -> int:
+        """One elaboration cycle at ``goal``: ``kind`` is ``"i"`` (retractions
+        and i-assertions) or ``"o"`` (o-assertions).  Returns the number of
+        productions fired."""
+        if kind == "i":
+            retractions = goal.retractions
+            if retractions:
+                goal.retractions = {}
+                for inst in retractions.values():
+                    self.emit("retract", inst)
+                    self.retract(inst)
+            matches = goal.pending_i
+            goal.pending_i = {}
+        else:
+            matches = goal.pending_o
+            goal.pending_o = {}
+        if not matches:
+            return 0
+        pending_goal = self.pending_goal
+        fired = self.fired
+        made: list[tuple[Instantiation, list[tuple]]] = []
+        for key, m in matches.items():
+            del pending_goal[key]
+            pair = self._instantiate(m, goal)
+            fired[key] = pair[0]
+            made.append(pair)
+        self.firings += len(made)
+        # o-rejects first, then everything else (Soar's assert_new_preferences)
+        for inst, prefs in made:
+            if inst.support == SUPPORT_O:
+                for p in prefs:
+                    if p[0] is _REJECT and p[5]:
+                        self._o_reject(p)
+        for inst, prefs in made:
+            self._assert(inst, prefs)
+        return len(made)
+
+    def _instantiate(self, m: Match, goal: Goal) -> tuple[Instantiation, list[tuple]]:
+        rule = self.rules[m.production.name]
+        support = rule.support(m, goal.id)
+        inst = Instantiation(m.key, rule, goal, support, m.wmes)
+        bindings: dict[Variable, Symbol] = m.production.bindings(m.wmes)
+        level = goal.level
+        for var in rule.new_variables:
+            ident = self.ids.new(var.name[1:])
+            self.id_level[ident] = level
+            bindings[var] = ident
+        inst.bindings = bindings
+        self.emit("fire", inst)
+        prefs: list[tuple] = []
+        o_support = support == SUPPORT_O
+        table, ctx = self.functions, self.context
+        for action in m.production.actions:
+            if type(action) is MakeAction:
+                ident = bindings.get(action.id)
+                attr = action.attr if type(action.attr) is str else evaluate(
+                    action.attr, bindings, table, ctx)  # type: ignore[arg-type]
+                value = action.value
+                if type(value) is Variable:
+                    value = bindings[value]
+                elif type(value) is not str and type(value) is not int:
+                    value = evaluate(value, bindings, table, ctx)  # type: ignore[arg-type]
+                if ident is None or attr is None or value is None:
+                    continue
+                if type(ident) is not Identifier:
+                    ctx.error(  # type: ignore[attr-defined]
+                        f"RHS makes a preference for a non-identifier ({format_symbol(ident)})")
+                    continue
+                ref = action.referent
+                if ref is not None:
+                    ref = evaluate(ref, bindings, table, ctx)
+                prefs.append((action.preference, ident, attr, value, ref, o_support))
+            else:
+                evaluate(action.call, bindings, table, ctx)
+        return inst, prefs
+
+    def _o_reject(self, p: tuple) -> None:
+        _, ident, attr, value, _, _ = p
+        if attr == "operator" and ident in self.goals:
+            return
+        key = (ident, attr, value, False)
+        # Soar removes every preference for the value, i-supported ones included
+        had = self.osup.pop(key, None) is not None
+        if self.isup.pop(key, None) is not None or had:
+            self.wm.remove(ident, attr, value)
+
+    def _assert(self, inst: Instantiation, prefs: list[tuple]) -> None:
+        if not prefs:
+            return
+        goal = inst.goal
+        results = self.results.split(inst, prefs) if goal.level > 0 else None
+        goals = self.goals
+        for p in prefs:
+            kind, ident, attr, value, ref, o = p
+            if results is not None and p in results:
+                continue
+            if attr == "operator" and ident in goals:
+                self._add_slot_pref(goals[ident], Preference(kind, value, ref), inst)
+            elif kind is _ACCEPTABLE:
+                key = (ident, attr, value, False)
+                if o:
+                    self.osup[key] = inst
+                    self.results.note_o_local(inst)
+                else:
+                    self.isup.setdefault(key, []).append(inst)
+                    inst.i_wmes.append(key)
+                self.wm.add(ident, attr, value)
+        if inst.i_wmes or inst.slot_prefs:
+            goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
+        if results:
+            self.results.make(inst, [p for p in prefs if p in results])
+
+    def _add_slot_pref(self, goal: Goal, pref: Preference, inst: Instantiation) -> None:
+        sp = SlotPreference(pref, inst)
+        goal.prefs.append(sp)
+        goal.changed = True
+        inst.slot_prefs.append((goal, sp))
+        if pref.kind is _ACCEPTABLE or pref.kind is _REQUIRE:
+            key = (goal.id, "operator", pref.value, True)
+            self.isup.setdefault(key, []).append(inst)
+            self.wm.add(goal.id, "operator", pref.value, True)
+
+    def retract(self, inst: Instantiation) -> None:
+        """Remove everything an instantiation supports with i-support."""
+        if inst.retracted:
+            return
+        inst.retracted = True
+        isup, osup, wm = self.isup, self.osup, self.wm
+        for key in inst.i_wmes:
+            supporters = isup.get(key)
+            if supporters is None or inst not in supporters:
+                continue
+            supporters.remove(inst)
+            if not supporters:
+                del isup[key]
+                if key not in osup:
+                    wm.remove(*key)
+        for goal, sp in inst.slot_prefs:
+            try:
+                goal.prefs.remove(sp)
+            except ValueError:
+                continue
+            goal.changed = True
+            kind = sp.preference.kind
+            if kind is _ACCEPTABLE or kind is _REQUIRE:
+                value = sp.preference.value
+                key = (goal.id, "operator", value, True)
+                supporters = isup.get(key)
+                if supporters is not None:
+                    supporters.remove(inst)
+                    if not supporters:
+                        del isup[key]
+                        wm.remove(*key)
+                if kind is _ACCEPTABLE and goal.operator is value and self.goals.get(goal.id) is goal:
+                    self.deselect(goal)  # case (a): its acceptable preference retracted
+        goal = inst.goal
+        goal.instantiations.pop(inst.key if inst.key is not None else id(inst), None)
+
+    # -- decisions ---------------------------------------------------------------
+    def select(self, goal: Goal, operator: Identifier) -> None:
+        """Install ``operator`` as the goal's selected operator."""
+        if goal.lower is not None:
+            self.remove_goal(goal.lower)
+        goal.operator = operator
+        goal.changed = False
+        self.wm.add(goal.id, "operator", operator)
+
+    def deselect(self, goal: Goal) -> None:
+        """Remove the selected operator and every goal below."""
+        if goal.operator is not None:
+            self.wm.remove(goal.id, "operator", goal.operator)
+            goal.operator = None
+        if goal.lower is not None:
+            self.remove_goal(goal.lower)
+
+    def create_impasse(self, goal: Goal, impasse: str, attribute: str,
+                       items: tuple[Symbol, ...], non_numeric: tuple[Symbol, ...]) -> Goal:
+        """Create a substate below ``goal`` (removing any existing one)."""
+        if goal.lower is not None:
+            self.remove_goal(goal.lower)
+        ident = self.ids.new("S")
+        sub = Goal(ident, goal.level + 1, goal)
+        sub.impasse, sub.attribute = impasse, attribute
+        sub.items, sub.non_numeric = items, non_numeric
+        goal.lower = sub
+        goal.changed = False
+        self.bottom = sub
+        self.goals[ident] = sub
+        self.id_level[ident] = sub.level
+        self.wm.add_root(ident)
+        for t in substate_wmes(ident, goal.id, impasse, attribute, items, non_numeric):
+            self.wm.add(*t)
+            sub.arch.append((t[0], t[1], t[2], False))
+        return sub
+
+    def update_items(self, goal: Goal, items: tuple[Symbol, ...],
+                     non_numeric: tuple[Symbol, ...]) -> None:
+        """Replace the ``^item`` set of ``goal``'s substate (same impasse kind)."""
+        sub = goal.lower
+        assert sub is not None and sub.impasse is not None
+        goal.changed = False
+        if items == sub.items and non_numeric == sub.non_numeric:
+            return
+        old = item_wmes(sub.id, sub.impasse, sub.items, sub.non_numeric)
+        new = item_wmes(sub.id, sub.impasse, items, non_numeric)
+        for t in old:
+            if t not in new:
+                self.wm.remove(*t)
+        for t in new:
+            self.wm.add(*t)
+        keep = [k for k in sub.arch if k[1] not in ("item", "item-count", "non-numeric",
+                                                    "non-numeric-count")]
+        sub.arch = keep + [(t[0], t[1], t[2], False) for t in new]
+        sub.items, sub.non_numeric = items, non_numeric
+
+    def remove_goal(self, goal: Goal) -> None:
+        """Remove ``goal`` and every goal below it, with their local structure."""
+        if goal.lower is not None:
+            self.remove_goal(goal.lower)
+        self.emit("remove-goal", goal)
+        level = goal.level
+        pending_goal = self.pending_goal
+        for key in goal.pending_i:
+            pending_goal.pop(key, None)
+        for key in goal.pending_o:
+            pending_goal.pop(key, None)
+        goal.pending_i, goal.pending_o = {}, {}
+        for inst in list(goal.retractions.values()) + list(goal.instantiations.values()):
+            if inst.key is not None:
+                self.fired.pop(inst.key, None)
+            self.retract(inst)
+        goal.retractions = {}
+        id_level = self.id_level
+        for key in [k for k in self.osup if id_level.get(k[0], 0) >= level]:
+            del self.osup[key]
+            if key not in self.isup:
+                self.wm.remove(*key)
+        if goal.operator is not None:
+            self.wm.remove(goal.id, "operator", goal.operator)
+            goal.operator = None
+        for key in goal.arch:
+            self.wm.remove(*key)
+        for tt in goal.gds:
+            holders = self.gds_index.get(tt)
+            if holders is not None:
+                holders.discard(goal)
+                if not holders:
+                    del self.gds_index[tt]
+        self.wm.remove_root(goal.id)
+        del self.goals[goal.id]
+        sup = goal.superstate
+        assert sup is not None
+        sup.lower = None
+        self.bottom = sup
+
+    # -- tracing ---------------------------------------------------------------
+    def emit(self, kind: str, payload: object) -> None:
+        """Pass an event to the tracer, when one is attached."""
+        if self.tracer is not None:
+            self.tracer(kind, payload)
+
+    def operator_name(self, operator: Symbol) -> str | None:
+        """The operator's ``^name`` as text, or ``None``."""
+        names = self.wm.values(operator, "name")
+        return format_symbol(names[0]) if names else None
+
+    def new_rng(self, seed: int) -> random.Random:
+        """A seeded generator for indifferent selection."""
+        return random.Random(seed)
