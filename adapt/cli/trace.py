@@ -122,6 +122,63 @@ def _cmd_stats(args: argparse.Namespace) -> int:
     return 0
 
 
+def parse_wme(text: str) -> tuple[int | None, tuple[str, str, str | None, bool | None] | None]:
+    """``231`` (a timetag) or ``(S1 ^operator O3 +)`` / ``S1 ^count`` (id, attr, value, +).
+
+    >>> parse_wme("231"), parse_wme("(S1 ^count 3)"), parse_wme("S1 ^io")
+    ((231, None), (None, ('S1', 'count', '3', False)), (None, ('S1', 'io', None, None)))
+    >>> parse_wme("(S1 ^operator O3 +)")
+    (None, ('S1', 'operator', 'O3', True))
+    """
+    text = text.strip()
+    if text.isdigit():
+        return int(text), None
+    parts = text.strip("()").replace("^", " ^").split()
+    acceptable = None if len(parts) == 2 else parts[-1] == "+"
+    if acceptable:
+        parts = parts[:-1]
+    if len(parts) in (2, 3) and parts[1].startswith("^") and len(parts[1]) > 1:
+        return None, (parts[0], parts[1][1:], parts[2] if len(parts) == 3 else None, acceptable)
+    raise argparse.ArgumentTypeError(
+        f"{text!r} is not a timetag or a WME like '(S1 ^count 3)'")
+
+
+def _cmd_why(args: argparse.Namespace) -> int:
+    from adapt.traceview.rules import load_productions
+    from adapt.traceview.why import explain, find_timetag, format_origin, format_why_not, why_not
+
+    trace = _open(args.trace)
+    if args.rule is not None:
+        if args.at is None:
+            raise TraceError("--rule needs --at D (the decision to check the rule at)")
+        result = why_not(trace, args.rule, args.at, load_productions(trace, args.rules))
+        print(format_why_not(result))
+        return 0
+    if args.wme is None:
+        raise TraceError("say what to explain: --wme TIMETAG|'(ID ^attr value)' or --rule NAME --at D")
+    timetag, pattern = args.wme
+    if timetag is None:
+        assert pattern is not None
+        ident, attr, value, acceptable = pattern
+        timetag = find_timetag(trace, ident, attr, value, at=args.at, acceptable=acceptable)
+    try:
+        productions = load_productions(trace, args.rules)
+    except AdaptError as exc:
+        productions = None
+        print(f"adapt: note: without the rules, makers are told only by the firings' own "
+              f"records ({exc})", file=sys.stderr)
+    print(format_origin(explain(trace, timetag, args.depth, productions)))
+    return 0
+
+
+def _cmd_diff(args: argparse.Namespace) -> int:
+    from adapt.traceview.diff import diff_traces, format_divergence
+
+    result = diff_traces(_open(args.a), _open(args.b))
+    print(format_divergence(result, args.a, args.b))
+    return 0 if result.cycle is None else 1 if args.exit_code else 0
+
+
 def _with_warnings(func: Callable[[argparse.Namespace], int]) -> Callable[[argparse.Namespace], int]:
     def run(args: argparse.Namespace) -> int:
         with _warnings_to_stderr():
@@ -157,6 +214,25 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument("--depth", type=int, default=2, metavar="N", help="levels to print (2)")
     p.add_argument("--internal", action="store_true", help="one WME per line, with timetags")
     p.set_defaults(func=_with_warnings(_cmd_wm))
+
+    p = cmds.add_parser("why", help="which firing made a WME; why a rule did not fire")
+    p.add_argument("trace", metavar="TRACE")
+    p.add_argument("--wme", type=parse_wme, metavar="WME",
+                   help="a timetag, or '(ID ^attr value)' (the latest such WME by --at)")
+    p.add_argument("--rule", metavar="NAME", help="why this rule did not fire at --at D")
+    p.add_argument("--at", type=int, metavar="D", help="the decision cycle")
+    p.add_argument("--depth", type=int, default=1, metavar="N",
+                   help="explain the matched WMEs this many levels deep (1)")
+    p.add_argument("--rules", nargs="+", metavar="FILE",
+                   help="the rule files (default: those named in the trace header)")
+    p.set_defaults(func=_with_warnings(_cmd_why))
+
+    p = cmds.add_parser("diff", help="the first decision where two traces diverge")
+    p.add_argument("a", metavar="A")
+    p.add_argument("b", metavar="B")
+    p.add_argument("--exit-code", action="store_true",
+                   help="exit with status 1 when the traces differ (like git diff --exit-code)")
+    p.set_defaults(func=_with_warnings(_cmd_diff))
 
     p = cmds.add_parser("stats", help="decisions, firings per rule, WM size, impasses")
     p.add_argument("trace", metavar="TRACE")

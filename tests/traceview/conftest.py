@@ -227,3 +227,57 @@ def big_trace(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A 100,000-decision level-5 trace (about 150 MB), written once per session."""
     path = tmp_path_factory.mktemp("big") / "counter-100k.jsonl"
     return write_counter_trace(path, 100_000, tie_every=50)
+
+
+#: Rules in the shape of the counter agent's, for ``why`` (conditions and actions).
+COUNTER_RULES = """
+sp {propose*count
+   (state <s> ^count <c>)
+-->
+   (<s> ^operator <o> +)
+   (<o> ^name count)}
+
+sp {propose*skip
+   (state <s> ^count <c>)
+-->
+   (<s> ^operator <o> +)
+   (<o> ^name skip)}
+
+sp {apply*count
+   (state <s> ^operator <o> ^count <c>)
+   (<o> ^name count)
+-->
+   (<s> ^count (+ <c> 1) ^count <c> -)}
+
+sp {tie*prefer-count
+   (state <ss> ^impasse tie ^superstate <s>)
+-->
+   (write |tie|)}
+
+sp {check*done
+   (state <s> ^count {<c> >= 10})
+  -(<s> ^done yes)
+-->
+   (<s> ^done yes)}
+
+sp {stop*idle
+   (state <s> ^count <c>)
+  -(<s> ^operator <o>)
+-->
+   (halt)}
+
+sp {watch*substate
+   (state <s> ^superstate <ss>)
+   (<ss> ^impasse tie)
+-->
+   (write |never|)}
+"""
+
+
+@pytest.fixture
+def counter_rules(tmp_path: Path) -> Path:
+    """The counter rules in ``tmp_path/rules/counter.soar`` (where the traces' headers point)."""
+    path = tmp_path / "rules" / "counter.soar"
+    path.parent.mkdir(exist_ok=True)
+    path.write_text(COUNTER_RULES)
+    return path

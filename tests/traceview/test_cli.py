@@ -50,3 +50,17 @@ def test_bad_range_is_a_usage_error(capsys, counter_trace) -> None:
         main(["trace", "show", str(counter_trace(2)), "--decisions", "9..3"])
     assert exc.value.code == 2
     assert "range is empty" in capsys.readouterr().err
+
+
+def test_why_wme_and_rule(capsys, counter_trace, counter_rules) -> None:
+    path = str(counter_trace(9, tie_every=7))
+    status, out, _ = run(capsys, "trace", "why", path, "--wme", "(S1 ^count 3)", "--depth", "0")
+    assert status == 0
+    assert out.startswith("(18: S1 ^count 3)  added in decision cycle 3 (apply phase) by apply*count")
+    status, out, _ = run(capsys, "trace", "why", path, "--rule", "check*done", "--at", "5")
+    assert status == 0 and "condition 2 has no match" in out
+
+
+def test_why_needs_a_question(capsys, counter_trace) -> None:
+    status, _, err = run(capsys, "trace", "why", str(counter_trace(3)))
+    assert status == 1 and "--wme" in err

@@ -1,0 +1,58 @@
+"""The rule files a traced run loaded, found again and parsed.
+
+A trace header names the rule files as the run was given them (usually
+relative to the directory the run started in).  :func:`find_rule_file`
+looks for each relative to the current directory, then to the trace's
+directory and its parents.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from adapt.engine.parse import load_rule_file
+from adapt.engine.production import Production
+from adapt.errors import TraceError
+from adapt.traceview.reader import Trace
+
+__all__ = ["find_rule_file", "load_productions"]
+
+
+def find_rule_file(name: str, trace_path: str) -> Path:
+    """Where the rule file ``name`` from a trace header is now.
+
+    Raises
+    ------
+    adapt.errors.TraceError
+        If it is found nowhere.
+    """
+    given = Path(name)
+    if given.is_absolute():
+        if given.is_file():
+            return given
+    else:
+        places = [Path.cwd(), *Path(os.path.abspath(trace_path)).parents]
+        for place in places:
+            if (place / given).is_file():
+                return place / given
+    raise TraceError(
+        f"rule file {name} (named in the header of {trace_path}) was not found in the current "
+        f"directory or beside the trace; give the rule files with --rules"
+    )
+
+
+def load_productions(trace: Trace, files: list[str] | None = None) -> dict[str, Production]:
+    """The productions of ``files`` (default: the trace header's), by name.
+
+    A later file's production replaces an earlier one of the same name, as
+    when the run loaded them in order.
+    """
+    paths = [Path(f) for f in files] if files else [
+        find_rule_file(f, trace.path) for f in trace.header.files
+    ]
+    productions: dict[str, Production] = {}
+    for path in paths:
+        for production in load_rule_file(path).productions:
+            productions[production.name] = production
+    return productions
