@@ -393,7 +393,7 @@ def _abs(args: Sequence[Symbol], context: RhsContext) -> Symbol | None:
     if type(a) is int:
         return _wrap(abs(a))
     if isinstance(a, float):
-        return Float(abs(a) if a != 0 else a)
+        return Float(abs(a) if float(a) != 0.0 else a)  # Soar keeps -0.0
     context.error(f"'abs' function called with non-numeric argument {format_symbol(a)}")
     return None
 
