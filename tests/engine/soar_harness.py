@@ -178,7 +178,10 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
 
 def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
               matcher: str = "rete") -> Report:
-    """Run ``path`` in adapt; writes are segmented by decision from a level-2 trace."""
+    """Run ``path`` in adapt; writes are segmented by decision from a level-2 trace.
+
+    An exception from the engine is reported in ``error`` rather than raised.
+    """
     from adapt.engine import Agent
 
     path = Path(path).resolve()
@@ -186,9 +189,14 @@ def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
     with tempfile.TemporaryDirectory() as tmp:
         trace = Path(tmp) / "trace.jsonl"
         agent = _make_agent(Agent, seed, matcher, trace)
-        agent.load_file(str(path))
-        report: Report = dict(agent.run(max_decisions=bound).to_dict())
-        _close(agent)
+        try:
+            agent.load_file(str(path))
+            report: Report = dict(agent.run(max_decisions=bound).to_dict())
+        except Exception as exc:  # the test reports it against Soar's run
+            return {"error": f"{type(exc).__name__}: {exc}", "halted": False,
+                    "stop_reason": "error", "decisions": None}
+        finally:
+            _close(agent)
         if trace.exists():
             report["writes"] = _writes_from_trace(trace)
     return report
@@ -228,6 +236,8 @@ def first_difference(soar: Report, adapt: Report) -> str | None:
     """The first way ``adapt`` departs from ``soar``, as one readable line, or None."""
     if soar.get("error"):
         return f"real Soar could not run the agent: {soar['error']}"
+    if adapt.get("error"):
+        return f"adapt failed: {adapt['error']}"
     last = max(int(soar.get("decisions", 0)), int(adapt.get("decisions", 0) or 0))
     segmented = "writes" in soar and "writes" in adapt
     for d in range(last + 1):
@@ -246,7 +256,15 @@ def first_difference(soar: Report, adapt: Report) -> str | None:
     for key in ("decisions", "halted", "stop_reason"):
         if soar.get(key) != adapt.get(key):
             return f"{key}: Soar {soar.get(key)!r}, adapt {adapt.get(key)!r}"
+    if "messages" in adapt:
+        s_warn, a_warn = _warnings(soar), _warnings(adapt)
+        if s_warn != a_warn:
+            return f"max-elaborations warnings: Soar {s_warn}, adapt {a_warn}"
     return None
+
+
+def _warnings(report: Report) -> int:
+    return sum("max-elaborations" in str(m) for m in report.get("messages", []))
 
 
 def _segment(writes: list[list[Any]], d: int) -> list[str]:

@@ -1,0 +1,142 @@
+"""Differential tests: each agent runs in the real Soar kernel and in adapt.
+
+Every ``.soar`` file in ``tests/engine/agents/`` and ``rules/examples/`` is
+run in real Soar (PyPI ``soar-sml``, in a child process, once per session)
+and in adapt; ``halted``, ``stop_reason``, ``decisions``, ``operators``,
+``impasses`` and the output, segment by segment per decision (writes of one
+segment compared as a multiset), must agree.  The expected behaviour is
+always what Soar does in the same test run, never a stored answer.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from soar_harness import (
+    DEFAULT_MAX_DECISIONS,
+    Report,
+    first_difference,
+    max_decisions_of,
+    run_adapt,
+    run_soar_many,
+)
+
+AGENTS = sorted((Path(__file__).parent / "agents").glob("*.soar"))
+EXAMPLES = sorted((Path(__file__).resolve().parents[2] / "rules" / "examples").glob("*.soar"))
+ALL_FILES = AGENTS + EXAMPLES
+
+
+def _soar_importable() -> bool:
+    with warnings.catch_warnings():  # SWIG's import-time DeprecationWarning
+        warnings.simplefilter("ignore", DeprecationWarning)
+        try:
+            import soar_sml  # noqa: F401  (the kernel itself only ever runs in a child)
+        except ImportError:
+            return False
+    return True
+
+
+requires_soar = pytest.mark.skipif(
+    not _soar_importable(),
+    reason="soar_sml (PyPI soar-sml, the real Soar kernel) cannot be imported: "
+    "differential tests against real Soar are skipped",
+)
+
+
+def _file_id(path: Path) -> str:
+    return f"{path.parent.name}/{path.stem}"
+
+
+@pytest.fixture(scope="session")
+def soar_reports(request: pytest.FixtureRequest) -> dict[Path, Report]:
+    """Real Soar's report for every selected file, two child processes at a time."""
+    wanted: set[Path] = set()
+    for item in request.session.items:
+        params: dict[str, Any] = getattr(getattr(item, "callspec", None), "params", {})
+        if isinstance(params.get("agent_file"), Path):
+            wanted.add(params["agent_file"])
+    return run_soar_many(sorted(wanted) or ALL_FILES, jobs=2)
+
+
+@requires_soar
+@pytest.mark.soar
+@pytest.mark.parametrize("agent_file", ALL_FILES, ids=_file_id)
+def test_agent_behaves_as_in_real_soar(agent_file: Path, soar_reports: dict[Path, Report]) -> None:
+    soar = soar_reports[agent_file]
+    adapt = run_adapt(agent_file)
+    difference = first_difference(soar, adapt)
+    assert difference is None, f"{_file_id(agent_file)}: {difference}"
+
+
+@requires_soar
+@pytest.mark.soar
+@pytest.mark.parametrize("agent_file", ALL_FILES, ids=_file_id)
+def test_agent_is_well_formed_in_real_soar(agent_file: Path,
+                                           soar_reports: dict[Path, Report]) -> None:
+    """Each agent loads and halts in Soar; a bounded one declares its bound."""
+    soar = soar_reports[agent_file]
+    assert not soar.get("error"), soar.get("error")
+    if max_decisions_of(agent_file) == DEFAULT_MAX_DECISIONS:
+        assert soar["halted"] and soar["stop_reason"] == "halt", soar["stop_reason"]
+    else:
+        assert not soar["halted"], "a bounded agent must not halt"
+
+
+def test_suite_has_the_required_agents() -> None:
+    substate_agents = [p for p in AGENTS if p.stem.startswith("sub_")]
+    own_agents = [p for p in AGENTS if not p.stem.startswith(("sub_", "pref_"))]
+    assert len(own_agents) >= 20 and len(substate_agents) >= 8
+    names = {p.stem for p in EXAMPLES}
+    assert {"water-jug", "blocks-world", "towers-of-hanoi", "missionaries-cannibals",
+            "operator-no-change"} <= names
+
+
+# ---- the comparison itself (no Soar needed) --------------------------------
+
+
+def _report(**fields: Any) -> Report:
+    base: Report = {"halted": True, "stop_reason": "halt", "decisions": 2, "output": "a\nb\n",
+                    "operators": [[1, 0, "go"], [2, 0, "stop"]], "impasses": [],
+                    "writes": [[1, "a\n"], [1, "b\n"]]}
+    base.update(fields)
+    return base
+
+
+def test_identical_reports_have_no_difference() -> None:
+    assert first_difference(_report(), _report()) is None
+
+
+def test_writes_within_one_decision_may_come_in_any_order() -> None:
+    swapped = _report(output="b\na\n", writes=[[1, "b\n"], [1, "a\n"]])
+    assert first_difference(_report(), swapped) is None
+
+
+def test_a_write_in_another_decision_is_reported_with_its_decision() -> None:
+    moved = _report(writes=[[1, "a\n"], [2, "b\n"]])
+    assert first_difference(_report(), moved) == (
+        'decision 1: writes after it: Soar ["a\\n", "b\\n"], adapt ["a\\n"]')
+
+
+def test_a_different_selection_names_the_decision() -> None:
+    other = _report(operators=[[1, 0, "go"], [2, 0, "wait"]])
+    assert first_difference(_report(), other) == (
+        'decision 2: selection: Soar [[0, "stop"]], adapt [[0, "wait"]]')
+
+
+def test_an_impasse_difference_comes_before_later_ones() -> None:
+    other = _report(impasses=[[1, 1, "tie", "operator"]], decisions=3)
+    assert first_difference(_report(), other).startswith("decision 1: impasse")
+
+
+def test_without_segments_the_whole_output_is_compared() -> None:
+    unsegmented = {k: v for k, v in _report(output="a\nc\n").items() if k != "writes"}
+    assert first_difference(_report(), unsegmented) == (
+        "output line 2 (Soar wrote it after decision 1): Soar 'b\\n', adapt 'c\\n'")
+
+
+def test_an_adapt_error_is_reported() -> None:
+    assert first_difference(_report(), {"error": "boom"}) == "adapt failed: boom"
