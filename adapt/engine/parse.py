@@ -158,6 +158,42 @@ def _relational_vars(t: Test | None) -> list[Variable]:
     return []
 
 
+def _relational_vars_deep(c: ConditionElement) -> set[Variable]:
+    if isinstance(c, Condition):
+        return set(_relational_vars(c.attr) + _relational_vars(c.value))
+    out: set[Variable] = set()
+    for inner in c.conditions:
+        out |= _relational_vars_deep(inner)
+    return out
+
+
+def _binders_first(conds: list[ConditionElement]) -> tuple[ConditionElement, ...]:
+    """Order a conjunctive negation's members so that a relational test on a
+    variable bound by another member comes after that member (the matcher
+    evaluates members in order).  Stable; the order only changes when needed.
+    A cycle (two members each binding what the other tests, which Soar
+    accepts) is left as written."""
+    binders: dict[Variable, set[int]] = {}
+    for k, c in enumerate(conds):
+        if isinstance(c, Condition) and not c.negated:
+            for v in _equality_vars(c):
+                binders.setdefault(v, set()).add(k)
+    needs = [
+        {k2 for v in _relational_vars_deep(c) for k2 in binders.get(v, ()) if k2 != k}
+        for k, c in enumerate(conds)
+    ]
+    placed: list[int] = []
+    remaining = list(range(len(conds)))
+    while remaining:
+        ready = next((k for k in remaining if needs[k] <= set(placed)), None)
+        if ready is None:
+            placed.extend(remaining)
+            break
+        placed.append(ready)
+        remaining.remove(ready)
+    return tuple(conds[k] for k in placed)
+
+
 class _Parser:
     def __init__(self, text: str, file: str, table: FunctionTable) -> None:
         self.text = text
@@ -324,7 +360,7 @@ class _Parser:
             if isinstance(c, Condition):
                 return [dataclasses.replace(c, negated=not c.negated)]
             return list(c.conditions)
-        return [ConjunctiveNegation(tuple(conds), location=self.loc(tok))]
+        return [ConjunctiveNegation(_binders_first(conds), location=self.loc(tok))]
 
     def parse_cond(self) -> list[ConditionElement]:
         if self.peek().kind == "-":

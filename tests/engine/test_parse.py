@@ -256,3 +256,11 @@ def test_load_rule_file(tmp_path: Path) -> None:
 def test_binding_sites_of_a_parsed_production() -> None:
     p = parse_rules("sp {t (state <s> ^a.b <x>) -(<x> ^c <y>) --> (<s> ^d <x>)}").productions[0]
     assert p.binding_sites == {S: (0, 0), H1: (1, 2), X: (2, 2)}
+
+
+def test_conjunctive_negation_members_are_ordered_binders_first() -> None:
+    # The relational test on <x> needs <x> bound first inside the negation.
+    assert lhs("(state <s>) -{(<s> ^b < <x>) (<s> ^a <x>)}") == (
+        STATE, ConjunctiveNegation((cond(S, "a", X), cond(S, "b", RelationalTest("<", X)))))
+    assert lhs("(state <s>) -{(<s> ^a <x>) (<s> ^b < <x>)}") == (
+        STATE, ConjunctiveNegation((cond(S, "a", X), cond(S, "b", RelationalTest("<", X)))))
