@@ -10,14 +10,13 @@ import argparse
 import json
 import os
 import sys
-import tempfile
 import warnings
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
 from adapt.errors import AdaptError, TraceError
 
-__all__ = ["register", "parse_range", "write_atomically"]
+__all__ = ["register", "parse_range", "parse_wme"]
 
 
 def parse_range(text: str) -> tuple[int | None, int | None]:
@@ -48,20 +47,6 @@ def _level(text: str) -> int:
     if not 1 <= value <= 5:
         raise argparse.ArgumentTypeError(f"{text!r}: the level is 1..5")
     return value
-
-
-def write_atomically(path: str, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file and a rename."""
-    directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".adapt-", suffix=".tmp", dir=directory)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 @contextmanager
@@ -179,6 +164,14 @@ def _cmd_diff(args: argparse.Namespace) -> int:
     return 0 if result.cycle is None else 1 if args.exit_code else 0
 
 
+def _cmd_html(args: argparse.Namespace) -> int:
+    from adapt.traceview.html import write_html
+
+    path = write_html(_open(args.trace), args.out)
+    print(path)
+    return 0
+
+
 def _with_warnings(func: Callable[[argparse.Namespace], int]) -> Callable[[argparse.Namespace], int]:
     def run(args: argparse.Namespace) -> int:
         with _warnings_to_stderr():
@@ -233,6 +226,11 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p.add_argument("--exit-code", action="store_true",
                    help="exit with status 1 when the traces differ (like git diff --exit-code)")
     p.set_defaults(func=_with_warnings(_cmd_diff))
+
+    p = cmds.add_parser("html", help="one self-contained HTML page to browse the trace")
+    p.add_argument("trace", metavar="TRACE")
+    p.add_argument("--out", metavar="FILE", help="where to write it (default: TRACE with .html)")
+    p.set_defaults(func=_with_warnings(_cmd_html))
 
     p = cmds.add_parser("stats", help="decisions, firings per rule, WM size, impasses")
     p.add_argument("trace", metavar="TRACE")

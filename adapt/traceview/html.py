@@ -1,0 +1,192 @@
+"""One self-contained HTML page to browse a trace (``adapt trace html``).
+
+The page holds everything inline -- styles, script and the trace data -- and
+loads nothing from the network.  The trace is embedded compactly so that a
+run of tens of thousands of decisions stays responsive:
+
+* one short row per decision cycle for the timeline, which the page renders
+  *virtualised* (only the rows in view exist in the DOM);
+* working memory as *keyframes* (the whole WM every ``K`` cycles) plus each
+  cycle's net *deltas* (the WMEs it added that were still there at its end,
+  the timetags it removed that were there at its start); the page rebuilds WM
+  at the selected cycle from the nearest keyframe before it;
+* each cycle's firings (rule, bindings, matched timetags), retractions,
+  candidates and preferences, impasse, ``(write)`` output, schema events and
+  MMD frame, shown only for the selected cycle.
+
+A WME is embedded as ``[timetag, id, attr, value, flags]`` with the symbols
+as Soar prints them; ``flags`` bit 0 is "acceptable" and bit 1 "the value is
+an identifier".
+
+Examples
+--------
+>>> compact_wme([231, {"id": "S1"}, "operator", {"id": "O7"}, True])
+[231, 'S1', 'operator', 'O7', 3]
+>>> page = render_page({"title": "t", "cycles": []})
+>>> page.startswith("<!DOCTYPE html>") and "</script>" in page and "http" not in page
+True
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from importlib import resources
+from typing import Any
+
+from adapt.traceview.memory import LiveMemory
+from adapt.traceview.reader import Trace
+from adapt.traceview.show import impasse_text
+from adapt.traceview.symbols import id_name, text_of
+
+__all__ = ["compact_wme", "build_payload", "render_page", "write_html", "default_keyframe_interval"]
+
+
+def compact_wme(wme: list[Any] | tuple[Any, ...]) -> list[Any]:
+    """``[timetag, id, attr, value, flags]`` for the page."""
+    tt, ident, attr, value, acceptable = wme
+    flags = (1 if acceptable else 0) | (2 if id_name(value) is not None else 0)
+    return [tt, text_of(ident), text_of(attr), text_of(value), flags]
+
+
+def _bindings(bindings: dict[str, Any] | None) -> list[list[str]]:
+    return [[var, text_of(val)] for var, val in (bindings or {}).items()]
+
+
+def default_keyframe_interval(cycles: int) -> int:
+    """Cycles between WM keyframes: about 40 keyframes, never closer than 50 cycles apart.
+
+    >>> default_keyframe_interval(100), default_keyframe_interval(10_000)
+    (50, 250)
+    """
+    return max(50, cycles // 40)
+
+
+def _cycle_entry(cycle: int, records: list[dict[str, Any]], wm: LiveMemory | None) -> dict[str, Any]:
+    entry: dict[str, Any] = {"c": cycle}
+    firings: list[list[Any]] = []
+    retractions: list[list[Any]] = []
+    adds: dict[int, list[Any]] = {}  # net: added in this cycle and still there at its end
+    removes: list[int] = []  # net: there at the start of the cycle, gone at its end
+    writes: list[str] = []
+    messages: list[str] = []
+    phases: list[str] = []
+    for record in records:
+        kind = record["kind"]
+        if kind == "phase":
+            phase = str(record.get("phase"))
+            phases.append(phase)
+            for f in record.get("firings") or ():
+                firings.append([phase, str(f.get("rule")), f.get("level", 0), f.get("support", ""),
+                                _bindings(f.get("bindings")), list(f.get("wmes") or ())])
+            for f in record.get("retractions") or ():
+                retractions.append([phase, str(f.get("rule")), f.get("level", 0),
+                                    list(f.get("wmes") or ())])
+            if wm is not None:
+                for t in record.get("removes") or ():
+                    if adds.pop(t, None) is None:
+                        removes.append(t)
+                for a in record.get("adds") or ():
+                    adds[a[0]] = compact_wme(a)
+                wm.apply(record)
+            if record.get("writes"):
+                writes.append(str(record["writes"]))
+            messages.extend(str(m) for m in record.get("messages") or ())
+        elif kind == "decision":
+            entry["lv"] = int(record.get("level") or 0)
+            selected = record.get("selected")
+            if selected:
+                entry["op"] = [text_of(selected.get("id")), text_of(selected.get("name"))]
+            impasse = record.get("impasse")
+            if impasse:
+                entry["imp"] = [impasse_text(impasse), text_of(impasse.get("state")),
+                                [text_of(i) for i in impasse.get("items") or ()]]
+            if record.get("candidates"):
+                entry["cand"] = [
+                    [text_of(c.get("id")), text_of(c.get("name")),
+                     [[k, None if r is None else text_of(r)] for k, r in c.get("preferences") or ()]]
+                    for c in record["candidates"]
+                ]
+            if record.get("removed_goals"):
+                entry["rg"] = [text_of(g) for g in record["removed_goals"]]
+            if record.get("mmd_frame"):
+                entry["frame"] = str(record["mmd_frame"])
+        elif kind == "schema":
+            entry.setdefault("schema", []).append(
+                [str(record.get("event", "")), str(record.get("schema", "")),
+                 json.dumps(record.get("data")) if record.get("data") is not None else ""])
+        if kind in ("phase", "schema") and record.get("mmd_frame"):
+            entry["frame"] = str(record["mmd_frame"])
+    for key, value in (("f", firings), ("r", retractions), ("a", list(adds.values())), ("x", removes),
+                       ("w", "".join(writes)), ("m", messages), ("p", phases)):
+        if value:
+            entry[key] = value
+    return entry
+
+
+def build_payload(trace: Trace, keyframe_every: int | None = None) -> dict[str, Any]:
+    """The page's data: header, footer, per-cycle entries and WM keyframes (streaming the trace)."""
+    wm = LiveMemory() if trace.header.level >= 4 else None
+    cycles: list[dict[str, Any]] = []
+    keyframes: dict[str, list[list[Any]]] = {}
+    for cycle, records in trace.cycles():
+        cycles.append(_cycle_entry(cycle, records, wm))
+    every = keyframe_every or default_keyframe_interval(len(cycles))
+    if wm is not None:
+        # The length is known only at the end: replay the compact deltas for the keyframes.
+        live: dict[int, list[Any]] = {}
+        for index, entry in enumerate(cycles):
+            for t in entry.get("x", ()):
+                live.pop(t, None)
+            for a in entry.get("a", ()):
+                live[a[0]] = a
+            if (index + 1) % every == 0:
+                keyframes[str(index)] = sorted(live.values(), key=lambda w: w[0])
+    else:
+        every = 0
+    header = {k: v for k, v in trace.header.raw.items()}
+    return {
+        "title": os.path.basename(trace.path),
+        "header": header,
+        "footer": trace.footer(),
+        "notices": list(trace.notices),
+        "level": trace.header.level,
+        "K": every or 0,
+        "keyframes": keyframes,
+        "cycles": cycles,
+    }
+
+
+def _asset(name: str) -> str:
+    return resources.files("adapt.traceview").joinpath(name).read_text(encoding="utf-8")
+
+
+def _script_safe(text: str) -> str:
+    return text.replace("</", "<\\/").replace("<!--", "<\\!--")
+
+
+def render_page(payload: dict[str, Any]) -> str:
+    """The HTML page for a payload of :func:`build_payload`."""
+    data = _script_safe(json.dumps(payload, separators=(",", ":"), ensure_ascii=False))
+    title = str(payload.get("title", "trace")).replace("&", "&amp;").replace("<", "&lt;")
+    page = _asset("viewer.html")
+    return (page.replace("{{TITLE}}", title)
+                .replace("/*{{CSS}}*/", _asset("viewer.css"))
+                .replace("/*{{DATA}}*/", data)
+                .replace("/*{{JS}}*/", _script_safe(_asset("viewer.js"))))
+
+
+def write_html(trace: Trace, out: str | None = None) -> str:
+    """Render ``trace`` into ``out`` (default: beside it, ``.html``) atomically; return the path."""
+    target = out or os.path.splitext(trace.path)[0] + ".html"
+    text = render_page(build_payload(trace))
+    directory = os.path.dirname(os.path.abspath(target))
+    tmp = os.path.join(directory, f".{os.path.basename(target)}.{os.getpid()}.tmp")
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, target)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return target
