@@ -166,7 +166,7 @@ def _conjunction(
         bound |= _eq_vars(c)
     positives = [draw(_with_relations(c, bound)) for c in positives]
     negations: list[ConditionElement] = []
-    for _ in range(draw(st.integers(0, 2))):
+    for _ in range(draw(st.integers(0, 3))):
         if depth < 2 and draw(st.booleans()):
             negations.append(ConjunctiveNegation(draw(_conjunction(frozenset(bound), depth + 1, False))))
         else:

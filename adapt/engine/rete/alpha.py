@@ -1,0 +1,137 @@
+"""The alpha network: memories of the WMEs that pass one condition's
+intra-WME tests.
+
+Every alpha memory is filed under a hash key ``(attribute, value,
+acceptable)`` built from the condition's constant equality tests, with
+:data:`ANY` for a field without one (a condition's identifier is always a
+variable).  A WME therefore finds its memories with at most four dictionary
+lookups, whatever the number of memories.  Tests that a hash cannot express
+(relations and disjunctions against constants, the same variable twice in one
+condition) are the memory's ``tests``, checked after the lookup.
+
+An alpha test is ``(relation, field, is_constant, operand)``: ``operand`` is a
+constant, or (``is_constant`` false) the index of another field of the same
+WME.  ``relation`` is one of ``= <> < > <= >= <=>`` or ``in`` (a disjunction,
+whose operand is a tuple of constants).
+
+Examples
+--------
+>>> from adapt.engine.symbols import Float
+>>> holds("<", 2, Float(2.5)), holds("<>", 2, Float(2.0)), holds(">", "b", 1)
+(True, True, False)
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from adapt.engine.symbols import Float, Identifier
+from adapt.engine.wme import WME
+from adapt.errors import EngineError
+
+if TYPE_CHECKING:
+    from adapt.engine.rete.join import TwoInputNode
+
+__all__ = ["ANY", "AlphaTest", "AlphaKey", "AlphaMemory", "holds", "passes"]
+
+
+class _Any:
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return "ANY"
+
+
+#: The wildcard of an alpha key: the field has no constant equality test.
+ANY: object = _Any()
+
+AlphaTest = tuple[str, int, bool, object]
+AlphaKey = tuple[object, object, bool]
+
+_NUMBER = (int, Float, float)
+
+
+def _kind(value: object) -> int:
+    if type(value) is Identifier:
+        return 0
+    if type(value) is str:
+        return 1
+    if type(value) is int:
+        return 2
+    return 3
+
+
+def holds(relation: str, a: object, b: object) -> bool:
+    """``a relation b`` with Soar's semantics (see :mod:`adapt.engine.production`)."""
+    if relation == "<>":
+        return not a == b
+    if relation == "=":
+        return a == b
+    if relation == "in":
+        return a in b  # type: ignore[operator]
+    if relation == "<=>":
+        return _kind(a) == _kind(b)
+    ta, tb = type(a), type(b)
+    if ta in _NUMBER:
+        if tb not in _NUMBER:
+            return False
+    elif ta is not str or tb is not str:
+        return False
+    if relation == "<":
+        return a < b  # type: ignore[operator]
+    if relation == ">":
+        return a > b  # type: ignore[operator]
+    if relation == "<=":
+        return a <= b  # type: ignore[operator]
+    if relation == ">=":
+        return a >= b  # type: ignore[operator]
+    raise EngineError(f"unknown relation {relation!r}")
+
+
+def passes(tests: tuple[AlphaTest, ...], wme: WME) -> bool:
+    """Whether ``wme`` passes every alpha test."""
+    for relation, field, is_constant, operand in tests:
+        other = operand if is_constant else wme[operand]  # type: ignore[index]
+        if not holds(relation, wme[field], other):
+            return False
+    return True
+
+
+class AlphaMemory:
+    """The WMEs that pass one set of intra-WME tests.
+
+    Attributes
+    ----------
+    key : tuple
+        ``(attribute, value, acceptable)`` with :data:`ANY` wildcards.
+    tests : tuple
+        Further alpha tests.
+    items : dict
+        ``timetag -> WME`` in arrival order.
+    successors : list
+        Join and negative nodes fed by this memory, oldest first (ancestors
+        before descendants).
+    """
+
+    __slots__ = ("key", "tests", "items", "successors")
+
+    def __init__(self, key: AlphaKey, tests: tuple[AlphaTest, ...]) -> None:
+        self.key = key
+        self.tests = tests
+        self.items: dict[int, WME] = {}
+        self.successors: list[TwoInputNode] = []
+
+    def accepts(self, wme: WME) -> bool:
+        """Whether ``wme`` belongs in this memory."""
+        attr, value, acceptable = self.key
+        if wme.acceptable != acceptable:
+            return False
+        if attr is not ANY and not attr == wme.attr:
+            return False
+        if value is not ANY and not value == wme.value:
+            return False
+        return not self.tests or passes(self.tests, wme)
+
+    def __repr__(self) -> str:
+        return f"AlphaMemory({self.key}, {self.tests}, {len(self.items)} WMEs)"
+

@@ -1,0 +1,188 @@
+"""From conditions to node specifications: ordering and test placement.
+
+:func:`order_elements` chooses the order in which a conjunction's condition
+elements become nodes: positive conditions greedily by connectivity (the
+next one is the first, in source order, whose identifier variable is already
+bound; if none is, the first remaining), and each negated condition or
+conjunctive negation right after the positive condition that binds the last
+of the variables it shares with the conjunction's positive conditions.
+
+:func:`compile_condition` sorts one condition's tests into
+
+* the alpha key (constant equality tests on the attribute and the value,
+  and ``acceptable``),
+* alpha tests (relations and disjunctions against constants, a variable met
+  twice in the condition),
+* join equality tests (variables bound at an earlier level) -- the hash key,
+* join tests (relations against variables bound at an earlier level),
+* new bindings, and *deferred* relations: a relation against a variable that
+  a later positive condition binds, checked at that condition's join.
+
+Examples
+--------
+>>> from adapt.engine.production import Condition, EqualityTest, RelationalTest, Variable
+>>> s, x = Variable("<s>"), Variable("<x>")
+>>> c = Condition(s, EqualityTest("count"), RelationalTest(">", x))
+>>> spec = compile_condition(c, {s: (0, 0), x: (0, 2)})
+>>> spec.alpha_key, spec.token_fields, spec.wme_fields, spec.tests
+(('count', ANY, False), ((0, 0),), (0,), (('>', -1, 2, 0, 2),))
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+from adapt.engine.production import (
+    FIELD_ATTR,
+    FIELD_ID,
+    FIELD_VALUE,
+    Condition,
+    ConditionElement,
+    ConjunctiveNegation,
+    ConjunctiveTest,
+    DisjunctionTest,
+    EqualityTest,
+    Test,
+    Variable,
+    variables_in_test,
+)
+from adapt.engine.rete.alpha import ANY, AlphaKey, AlphaTest
+from adapt.engine.rete.join import JoinTest
+
+__all__ = ["ConditionSpec", "compile_condition", "order_elements", "is_positive"]
+
+#: Where a variable is bound: (token level, WME field).
+Site = tuple[int, int]
+
+
+@dataclass(frozen=True, slots=True)
+class ConditionSpec:
+    """One condition's tests, sorted by where the network checks them."""
+
+    alpha_key: AlphaKey
+    alpha_tests: tuple[AlphaTest, ...]
+    token_fields: tuple[Site, ...]
+    wme_fields: tuple[int, ...]
+    tests: tuple[JoinTest, ...]
+    binds: dict[Variable, int]
+    deferred: tuple[tuple[str, int, Variable], ...]
+
+
+def is_positive(element: ConditionElement) -> bool:
+    """True for a non-negated :class:`Condition`."""
+    return isinstance(element, Condition) and not element.negated
+
+
+def _simple(test: Test | None) -> list[Test]:
+    if test is None:
+        return []
+    if isinstance(test, ConjunctiveTest):
+        out: list[Test] = []
+        for t in test.tests:
+            out.extend(_simple(t))
+        return out
+    return [test]
+
+
+def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> ConditionSpec:
+    """Sort the tests of ``cond`` given the variables bound above it."""
+    local: dict[Variable, int] = {}
+    keys: list[object] = [ANY, ANY, ANY]
+    alpha: list[AlphaTest] = []
+    token_fields: list[Site] = []
+    wme_fields: list[int] = []
+    tests: list[JoinTest] = []
+    relations: list[tuple[str, int, object]] = []
+    for field, test in ((FIELD_ID, EqualityTest(cond.id)), (FIELD_ATTR, cond.attr),
+                        (FIELD_VALUE, cond.value)):
+        for t in _simple(test):
+            if isinstance(t, EqualityTest):
+                term = t.term
+                if isinstance(term, Variable):
+                    if term in bound:
+                        token_fields.append(bound[term])
+                        wme_fields.append(field)
+                    elif term in local:
+                        alpha.append(("=", field, False, local[term]))
+                    else:
+                        local[term] = field
+                elif keys[field] is ANY and field != FIELD_ID:
+                    keys[field] = term
+                else:
+                    alpha.append(("=", field, True, term))
+            elif isinstance(t, DisjunctionTest):
+                alpha.append(("in", field, True, t.values))
+            else:
+                relations.append((t.relation, field, t.term))
+    deferred: list[tuple[str, int, Variable]] = []
+    for relation, field, term in relations:
+        if not isinstance(term, Variable):
+            alpha.append((relation, field, True, term))
+        elif term in bound:
+            level, other = bound[term]
+            tests.append((relation, -1, field, level, other))
+        elif term in local:
+            alpha.append((relation, field, False, local[term]))
+        else:
+            deferred.append((relation, field, term))
+    return ConditionSpec(
+        (keys[FIELD_ATTR], keys[FIELD_VALUE], cond.acceptable),
+        tuple(alpha),
+        tuple(token_fields),
+        tuple(wme_fields),
+        tuple(tests),
+        local,
+        tuple(deferred),
+    )
+
+
+def equality_variables(cond: Condition) -> set[Variable]:
+    """The variables an equality test of ``cond`` binds (the identifier included)."""
+    out = {cond.id}
+    for test in (cond.attr, cond.value):
+        for t in _simple(test):
+            if isinstance(t, EqualityTest) and isinstance(t.term, Variable):
+                out.add(t.term)
+    return out
+
+
+def all_variables(element: ConditionElement) -> set[Variable]:
+    """Every variable an element mentions, nested ones included."""
+    if isinstance(element, ConjunctiveNegation):
+        out: set[Variable] = set()
+        for e in element.conditions:
+            out |= all_variables(e)
+        return out
+    return {element.id, *variables_in_test(element.attr), *variables_in_test(element.value)}
+
+
+def order_elements(elements: Sequence[ConditionElement], outer: set[Variable]) -> list[int]:
+    """Indexes of ``elements`` in the order their nodes are built (see the
+    module docstring); ``outer`` are the variables bound above."""
+    remaining = [i for i, e in enumerate(elements) if is_positive(e)]
+    known = set(outer)
+    positives: list[int] = []
+    bound_after: list[set[Variable]] = [set(known)]
+    while remaining:
+        pick = next(
+            (i for i in remaining if elements[i].id in known),  # type: ignore[union-attr]
+            remaining[0],
+        )
+        remaining.remove(pick)
+        positives.append(pick)
+        known |= equality_variables(elements[pick])  # type: ignore[arg-type]
+        bound_after.append(set(known))
+    scope = known - outer
+    slots: list[list[int]] = [[] for _ in range(len(positives) + 1)]
+    for i, e in enumerate(elements):
+        if is_positive(e):
+            continue
+        needed = all_variables(e) & scope
+        k = next(k for k, have in enumerate(bound_after) if needed <= have)
+        slots[k].append(i)
+    order = list(slots[0])
+    for k, i in enumerate(positives):
+        order.append(i)
+        order.extend(slots[k + 1])
+    return order

@@ -1,0 +1,187 @@
+"""Join nodes: extend a token with a WME from an alpha memory.
+
+Both memories of a join are hashed on *every* equality test between the new
+WME and the token (values included, not just identifiers): the left memory
+files each parent token under the tuple of its values at the tested
+positions, the right memory files each WME under the tuple of its tested
+fields, so an activation from either side meets only its partners.  A join
+with one equality test uses the bare value as its key, one with none uses
+``None``.  Relational tests whose variables are bound by then are checked on
+the pairs the hash lookup returns.
+
+A join test is ``(relation, a_level, a_field, b_level, b_field)``: an operand
+with level ``-1`` is a field of the new WME, otherwise ``token.wmes[level][field]``.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Hashable
+
+from adapt.engine.rete.alpha import AlphaMemory, holds
+from adapt.engine.rete.token import BetaNode, Token
+from adapt.engine.wme import WME
+
+if TYPE_CHECKING:
+    from adapt.engine.rete.state import NetworkState
+
+__all__ = ["JoinTest", "TwoInputNode", "JoinNode"]
+
+JoinTest = tuple[str, int, int, int, int]
+
+
+class TwoInputNode(BetaNode):
+    """What joins and negative nodes share: an alpha memory, hashed left and
+    right memories, join tests."""
+
+    __slots__ = (
+        "alpha", "token_fields", "wme_fields", "tests", "left", "right",
+        "_n", "_level", "_field", "_wfield",
+    )
+
+    def __init__(
+        self,
+        state: NetworkState,
+        parent: BetaNode,
+        alpha: AlphaMemory,
+        token_fields: tuple[tuple[int, int], ...],
+        wme_fields: tuple[int, ...],
+        tests: tuple[JoinTest, ...],
+    ) -> None:
+        super().__init__(state, parent)
+        self.alpha = alpha
+        self.token_fields = token_fields
+        self.wme_fields = wme_fields
+        self.tests = tests
+        self.left: dict[Hashable, dict[Token, None]] = {}
+        self.right: dict[Hashable, dict[int, WME]] = {}
+        self._n = len(wme_fields)
+        self._level, self._field = token_fields[0] if token_fields else (0, 0)
+        self._wfield = wme_fields[0] if wme_fields else 0
+
+    def signature(self) -> tuple[object, ...]:
+        """What two nodes must share to be the same node."""
+        return (type(self), self.alpha, self.token_fields, self.wme_fields, self.tests)
+
+    def left_key(self, wmes: tuple[WME, ...]) -> Hashable:
+        """The hash key of a token (given its WMEs)."""
+        n = self._n
+        if n == 1:
+            return wmes[self._level][self._field]
+        if n == 0:
+            return None
+        return tuple([wmes[level][field] for level, field in self.token_fields])
+
+    def right_key(self, wme: WME) -> Hashable:
+        """The hash key of a WME."""
+        n = self._n
+        if n == 1:
+            return wme[self._wfield]
+        if n == 0:
+            return None
+        return tuple([wme[field] for field in self.wme_fields])
+
+    def check(self, wmes: tuple[WME, ...], wme: WME) -> bool:
+        """Whether the join tests hold between a token and a WME."""
+        for relation, al, af, bl, bf in self.tests:
+            a = wme[af] if al < 0 else wmes[al][af]
+            b = wme[bf] if bl < 0 else wmes[bl][bf]
+            if not holds(relation, a, b):
+                return False
+        return True
+
+    def index_left(self, token: Token, key: Hashable) -> None:
+        bucket = self.left.get(key)
+        if bucket is None:
+            self.left[key] = {token: None}
+        else:
+            bucket[token] = None
+
+    def unindex_left(self, token: Token) -> None:
+        key = self.left_key(token.wmes)
+        bucket = self.left[key]
+        del bucket[token]
+        if not bucket:
+            del self.left[key]
+
+    def index_right(self, wme: WME) -> Hashable:
+        key = self.right_key(wme)
+        bucket = self.right.get(key)
+        if bucket is None:
+            self.right[key] = {wme.timetag: wme}
+        else:
+            bucket[wme.timetag] = wme
+        return key
+
+    def right_remove(self, wme: WME) -> None:
+        """``wme`` left the alpha memory: take it out of the right memory."""
+        key = self.right_key(wme)
+        bucket = self.right[key]
+        del bucket[wme.timetag]
+        if not bucket:
+            del self.right[key]
+
+    def fill_right(self) -> None:
+        """Load the alpha memory's current WMEs (a new node)."""
+        for wme in self.alpha.items.values():
+            self.index_right(wme)
+
+
+class JoinNode(TwoInputNode):
+    """A positive condition: one token per consistent (token, WME) pair."""
+
+    __slots__ = ()
+
+    def left_add(self, token: Token) -> None:
+        wmes = token.wmes
+        n = self._n
+        if n == 1:
+            key: Hashable = wmes[self._level][self._field]
+        elif n == 0:
+            key = None
+        else:
+            key = tuple([wmes[level][field] for level, field in self.token_fields])
+        bucket = self.left.get(key)
+        if bucket is None:
+            self.left[key] = {token: None}
+        else:
+            bucket[token] = None
+        partners = self.right.get(key)
+        if partners:
+            tests = self.tests
+            for wme in list(partners.values()):
+                if tests and not self.check(wmes, wme):
+                    continue
+                self.make(token, wme)
+
+    def left_remove(self, token: Token) -> None:
+        self.unindex_left(token)
+
+    def right_add(self, wme: WME) -> None:
+        """``wme`` entered the alpha memory."""
+        key = self.index_right(wme)
+        tokens = self.left.get(key)
+        if tokens:
+            tests = self.tests
+            for token in list(tokens):
+                if tests and not self.check(token.wmes, wme):
+                    continue
+                self.make(token, wme)
+
+    def make(self, parent: Token, wme: WME) -> None:
+        """Create the token ``parent + wme`` and emit it."""
+        state = self.state
+        token = Token(parent, parent.wmes + (wme,), self, state.epoch)
+        registry = state.tokens_by_wme.get(wme.timetag)
+        if registry is None:
+            state.tokens_by_wme[wme.timetag] = {token: None}
+        else:
+            registry[token] = None
+        for child in self.children:
+            child.left_add(token)
+
+    def drop(self, token: Token) -> None:
+        registry = self.state.tokens_by_wme.get(token.wmes[-1].timetag)
+        if registry is not None:
+            registry.pop(token, None)
+            if not registry:
+                del self.state.tokens_by_wme[token.wmes[-1].timetag]

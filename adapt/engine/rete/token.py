@@ -1,0 +1,141 @@
+"""Tokens (partial matches) and the tree operations on them.
+
+A token is one row of a node's memory: the WMEs matched by the positive
+conditions above it (``wmes``, one per join level), a link to the token it
+extends (``parent``) and links to the tokens that extend it (``children``).
+Removing a token removes its whole subtree through those links; nothing is
+ever found by scanning a memory.
+
+A token is *emitted* (visible to the nodes below its node) while its
+``count`` is 0.  Join tokens always have count 0; a negative node's token
+counts the WMEs that block it, a conjunctive-negation owner token counts the
+results of its subnetwork.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Protocol
+
+from adapt.engine.wme import WME
+
+if TYPE_CHECKING:
+    from adapt.engine.rete.state import NetworkState
+
+__all__ = ["Token", "Successor", "BetaNode", "RootNode", "emit", "retract", "delete_token"]
+
+
+class Token:
+    """A partial match held by one node."""
+
+    __slots__ = ("parent", "wmes", "node", "children", "count", "epoch", "dead")
+
+    def __init__(
+        self, parent: Token | None, wmes: tuple[WME, ...], node: BetaNode, epoch: int
+    ) -> None:
+        self.parent = parent
+        self.wmes = wmes
+        self.node = node
+        self.children: dict[Token, None] | None = None
+        self.count = 0
+        self.epoch = epoch
+        self.dead = False
+        if parent is not None:
+            siblings = parent.children
+            if siblings is None:
+                parent.children = {self: None}
+            else:
+                siblings[self] = None
+
+    def __repr__(self) -> str:
+        return f"Token({[w.timetag for w in self.wmes]}, count={self.count})"
+
+
+class Successor(Protocol):
+    """A node below a token-holding node."""
+
+    def left_add(self, token: Token) -> None:
+        """The parent node emitted ``token``."""
+
+    def left_remove(self, token: Token) -> None:
+        """The parent node withdrew ``token`` (its child tokens are deleted
+        separately, through the token tree)."""
+
+
+class BetaNode:
+    """Base of the nodes that hold tokens (root, join, negative, NCC).
+
+    ``children`` are the nodes that receive this node's emitted tokens
+    (``left_add``) and hear of their retraction (``left_remove``).
+    """
+
+    __slots__ = ("state", "parent", "children")
+
+    def __init__(self, state: NetworkState, parent: BetaNode | None) -> None:
+        self.state = state
+        self.parent = parent
+        self.children: list[Successor] = []
+
+    def drop(self, token: Token) -> None:
+        """Forget ``token``, one of this node's own tokens, which is being
+        deleted (the base class keeps no index of its tokens)."""
+
+    def tokens(self) -> list[Token]:
+        """All of this node's tokens, emitted or not (for building and pruning)."""
+        parent = self.parent
+        assert parent is not None
+        out: list[Token] = []
+        for t in parent.emitted():
+            if t.children:
+                out.extend(c for c in t.children if c.node is self)
+        return out
+
+    def emitted(self) -> list[Token]:
+        """This node's emitted tokens."""
+        return [t for t in self.tokens() if t.count == 0]
+
+
+class RootNode(BetaNode):
+    """The top of the beta network: one empty token, always emitted."""
+
+    __slots__ = ("token",)
+
+    def __init__(self, state: NetworkState) -> None:
+        super().__init__(state, None)
+        self.token = Token(None, (), self, 0)
+
+    def tokens(self) -> list[Token]:
+        return [self.token]
+
+
+def emit(token: Token) -> None:
+    """Pass ``token`` to the children of its node."""
+    for child in token.node.children:
+        child.left_add(token)
+
+
+def retract(token: Token) -> None:
+    """Withdraw ``token`` from the children of its node and delete the tokens
+    below it; ``token`` itself stays (it became blocked)."""
+    for child in token.node.children:
+        child.left_remove(token)
+    below = token.children
+    if below is not None:
+        token.children = None
+        for t in below:
+            delete_token(t)
+
+
+def delete_token(token: Token) -> None:
+    """Delete ``token`` and its subtree.  The caller unlinks it from its
+    parent's ``children`` if the parent stays."""
+    token.dead = True
+    node = token.node
+    if token.count == 0:
+        for child in node.children:
+            child.left_remove(token)
+    below = token.children
+    if below is not None:
+        token.children = None
+        for t in below:
+            delete_token(t)
+    node.drop(token)
