@@ -23,7 +23,7 @@ Examples
 >>> compact_wme([231, {"id": "S1"}, "operator", {"id": "O7"}, True])
 [231, 'S1', 'operator', 'O7', 3]
 >>> page = render_page({"title": "t", "cycles": []})
->>> page.startswith("<!DOCTYPE html>") and "</script>" in page and "http" not in page
+>>> page.startswith("<!DOCTYPE html>") and "</script>" in page and "://" not in page
 True
 """
 
@@ -50,7 +50,8 @@ def compact_wme(wme: list[Any] | tuple[Any, ...]) -> list[Any]:
 
 
 def _bindings(bindings: dict[str, Any] | None) -> list[list[str]]:
-    return [[var, text_of(val)] for var, val in (bindings or {}).items()]
+    return [[var, text_of(val)] for var, val in (bindings or {}).items()
+            if not var.startswith("<#")]  # hidden dot-path variables
 
 
 def default_keyframe_interval(cycles: int) -> int:
@@ -129,8 +130,18 @@ def build_payload(trace: Trace, keyframe_every: int | None = None) -> dict[str, 
     wm = LiveMemory() if trace.header.level >= 4 else None
     cycles: list[dict[str, Any]] = []
     keyframes: dict[str, list[list[Any]]] = {}
+    initial = trace.initial_wmes() if wm is not None else []
+    if wm is not None:
+        wm.apply({"adds": initial})
     for cycle, records in trace.cycles():
-        cycles.append(_cycle_entry(cycle, records, wm))
+        entry = _cycle_entry(cycle, records, wm)
+        if initial:  # the WMEs from before the first phase join the first cycle's delta
+            kept = [compact_wme(w) for w in initial if wm.get(w[0]) is not None]  # type: ignore[union-attr]
+            gone = {w[0] for w in initial} - {w[0] for w in kept}
+            entry["a"] = kept + entry.get("a", [])
+            entry["x"] = [t for t in entry.get("x", []) if t not in gone]
+            initial = []
+        cycles.append(entry)
     every = keyframe_every or default_keyframe_interval(len(cycles))
     if wm is not None:
         # The length is known only at the end: replay the compact deltas for the keyframes.

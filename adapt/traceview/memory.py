@@ -59,7 +59,7 @@ class LiveMemory:
     __slots__ = ("_wmes",)
 
     def __init__(self, wmes: Iterable[TraceWME] = ()) -> None:
-        self._wmes: dict[int, TraceWME] = {w[0]: w for w in wmes}
+        self._wmes: dict[int, TraceWME] = {w[0]: (w[0], w[1], w[2], w[3], bool(w[4])) for w in wmes}
 
     def apply(self, phase: dict[str, Any]) -> None:
         """Replay one ``phase`` record: removes first, then adds (as the engine commits)."""
@@ -122,6 +122,7 @@ def memory_at(trace: Trace, decision: int) -> LiveMemory:
     if decision < 0:
         raise TraceError(f"decision {decision}: decisions are numbered from 0")
     wm = LiveMemory()
+    wm.apply({"adds": trace.initial_wmes()})
     for _cycle, records in trace.cycles(last=decision):
         for record in records:
             if record["kind"] == "phase":

@@ -261,6 +261,11 @@ class Trace:
                 return None
         return None
 
+    def initial_wmes(self) -> list[list[Any]]:
+        """The WMEs that existed before the first phase (header ``"wmes"``, optional)."""
+        wmes = self.header.raw.get("wmes") or []
+        return [list(w) for w in wmes if isinstance(w, list) and len(w) == 5]
+
     def require_level(self, level: int, what: str) -> None:
         """Raise :class:`TraceError` unless the trace was written at ``level`` or more."""
         if self.header.level < level:

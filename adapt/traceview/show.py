@@ -91,7 +91,8 @@ def decision_line(record: dict[str, Any]) -> str | None:
 
 
 def _bindings_text(bindings: dict[str, Any]) -> str:
-    return ", ".join(f"{var}={text_of(val)}" for var, val in bindings.items())
+    return ", ".join(f"{var}={text_of(val)}" for var, val in bindings.items()
+                     if not var.startswith("<#"))  # hidden dot-path variables
 
 
 def firing_line(firing: dict[str, Any], level: int, verb: str = "Firing") -> str:
@@ -212,6 +213,8 @@ def show_lines(trace: Trace, flt: ShowFilter) -> Iterator[str]:
     """The Soar-style lines of the decision cycles ``flt`` selects, streaming."""
     level = min(flt.level, trace.header.level)
     wm = LiveMemory() if level >= 4 else None
+    if wm is not None:
+        wm.apply({"adds": trace.initial_wmes()})
     start = None if wm is not None else flt.first
     for cycle, records in trace.cycles(first=start, last=flt.last):
         show = flt.first is None or cycle >= flt.first

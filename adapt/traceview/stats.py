@@ -123,7 +123,7 @@ def compute_stats(trace: Trace, series_points: int = 256) -> TraceStats:
     phase_time: dict[str, float] = {}
     phase_counts: Counter[str] = Counter()
     track_wm = trace.header.level >= 4
-    live: set[int] = set()
+    live: set[int] = {w[0] for w in trace.initial_wmes()} if track_wm else set()
     series = SizeSeries(series_points)
     wm_min: int | None = None
     wm_max = 0

@@ -160,6 +160,11 @@ def _architecture(phase: str, wme: TraceWME, impasse_states: set[str]) -> str:
 def _scan(trace: Trace, wanted: set[int], productions: dict[str, Production] | None) -> dict[int, Origin]:
     found: dict[int, Origin] = {}
     pending_removal: dict[int, Origin] = {}
+    for w in trace.initial_wmes():
+        if w[0] in wanted:
+            origin = Origin((w[0], w[1], w[2], w[3], bool(w[4])), 0, "start",
+                            "the architecture (before the first phase)")
+            found[w[0]] = pending_removal[w[0]] = origin
     for cycle, records in trace.cycles():
         impasse_states = {text_of(r["impasse"].get("state")) for r in records
                           if r["kind"] == "decision" and r.get("impasse")}
@@ -225,7 +230,10 @@ def explain(trace: Trace, timetag: int, depth: int = 1,
             return None
         kids = () if origin.firing is None else tuple(
             o for o in (build(t, level + 1) for t in origin.firing.get("wmes") or ()) if o)
-        return Origin(**{**origin.__dict__, "matched": kids})
+        firing = origin.firing
+        if firing is not None and level + 1 < len(levels):
+            firing = {**firing, "explained": True}
+        return Origin(**{**origin.__dict__, "matched": kids, "firing": firing})
 
     result = build(timetag, 0)
     assert result is not None
@@ -243,14 +251,20 @@ def format_origin(origin: Origin, indent: str = "") -> str:
         lines[0] += f" ({support}-support, goal level {level})" if support else ""
         bindings = origin.firing.get("bindings") or {}
         if bindings:
-            lines.append(pad + "bindings: " + ", ".join(f"{k}={text_of(v)}" for k, v in bindings.items()))
+            lines.append(pad + "bindings: " + ", ".join(f"{k}={text_of(v)}" for k, v in bindings.items()
+                                                    if not k.startswith("<#")))
     if origin.candidates:
         lines.append(pad + "fired in that phase: " + ", ".join(origin.candidates))
     if origin.removed is not None:
         lines.append(pad + f"removed in decision cycle {origin.removed[0]} ({origin.removed[1]} phase)")
-    if origin.matched:
+    if origin.matched or (origin.firing is not None and origin.firing.get("explained")):
         lines.append(pad + "matched:")
         lines.extend(format_origin(m, pad + "  ") for m in origin.matched)
+        known = {m.wme[0] for m in origin.matched}
+        missing = [t for t in (origin.firing or {}).get("wmes") or () if t not in known]
+        if missing:
+            lines.append(pad + "  not in the trace (made before its first record): "
+                         + " ".join(str(t) for t in dict.fromkeys(missing)))
     elif origin.firing is not None and origin.firing.get("wmes"):
         lines.append(pad + "matched timetags: " + " ".join(str(t) for t in origin.firing["wmes"]))
     return "\n".join(lines)

@@ -11,6 +11,7 @@ import os
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 
@@ -21,8 +22,10 @@ MEMORY_LIMIT_MB = 120.0
 def measured(*argv: str) -> tuple[float, float, str]:
     """Run ``python -m adapt ARGV``; return (seconds, peak RSS in MB, stdout)."""
     start = time.perf_counter()
+    root = str(Path(__file__).resolve().parents[2])
+    env = {**os.environ, "PYTHONPATH": root + os.pathsep + os.environ.get("PYTHONPATH", "")}
     proc = subprocess.Popen([sys.executable, "-m", "adapt", *argv], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE)
+                            stderr=subprocess.PIPE, env=env)
     chunks = []
     assert proc.stdout is not None
     for chunk in iter(lambda: proc.stdout.read(1 << 16), b""):
