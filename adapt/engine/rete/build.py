@@ -2,8 +2,11 @@
 
 :func:`order_elements` chooses the order in which a conjunction's condition
 elements become nodes: positive conditions greedily by connectivity (the
-next one is the first, in source order, whose identifier variable is already
-bound; if none is, the first remaining), and each negated condition or
+next one is the first, in source order, that tests a variable already bound
+-- its identifier or any other field, since every equality test is part of
+the join's hash key -- so a condition is never joined as a cross product
+while another could connect it; if none connects, the first remaining), and
+each negated condition or
 conjunctive negation right after the positive condition that binds the last
 of the variables it shares with the conjunction's positive conditions.
 
@@ -166,7 +169,8 @@ def order_elements(elements: Sequence[ConditionElement], outer: set[Variable]) -
     bound_after: list[set[Variable]] = [set(known)]
     while remaining:
         pick = next(
-            (i for i in remaining if elements[i].id in known),  # type: ignore[union-attr]
+            (i for i in remaining
+             if not equality_variables(elements[i]).isdisjoint(known)),  # type: ignore[arg-type]
             remaining[0],
         )
         remaining.remove(pick)

@@ -148,7 +148,8 @@ class JoinNode(TwoInputNode):
         partners = self.right.get(key)
         if partners:
             tests = self.tests
-            for wme in list(partners.values()):
+            # Emission never changes a right memory: no copy needed.
+            for wme in partners.values():
                 if tests and not self.check(wmes, wme):
                     continue
                 self.make(token, wme)
@@ -171,9 +172,11 @@ class JoinNode(TwoInputNode):
         """Create the token ``parent + wme`` and emit it."""
         state = self.state
         token = Token(parent, parent.wmes + (wme,), self, state.epoch)
-        registry = state.tokens_by_wme.get(wme.timetag)
+        registries = state.tokens_by_wme
+        timetag = wme.timetag
+        registry = registries.get(timetag)
         if registry is None:
-            state.tokens_by_wme[wme.timetag] = {token: None}
+            registries[timetag] = {token: None}
         else:
             registry[token] = None
         for child in self.children:

@@ -88,21 +88,28 @@ class Rete:
 
     def _alphas_of(self, wme: WME) -> list[AlphaMemory]:
         alpha = self._alpha
-        shapes = self._shapes
+        both, attr_only, value_only, neither = self._shapes
         attr, value, acceptable = wme.attr, wme.value, wme.acceptable
         found: list[AlphaMemory] = []
-        for shape, key in (
-            (0, (attr, value, acceptable)),
-            (1, (attr, ANY, acceptable)),
-            (2, (ANY, value, acceptable)),
-            (3, (ANY, ANY, acceptable)),
-        ):
-            if shapes[shape]:
-                memories = alpha.get(key)
-                if memories:
-                    for am in memories:
-                        if not am.tests or passes(am.tests, wme):
-                            found.append(am)
+        if attr_only:
+            memories = alpha.get((attr, ANY, acceptable))
+            if memories:
+                found.extend(memories)
+        if both:
+            memories = alpha.get((attr, value, acceptable))
+            if memories:
+                found.extend(memories)
+        if value_only:
+            memories = alpha.get((ANY, value, acceptable))
+            if memories:
+                found.extend(memories)
+        if neither:
+            memories = alpha.get((ANY, ANY, acceptable))
+            if memories:
+                found.extend(memories)
+        for am in found:
+            if am.tests:
+                return [am for am in found if not am.tests or passes(am.tests, wme)]
         return found
 
     def add_wme(self, wme: WME) -> None:
