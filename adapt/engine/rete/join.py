@@ -9,13 +9,18 @@ with one equality test uses the bare value as its key, one with none uses
 ``None``.  Relational tests whose variables are bound by then are checked on
 the pairs the hash lookup returns.
 
+A bucket holding one entry is the entry itself (a :class:`Token` on the
+left, a :class:`~adapt.engine.wme.WME` on the right); a second entry turns it
+into a dict (``{token: None}`` / ``{timetag: wme}``, in arrival order).  Most
+buckets hold one entry, so this saves a dict per token and per WME.
+
 A join test is ``(relation, a_level, a_field, b_level, b_field)``: an operand
 with level ``-1`` is a field of the new WME, otherwise ``token.wmes[level][field]``.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Hashable
+from typing import TYPE_CHECKING, Hashable, Iterable, Union
 
 from adapt.engine.rete.alpha import AlphaMemory, holds
 from adapt.engine.rete.token import BetaNode, Token
@@ -24,9 +29,30 @@ from adapt.engine.wme import WME
 if TYPE_CHECKING:
     from adapt.engine.rete.state import NetworkState
 
-__all__ = ["JoinTest", "TwoInputNode", "JoinNode"]
+__all__ = ["JoinTest", "TwoInputNode", "JoinNode", "left_bucket", "right_bucket"]
 
 JoinTest = tuple[str, int, int, int, int]
+LeftBucket = Union[Token, dict[Token, None]]
+RightBucket = Union[WME, dict[int, WME]]
+
+
+def left_bucket(bucket: LeftBucket | None) -> Iterable[Token]:
+    """The tokens of a left bucket, as a snapshot safe to iterate while
+    activating other nodes."""
+    if bucket is None:
+        return ()
+    if type(bucket) is dict:
+        return list(bucket)
+    return (bucket,)  # type: ignore[return-value]
+
+
+def right_bucket(bucket: RightBucket | None) -> Iterable[WME]:
+    """The WMEs of a right bucket."""
+    if bucket is None:
+        return ()
+    if type(bucket) is dict:
+        return bucket.values()
+    return (bucket,)  # type: ignore[return-value]
 
 
 class TwoInputNode(BetaNode):
@@ -52,8 +78,8 @@ class TwoInputNode(BetaNode):
         self.token_fields = token_fields
         self.wme_fields = wme_fields
         self.tests = tests
-        self.left: dict[Hashable, dict[Token, None]] = {}
-        self.right: dict[Hashable, dict[int, WME]] = {}
+        self.left: dict[Hashable, LeftBucket] = {}
+        self.right: dict[Hashable, RightBucket] = {}
         self._n = len(wme_fields)
         self._level, self._field = token_fields[0] if token_fields else (0, 0)
         self._wfield = wme_fields[0] if wme_fields else 0
@@ -90,35 +116,71 @@ class TwoInputNode(BetaNode):
         return True
 
     def index_left(self, token: Token, key: Hashable) -> None:
-        bucket = self.left.get(key)
+        """File ``token`` in the left memory under ``key``."""
+        left = self.left
+        bucket = left.get(key)
         if bucket is None:
-            self.left[key] = {token: None}
-        else:
+            left[key] = token
+        elif type(bucket) is dict:
             bucket[token] = None
+        else:
+            left[key] = {bucket: None, token: None}  # type: ignore[dict-item]
 
     def unindex_left(self, token: Token) -> None:
-        key = self.left_key(token.wmes)
-        bucket = self.left[key]
-        del bucket[token]
-        if not bucket:
-            del self.left[key]
+        """Take ``token`` out of the left memory."""
+        n = self._n
+        wmes = token.wmes
+        if n == 1:
+            key: Hashable = wmes[self._level][self._field]
+        elif n == 0:
+            key = None
+        else:
+            key = tuple([wmes[level][field] for level, field in self.token_fields])
+        left = self.left
+        bucket = left[key]
+        if bucket is token:
+            del left[key]
+        else:
+            del bucket[token]  # type: ignore[union-attr]
+            if not bucket:
+                del left[key]
 
     def index_right(self, wme: WME) -> Hashable:
-        key = self.right_key(wme)
-        bucket = self.right.get(key)
-        if bucket is None:
-            self.right[key] = {wme.timetag: wme}
+        """File ``wme`` in the right memory; returns its key."""
+        n = self._n
+        if n == 1:
+            key: Hashable = wme[self._wfield]
+        elif n == 0:
+            key = None
         else:
-            bucket[wme.timetag] = wme
+            key = tuple([wme[field] for field in self.wme_fields])
+        right = self.right
+        bucket = right.get(key)
+        if bucket is None:
+            right[key] = wme
+        elif type(bucket) is dict:
+            bucket[wme[4]] = wme
+        else:
+            right[key] = {bucket[4]: bucket, wme[4]: wme}  # type: ignore[index]
         return key
 
     def right_remove(self, wme: WME) -> None:
         """``wme`` left the alpha memory: take it out of the right memory."""
-        key = self.right_key(wme)
-        bucket = self.right[key]
-        del bucket[wme.timetag]
-        if not bucket:
-            del self.right[key]
+        n = self._n
+        if n == 1:
+            key: Hashable = wme[self._wfield]
+        elif n == 0:
+            key = None
+        else:
+            key = tuple([wme[field] for field in self.wme_fields])
+        right = self.right
+        bucket = right[key]
+        if type(bucket) is dict:
+            del bucket[wme[4]]
+            if not bucket:
+                del right[key]
+        else:
+            del right[key]
 
     def fill_right(self) -> None:
         """Load the alpha memory's current WMEs (a new node)."""
@@ -140,51 +202,82 @@ class JoinNode(TwoInputNode):
             key = None
         else:
             key = tuple([wmes[level][field] for level, field in self.token_fields])
-        bucket = self.left.get(key)
+        left = self.left
+        bucket = left.get(key)
         if bucket is None:
-            self.left[key] = {token: None}
-        else:
+            left[key] = token
+        elif type(bucket) is dict:
             bucket[token] = None
+        else:
+            left[key] = {bucket: None, token: None}  # type: ignore[dict-item]
         partners = self.right.get(key)
-        if partners:
-            tests = self.tests
+        if partners is None:
+            return
+        tests = self.tests
+        if type(partners) is dict:
             # Emission never changes a right memory: no copy needed.
             for wme in partners.values():
                 if tests and not self.check(wmes, wme):
                     continue
                 self.make(token, wme)
+        elif not tests or self.check(wmes, partners):  # type: ignore[arg-type]
+            self.make(token, partners)  # type: ignore[arg-type]
 
     def left_remove(self, token: Token) -> None:
         self.unindex_left(token)
 
     def right_add(self, wme: WME) -> None:
         """``wme`` entered the alpha memory."""
-        key = self.index_right(wme)
+        n = self._n
+        if n == 1:
+            key: Hashable = wme[self._wfield]
+        elif n == 0:
+            key = None
+        else:
+            key = tuple([wme[field] for field in self.wme_fields])
+        right = self.right
+        bucket = right.get(key)
+        if bucket is None:
+            right[key] = wme
+        elif type(bucket) is dict:
+            bucket[wme[4]] = wme
+        else:
+            right[key] = {bucket[4]: bucket, wme[4]: wme}  # type: ignore[index]
         tokens = self.left.get(key)
-        if tokens:
-            tests = self.tests
+        if tokens is None:
+            return
+        tests = self.tests
+        if type(tokens) is dict:
             for token in list(tokens):
                 if tests and not self.check(token.wmes, wme):
                     continue
                 self.make(token, wme)
+        elif not tests or self.check(tokens.wmes, wme):  # type: ignore[union-attr]
+            self.make(tokens, wme)  # type: ignore[arg-type]
 
     def make(self, parent: Token, wme: WME) -> None:
         """Create the token ``parent + wme`` and emit it."""
         state = self.state
         token = Token(parent, parent.wmes + (wme,), self, state.epoch)
         registries = state.tokens_by_wme
-        timetag = wme.timetag
+        timetag = wme[4]
         registry = registries.get(timetag)
         if registry is None:
-            registries[timetag] = {token: None}
-        else:
+            registries[timetag] = token
+        elif type(registry) is dict:
             registry[token] = None
+        else:
+            registries[timetag] = {registry: None, token: None}
         for child in self.children:
             child.left_add(token)
 
     def drop(self, token: Token) -> None:
-        registry = self.state.tokens_by_wme.get(token.wmes[-1].timetag)
-        if registry is not None:
+        registries = self.state.tokens_by_wme
+        timetag = token.wmes[-1][4]
+        registry = registries.get(timetag)
+        if registry is token:
+            del registries[timetag]
+        elif type(registry) is dict:
             registry.pop(token, None)
             if not registry:
-                del self.state.tokens_by_wme[token.wmes[-1].timetag]
+                del registries[timetag]

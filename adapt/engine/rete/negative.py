@@ -8,7 +8,7 @@ the removal of the last one emits it again.
 
 from __future__ import annotations
 
-from adapt.engine.rete.join import TwoInputNode
+from adapt.engine.rete.join import TwoInputNode, left_bucket, right_bucket
 from adapt.engine.rete.token import Token, emit, retract
 from adapt.engine.wme import WME
 
@@ -25,12 +25,12 @@ class NegativeNode(TwoInputNode):
         key = self.left_key(token.wmes)
         self.index_left(mine, key)
         partners = self.right.get(key)
-        if partners:
+        if partners is not None:
             if self.tests:
                 wmes = token.wmes
-                mine.count = sum(1 for w in partners.values() if self.check(wmes, w))
+                mine.count = sum(1 for w in right_bucket(partners) if self.check(wmes, w))
             else:
-                mine.count = len(partners)
+                mine.count = len(partners) if type(partners) is dict else 1
         if mine.count == 0:
             for child in self.children:
                 child.left_add(mine)
@@ -46,9 +46,9 @@ class NegativeNode(TwoInputNode):
         """``wme`` entered the alpha memory: it blocks the tokens it matches."""
         key = self.index_right(wme)
         tokens = self.left.get(key)
-        if tokens:
+        if tokens is not None:
             tests = self.tests
-            for token in list(tokens):
+            for token in left_bucket(tokens):
                 if tests and not self.check(token.wmes, wme):
                     continue
                 token.count += 1
@@ -59,10 +59,10 @@ class NegativeNode(TwoInputNode):
         """After ``wme`` left the network: un-count it from the tokens that
         counted it (those made before this removal began)."""
         tokens = self.left.get(self.right_key(wme))
-        if tokens:
+        if tokens is not None:
             epoch = self.state.epoch
             tests = self.tests
-            for token in list(tokens):
+            for token in left_bucket(tokens):
                 if token.epoch == epoch or token.dead:
                     continue
                 if tests and not self.check(token.wmes, wme):

@@ -54,7 +54,7 @@ from adapt.engine.rete.ncc import NccNode, NccPartner
 from adapt.engine.rete.negative import NegativeNode
 from adapt.engine.rete.pnode import ProductionNode
 from adapt.engine.rete.state import NetworkState
-from adapt.engine.rete.token import BetaNode, RootNode, delete_token
+from adapt.engine.rete.token import BetaNode, RootNode, delete_token, unlink
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
@@ -76,9 +76,10 @@ class Rete:
         self.root = RootNode(self.state)
         self._wmes: dict[int, WME] = {}
         #: alpha key -> memories with that key (differing in their tests)
-        self._alpha: dict[AlphaKey, list[AlphaMemory]] = {}
+        self._alpha: dict[AlphaKey, tuple[AlphaMemory, ...]] = {}
         self._alpha_by_sig: dict[tuple[AlphaKey, tuple[AlphaTest, ...]], AlphaMemory] = {}
-        self._wme_alphas: dict[int, list[AlphaMemory]] = {}
+        #: timetag -> the WME's alpha memories (tuples, shared: never mutated)
+        self._wme_alphas: dict[int, tuple[AlphaMemory, ...]] = {}
         self._pnodes: dict[str, ProductionNode] = {}
         #: how many alpha memories have a constant attribute/value: the
         #: key shapes (attr, value), (attr, ANY), (ANY, value), (ANY, ANY)
@@ -86,38 +87,38 @@ class Rete:
 
     # -- working memory -----------------------------------------------------
 
-    def _alphas_of(self, wme: WME) -> list[AlphaMemory]:
+    def _alphas_of(self, wme: WME) -> tuple[AlphaMemory, ...]:
+        """The alpha memories ``wme`` belongs in (the shapes' order)."""
         alpha = self._alpha
         both, attr_only, value_only, neither = self._shapes
-        attr, value, acceptable = wme.attr, wme.value, wme.acceptable
-        found: list[AlphaMemory] = []
+        attr, value, acceptable = wme[1], wme[2], wme[3]
+        found: tuple[AlphaMemory, ...] = ()
         if attr_only:
-            memories = alpha.get((attr, ANY, acceptable))
-            if memories:
-                found.extend(memories)
+            found = alpha.get((attr, ANY, acceptable), ())
         if both:
             memories = alpha.get((attr, value, acceptable))
             if memories:
-                found.extend(memories)
+                found = found + memories if found else memories
         if value_only:
             memories = alpha.get((ANY, value, acceptable))
             if memories:
-                found.extend(memories)
+                found = found + memories if found else memories
         if neither:
             memories = alpha.get((ANY, ANY, acceptable))
             if memories:
-                found.extend(memories)
+                found = found + memories if found else memories
         for am in found:
             if am.tests:
-                return [am for am in found if not am.tests or passes(am.tests, wme)]
+                return tuple([am for am in found if not am.tests or passes(am.tests, wme)])
         return found
 
     def add_wme(self, wme: WME) -> None:
         """Add a WME (a timetag already present is ignored)."""
-        timetag = wme.timetag
-        if timetag in self._wmes:
+        timetag = wme[4]
+        wmes = self._wmes
+        if timetag in wmes:
             return
-        self._wmes[timetag] = wme
+        wmes[timetag] = wme
         self.state.epoch += 1
         memories = self._alphas_of(wme)
         if not memories:
@@ -130,7 +131,7 @@ class Rete:
 
     def remove_wme(self, wme: WME) -> None:
         """Remove a WME (a timetag not present is ignored)."""
-        timetag = wme.timetag
+        timetag = wme[4]
         wme = self._wmes.pop(timetag, None)  # type: ignore[assignment]
         if wme is None:
             return
@@ -147,13 +148,15 @@ class Rete:
                 if type(node) is NegativeNode:
                     negatives.append(node)
         tokens = state.tokens_by_wme.pop(timetag, None)
-        if tokens:
-            for token in tokens:
-                if not token.dead:
-                    parent = token.parent
-                    if parent is not None and parent.children is not None:
-                        parent.children.pop(token, None)
-                    delete_token(token)
+        if tokens is not None:
+            if type(tokens) is dict:
+                for token in tokens:
+                    if not token.dead:
+                        unlink(token)
+                        delete_token(token)
+            else:
+                unlink(tokens)  # type: ignore[arg-type]
+                delete_token(tokens)  # type: ignore[arg-type]
         for node in negatives:
             node.unblock(wme)
 
@@ -162,15 +165,11 @@ class Rete:
     def take_changes(self) -> tuple[list[Match], list[Match]]:
         """``(added, removed)`` since the previous call, each in the order the
         changes happened; transient matches cancel out."""
-        state = self.state
-        added, removed = list(state.added.values()), list(state.removed.values())
-        state.added = {}
-        state.removed = {}
-        return added, removed
+        return self.state.take()
 
     def matches(self) -> list[Match]:
         """The current match set."""
-        return [m for p in self._pnodes.values() for m in p.matches.values()]
+        return [m for p in self._pnodes.values() for m in p.matches()]
 
     # -- productions ------------------------------------------------------------
 
@@ -209,9 +208,10 @@ class Rete:
         pnode = self._pnodes.pop(name, None)
         if pnode is None:
             raise EngineError(f"no production named {name} in the matcher")
-        for match in pnode.matches.values():
-            self.state.match_removed(match)
-        pnode.matches.clear()
+        state = self.state
+        for token in pnode.parent.emitted():
+            key, wmes = pnode.key(token)
+            state.match_removed(key, (pnode.production, wmes))
         pnode.parent.children.remove(pnode)
         self._prune(pnode.parent)
 
@@ -270,12 +270,13 @@ class Rete:
             return am
         am = AlphaMemory(key, tests)
         self._alpha_by_sig[sig] = am
-        self._alpha.setdefault(key, []).append(am)
+        self._alpha[key] = self._alpha.get(key, ()) + (am,)
         self._shapes[_shape(key)] += 1
+        wme_alphas = self._wme_alphas
         for timetag, wme in self._wmes.items():
             if am.accepts(wme):
                 am.items[timetag] = wme
-                self._wme_alphas.setdefault(timetag, []).append(am)
+                wme_alphas[timetag] = wme_alphas.get(timetag, ()) + (am,)
         return am
 
     def _two_input(
@@ -321,9 +322,7 @@ class Rete:
             parent = node.parent
             assert parent is not None
             for token in node.tokens():
-                above = token.parent
-                if above is not None and above.children is not None:
-                    above.children.pop(token, None)
+                unlink(token)
                 delete_token(token)
             parent.children.remove(node)  # type: ignore[arg-type]
             if isinstance(node, TwoInputNode):
@@ -342,16 +341,19 @@ class Rete:
 
     def _drop_alpha(self, am: AlphaMemory) -> None:
         del self._alpha_by_sig[(am.key, am.tests)]
-        memories = self._alpha[am.key]
-        memories.remove(am)
-        if not memories:
+        memories = tuple([m for m in self._alpha[am.key] if m is not am])
+        if memories:
+            self._alpha[am.key] = memories
+        else:
             del self._alpha[am.key]
         self._shapes[_shape(am.key)] -= 1
+        wme_alphas = self._wme_alphas
         for timetag in am.items:
-            memories = self._wme_alphas[timetag]
-            memories.remove(am)
-            if not memories:
-                del self._wme_alphas[timetag]
+            memories = tuple([m for m in wme_alphas[timetag] if m is not am])
+            if memories:
+                wme_alphas[timetag] = memories
+            else:
+                del wme_alphas[timetag]
 
 
 class _Unbound(Exception):

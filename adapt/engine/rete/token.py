@@ -6,6 +6,11 @@ extends (``parent``) and links to the tokens that extend it (``children``).
 Removing a token removes its whole subtree through those links; nothing is
 ever found by scanning a memory.
 
+To keep allocations (and the cyclic garbage collector's work) low, a token's
+``children`` is ``None`` (no child), the child token itself (one child) or a
+dict ``{token: None}`` (several, in creation order); the hashed memories of
+the nodes use the same single-entry convention (see :mod:`.join`).
+
 A token is *emitted* (visible to the nodes below its node) while its
 ``count`` is 0.  Join tokens always have count 0; a negative node's token
 counts the WMEs that block it, a conjunctive-negation owner token counts the
@@ -14,18 +19,21 @@ results of its subnetwork.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Iterable, Protocol, Union
 
 from adapt.engine.wme import WME
 
 if TYPE_CHECKING:
     from adapt.engine.rete.state import NetworkState
 
-__all__ = ["Token", "Successor", "BetaNode", "RootNode", "emit", "retract", "delete_token"]
+__all__ = [
+    "Token", "Successor", "BetaNode", "RootNode", "emit", "retract", "delete_token",
+    "children_of", "unlink",
+]
 
 
 class Token:
-    """A partial match held by one node."""
+    """A partial match held by one node; registers itself with its parent."""
 
     __slots__ = ("parent", "wmes", "node", "children", "count", "epoch", "dead")
 
@@ -35,19 +43,42 @@ class Token:
         self.parent = parent
         self.wmes = wmes
         self.node = node
-        self.children: dict[Token, None] | None = None
+        self.children: Union[None, Token, dict[Token, None]] = None
         self.count = 0
         self.epoch = epoch
         self.dead = False
         if parent is not None:
             siblings = parent.children
             if siblings is None:
-                parent.children = {self: None}
-            else:
+                parent.children = self
+            elif type(siblings) is dict:
                 siblings[self] = None
+            else:
+                parent.children = {siblings: None, self: None}
 
     def __repr__(self) -> str:
         return f"Token({[w.timetag for w in self.wmes]}, count={self.count})"
+
+
+def children_of(token: Token) -> Iterable[Token]:
+    """The tokens that extend ``token``, oldest first."""
+    below = token.children
+    if below is None:
+        return ()
+    if type(below) is dict:
+        return below
+    return (below,)  # type: ignore[return-value]
+
+
+def unlink(token: Token) -> None:
+    """Remove ``token`` from its parent's ``children`` (the parent stays)."""
+    parent = token.parent
+    if parent is not None:
+        siblings = parent.children
+        if siblings is token:
+            parent.children = None
+        elif type(siblings) is dict:
+            siblings.pop(token, None)
 
 
 class Successor(Protocol):
@@ -85,8 +116,7 @@ class BetaNode:
         assert parent is not None
         out: list[Token] = []
         for t in parent.emitted():
-            if t.children:
-                out.extend(c for c in t.children if c.node is self)
+            out.extend(c for c in children_of(t) if c.node is self)
         return out
 
     def emitted(self) -> list[Token]:
@@ -121,8 +151,11 @@ def retract(token: Token) -> None:
     below = token.children
     if below is not None:
         token.children = None
-        for t in below:
-            delete_token(t)
+        if type(below) is dict:
+            for t in below:
+                delete_token(t)
+        else:
+            delete_token(below)  # type: ignore[arg-type]
 
 
 def delete_token(token: Token) -> None:
@@ -136,6 +169,9 @@ def delete_token(token: Token) -> None:
     below = token.children
     if below is not None:
         token.children = None
-        for t in below:
-            delete_token(t)
+        if type(below) is dict:
+            for t in below:
+                delete_token(t)
+        else:
+            delete_token(below)  # type: ignore[arg-type]
     node.drop(token)
