@@ -117,7 +117,7 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
                 goal_stack_consistent(agent, k.bottom)
             return
         if cycles >= agent.max_elaborations:
-            agent.message(_MAX_ELAB.format("output" if apply else "decision"))
+            agent.message(_MAX_ELAB.format("output" if apply else "decide"))
             return
         previous = active
         active = nxt

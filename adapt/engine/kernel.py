@@ -20,7 +20,8 @@ instantiation supports it or some o-supported preference holds it
 (:attr:`Kernel.isup`, :attr:`Kernel.osup`).  A ``-`` action of an o-supported
 instantiation removes every preference for that WME (i-supported ones
 included, as Soar's ``process_o_rejects`` does); a ``-`` action of an
-i-supported instantiation on an ordinary attribute is ignored.
+i-supported instantiation keeps the WME out of working memory while that
+instantiation lasts (:attr:`Kernel.irej`).
 Operator slots keep every preference (:class:`adapt.engine.goals.Goal`).
 """
 
@@ -72,6 +73,7 @@ class Kernel:
         self.id_level: dict[Symbol, int] = {}
         self.isup: dict[WmeKey, list[Instantiation]] = {}
         self.osup: dict[WmeKey, Instantiation] = {}
+        self.irej: dict[WmeKey, list[Instantiation]] = {}
         self.pending_goal: dict[object, Goal] = {}
         self.fired: dict[object, Instantiation] = {}
         self.gds_index: dict[int, set[Goal]] = {}
@@ -281,7 +283,13 @@ class Kernel:
                 else:
                     self.isup.setdefault(key, []).append(inst)
                     inst.i_wmes.append(key)
-                self.wm.add(ident, attr, value)
+                if key not in self.irej:
+                    self.wm.add(ident, attr, value)
+            elif kind is _REJECT and not o:
+                key = (ident, attr, value, False)
+                self.irej.setdefault(key, []).append(inst)
+                inst.i_wmes.append(key)
+                self.wm.remove(ident, attr, value)
         if inst.i_wmes or inst.slot_prefs:
             goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
         if results:
@@ -303,7 +311,16 @@ class Kernel:
             return
         inst.retracted = True
         isup, osup, wm = self.isup, self.osup, self.wm
+        irej = self.irej
         for key in inst.i_wmes:
+            rejecters = irej.get(key)
+            if rejecters is not None and inst in rejecters:
+                rejecters.remove(inst)
+                if not rejecters:
+                    del irej[key]
+                    if key in isup or key in osup:
+                        wm.add(*key)
+                continue
             supporters = isup.get(key)
             if supporters is None or inst not in supporters:
                 continue
