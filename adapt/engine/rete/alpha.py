@@ -108,18 +108,32 @@ class AlphaMemory:
         Further alpha tests.
     items : dict
         ``timetag -> WME`` in arrival order.
-    successors : list
+    successors : tuple
         Join and negative nodes fed by this memory, oldest first (ancestors
         before descendants).
+    negatives : tuple
+        The negative nodes among them (to un-block after a removal).
     """
 
-    __slots__ = ("key", "tests", "items", "successors")
+    __slots__ = ("key", "tests", "items", "successors", "negatives")
 
     def __init__(self, key: AlphaKey, tests: tuple[AlphaTest, ...]) -> None:
         self.key = key
         self.tests = tests
         self.items: dict[int, WME] = {}
-        self.successors: list[TwoInputNode] = []
+        self.successors: tuple[TwoInputNode, ...] = ()
+        self.negatives: tuple[TwoInputNode, ...] = ()
+
+    def add_successor(self, node: TwoInputNode) -> None:
+        """Feed ``node`` (after the current successors)."""
+        self.successors += (node,)
+        if node.blocks:
+            self.negatives += (node,)
+
+    def remove_successor(self, node: TwoInputNode) -> None:
+        """Stop feeding ``node``."""
+        self.successors = tuple([n for n in self.successors if n is not node])
+        self.negatives = tuple([n for n in self.negatives if n is not node])
 
     def accepts(self, wme: WME) -> bool:
         """Whether ``wme`` belongs in this memory."""

@@ -59,6 +59,10 @@ class TwoInputNode(BetaNode):
     """What joins and negative nodes share: an alpha memory, hashed left and
     right memories, join tests."""
 
+    #: whether the node's WMEs block tokens (negative nodes) rather than
+    #: extend them
+    blocks = False
+
     __slots__ = (
         "alpha", "token_fields", "wme_fields", "tests", "left", "right",
         "_n", "_level", "_field", "_wfield",
@@ -189,8 +193,13 @@ class TwoInputNode(BetaNode):
 
 
 class JoinNode(TwoInputNode):
-    """A positive condition: one token per consistent (token, WME) pair."""
+    """A positive condition: one token per consistent (token, WME) pair.
 
+    Token creation (:meth:`make`) is inlined in both activations: it is the
+    hot path of the whole matcher.
+    """
+
+    kind = 1
     __slots__ = ()
 
     def left_add(self, token: Token) -> None:
@@ -214,17 +223,35 @@ class JoinNode(TwoInputNode):
         if partners is None:
             return
         tests = self.tests
-        if type(partners) is dict:
+        if type(partners) is not dict:
+            if tests and not self.check(wmes, partners):  # type: ignore[arg-type]
+                return
+            partners = (partners,)  # type: ignore[assignment]
+            tests = ()
+        else:
             # Emission never changes a right memory: no copy needed.
-            for wme in partners.values():
-                if tests and not self.check(wmes, wme):
-                    continue
-                self.make(token, wme)
-        elif not tests or self.check(wmes, partners):  # type: ignore[arg-type]
-            self.make(token, partners)  # type: ignore[arg-type]
+            partners = partners.values()  # type: ignore[assignment]
+        state = self.state
+        registries = state.tokens_by_wme
+        children = self.children
+        for wme in partners:  # type: ignore[union-attr]
+            if tests and not self.check(wmes, wme):
+                continue
+            new = Token(token, wmes + (wme,), self, 0)
+            timetag = wme[4]
+            registry = registries.get(timetag)
+            if registry is None:
+                registries[timetag] = new
+            elif type(registry) is dict:
+                registry[new] = None
+            else:
+                registries[timetag] = {registry: None, new: None}
+            for child in children:
+                child.left_add(new)
 
-    def left_remove(self, token: Token) -> None:
-        self.unindex_left(token)
+    #: The parent withdrew ``token``: forget it (its children go through the
+    #: token tree).
+    left_remove = TwoInputNode.unindex_left
 
     def right_add(self, wme: WME) -> None:
         """``wme`` entered the alpha memory."""
@@ -236,40 +263,41 @@ class JoinNode(TwoInputNode):
         else:
             key = tuple([wme[field] for field in self.wme_fields])
         right = self.right
+        timetag = wme[4]
         bucket = right.get(key)
         if bucket is None:
             right[key] = wme
         elif type(bucket) is dict:
-            bucket[wme[4]] = wme
+            bucket[timetag] = wme
         else:
-            right[key] = {bucket[4]: bucket, wme[4]: wme}  # type: ignore[index]
+            right[key] = {bucket[4]: bucket, timetag: wme}  # type: ignore[index]
         tokens = self.left.get(key)
         if tokens is None:
             return
         tests = self.tests
-        if type(tokens) is dict:
-            for token in list(tokens):
-                if tests and not self.check(token.wmes, wme):
-                    continue
-                self.make(token, wme)
-        elif not tests or self.check(tokens.wmes, wme):  # type: ignore[union-attr]
-            self.make(tokens, wme)  # type: ignore[arg-type]
-
-    def make(self, parent: Token, wme: WME) -> None:
-        """Create the token ``parent + wme`` and emit it."""
-        state = self.state
-        token = Token(parent, parent.wmes + (wme,), self, state.epoch)
-        registries = state.tokens_by_wme
-        timetag = wme[4]
-        registry = registries.get(timetag)
-        if registry is None:
-            registries[timetag] = token
-        elif type(registry) is dict:
-            registry[token] = None
+        if type(tokens) is not dict:
+            if tests and not self.check(tokens.wmes, wme):  # type: ignore[union-attr]
+                return
+            tokens = (tokens,)  # type: ignore[assignment]
+            tests = ()
         else:
-            registries[timetag] = {registry: None, token: None}
-        for child in self.children:
-            child.left_add(token)
+            tokens = list(tokens)  # type: ignore[assignment]
+        state = self.state
+        registries = state.tokens_by_wme
+        children = self.children
+        for parent in tokens:  # type: ignore[union-attr]
+            if tests and not self.check(parent.wmes, wme):
+                continue
+            new = Token(parent, parent.wmes + (wme,), self, 0)
+            registry = registries.get(timetag)
+            if registry is None:
+                registries[timetag] = new
+            elif type(registry) is dict:
+                registry[new] = None
+            else:
+                registries[timetag] = {registry: None, new: None}
+            for child in children:
+                child.left_add(new)
 
     def drop(self, token: Token) -> None:
         registries = self.state.tokens_by_wme

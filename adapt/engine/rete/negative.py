@@ -18,6 +18,8 @@ __all__ = ["NegativeNode"]
 class NegativeNode(TwoInputNode):
     """Passes a parent token on while no WME matches the negated condition."""
 
+    blocks = True
+    kind = 2
     __slots__ = ()
 
     def left_add(self, token: Token) -> None:

@@ -140,13 +140,25 @@ class Rete:
         memories = self._wme_alphas.pop(timetag, None)
         if memories is None:
             return
-        negatives: list[NegativeNode] = []
         for am in memories:
             del am.items[timetag]
             for node in am.successors:
-                node.right_remove(wme)
-                if type(node) is NegativeNode:
-                    negatives.append(node)
+                # Inlined TwoInputNode.right_remove.
+                n = node._n
+                if n == 1:
+                    key: object = wme[node._wfield]
+                elif n == 0:
+                    key = None
+                else:
+                    key = tuple([wme[field] for field in node.wme_fields])
+                right = node.right
+                bucket = right[key]
+                if type(bucket) is dict:
+                    del bucket[timetag]
+                    if not bucket:
+                        del right[key]
+                else:
+                    del right[key]
         tokens = state.tokens_by_wme.pop(timetag, None)
         if tokens is not None:
             if type(tokens) is dict:
@@ -157,8 +169,9 @@ class Rete:
             else:
                 unlink(tokens)  # type: ignore[arg-type]
                 delete_token(tokens)  # type: ignore[arg-type]
-        for node in negatives:
-            node.unblock(wme)
+        for am in memories:
+            for negative in am.negatives:
+                negative.unblock(wme)  # type: ignore[attr-defined]
 
     # -- match set ------------------------------------------------------------
 
@@ -296,7 +309,7 @@ class Rete:
                 return child
         node = cls(self.state, parent, am, token_fields, wme_fields, tests)
         parent.children.append(node)
-        am.successors.append(node)
+        am.add_successor(node)
         node.fill_right()
         for token in parent.emitted():
             node.left_add(token)
@@ -327,7 +340,7 @@ class Rete:
             parent.children.remove(node)  # type: ignore[arg-type]
             if isinstance(node, TwoInputNode):
                 am = node.alpha
-                am.successors.remove(node)
+                am.remove_successor(node)
                 if not am.successors:
                     self._drop_alpha(am)
             elif isinstance(node, NccNode):

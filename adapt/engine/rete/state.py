@@ -43,9 +43,10 @@ class NetworkState:
     Attributes
     ----------
     epoch : int
-        Incremented by every WME add or remove; tokens remember the epoch they
-        were made in, so that removing a WME never un-counts it from a
-        negative-node token created after it had left the network.
+        Incremented by every WME add or remove; negative-node tokens remember
+        the epoch they were made in, so that removing a WME never un-counts it
+        from a negative-node token created after it had left the network
+        (join tokens, which never need it, record 0).
     tokens_by_wme : dict
         ``timetag -> token or {token: None}`` for the tokens whose last WME is
         that WME (tokens made by join nodes): what to delete when the WME goes.
@@ -79,8 +80,16 @@ class NetworkState:
 
     def take(self) -> tuple[list[Match], list[Match]]:
         """The pending ``(added, removed)`` matches, emptying both."""
-        added = [make_match(p, w, k) for k, (p, w) in self.added.items()]
-        removed = [make_match(p, w, k) for k, (p, w) in self.removed.items()]
-        self.added = {}
-        self.removed = {}
+        pending = self.added
+        if pending:
+            added = [make_match(p, w, k) for k, (p, w) in pending.items()]
+            self.added = {}
+        else:
+            added = []
+        pending = self.removed
+        if pending:
+            removed = [make_match(p, w, k) for k, (p, w) in pending.items()]
+            self.removed = {}
+        else:
+            removed = []
         return added, removed

@@ -99,6 +99,11 @@ class BetaNode:
     (``left_add``) and hear of their retraction (``left_remove``).
     """
 
+    #: what :func:`delete_token` must do to forget a token of this node:
+    #: 0 nothing, 1 take it out of the WME registry (join nodes, inlined),
+    #: 2 call :meth:`drop`
+    kind = 0
+
     __slots__ = ("state", "parent", "children")
 
     def __init__(self, state: NetworkState, parent: BetaNode | None) -> None:
@@ -174,4 +179,17 @@ def delete_token(token: Token) -> None:
                 delete_token(t)
         else:
             delete_token(below)  # type: ignore[arg-type]
-    node.drop(token)
+    kind = node.kind
+    if kind == 1:
+        # JoinNode.drop, inlined.
+        registries = node.state.tokens_by_wme
+        timetag = token.wmes[-1][4]
+        registry = registries.get(timetag)
+        if registry is token:
+            del registries[timetag]
+        elif type(registry) is dict:
+            registry.pop(token, None)
+            if not registry:
+                del registries[timetag]
+    elif kind == 2:
+        node.drop(token)
