@@ -212,6 +212,7 @@ class Rete:
         )
         bottom.children.append(pnode)
         self._pnodes[production.name] = pnode
+        self.state.pnodes[production.name] = pnode
         for token in bottom.emitted():
             pnode.left_add(token)
 
@@ -223,8 +224,8 @@ class Rete:
             raise EngineError(f"no production named {name} in the matcher")
         state = self.state
         for token in pnode.parent.emitted():
-            key, wmes = pnode.key(token)
-            state.match_removed(key, (pnode.production, wmes))
+            state.match_removed(pnode.flat_key(token), token)
+        state.detach(pnode)
         pnode.parent.children.remove(pnode)
         self._prune(pnode.parent)
 

@@ -3,7 +3,7 @@ reaches one is a match.
 
 A production node keeps no memory of its own: its matches are its parent's
 emitted tokens, and a match change is recorded in the network state as
-``(name, timetags) -> (production, wmes)`` (see :mod:`.state`).
+``(name, timetag, ...) -> token`` (see :mod:`.state`).
 """
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ from __future__ import annotations
 from operator import itemgetter
 from typing import TYPE_CHECKING, Callable
 
-from adapt.engine.matcher import Match, MatchKey
+from adapt.engine.matcher import Match
 from adapt.engine.production import Production
-from adapt.engine.rete.state import make_match
+from adapt.engine.rete.state import FlatKey, make_match
 from adapt.engine.rete.token import BetaNode, Token
 from adapt.engine.wme import WME
 
@@ -33,7 +33,7 @@ class ProductionNode:
     production's order.
     """
 
-    __slots__ = ("state", "parent", "production", "order", "name", "_reorder")
+    __slots__ = ("state", "parent", "production", "order", "name", "_size", "_reorder")
 
     def __init__(
         self,
@@ -47,50 +47,92 @@ class ProductionNode:
         self.production = production
         self.order = order
         self.name = production.name
+        self._size = len(production.positive_conditions)
         #: token WMEs -> production-ordered WMEs (None: already in order)
         self._reorder: Callable[[tuple[WME, ...]], tuple[WME, ...]] | None = (
             None if order is None else _reorderer(order)
         )
 
-    def left_add(self, token: Token) -> None:
+    def flat_key(self, token: Token) -> FlatKey:
+        """``(name, timetag, ...)`` of the match ``token`` makes."""
         wmes = token.wmes
         reorder = self._reorder
         if reorder is not None:
             wmes = reorder(wmes)
-        key = (self.name, tuple(map(_timetag, wmes)))
+        # Unrolled for the common lengths: this is on the hot path.
+        n = self._size
+        if n == 3:
+            a, b, c = wmes
+            return (self.name, a[4], b[4], c[4])
+        if n == 4:
+            a, b, c, d = wmes
+            return (self.name, a[4], b[4], c[4], d[4])
+        if n == 2:
+            a, b = wmes
+            return (self.name, a[4], b[4])
+        return (self.name, *map(_timetag, wmes))
+
+    def left_add(self, token: Token) -> None:
+        # flat_key, inlined.
+        wmes = token.wmes
+        reorder = self._reorder
+        if reorder is not None:
+            wmes = reorder(wmes)
+        n = self._size
+        if n == 3:
+            a, b, c = wmes
+            key: FlatKey = (self.name, a[4], b[4], c[4])
+        elif n == 4:
+            a, b, c, d = wmes
+            key = (self.name, a[4], b[4], c[4], d[4])
+        elif n == 2:
+            a, b = wmes
+            key = (self.name, a[4], b[4])
+        else:
+            key = (self.name, *map(_timetag, wmes))
         state = self.state
         removed = state.removed
         if key in removed:
             del removed[key]
         else:
-            state.added[key] = (self.production, wmes)
+            state.added[key] = token
 
     def left_remove(self, token: Token) -> None:
+        # flat_key, inlined.
         wmes = token.wmes
         reorder = self._reorder
         if reorder is not None:
             wmes = reorder(wmes)
-        key = (self.name, tuple(map(_timetag, wmes)))
+        n = self._size
+        if n == 3:
+            a, b, c = wmes
+            key: FlatKey = (self.name, a[4], b[4], c[4])
+        elif n == 4:
+            a, b, c, d = wmes
+            key = (self.name, a[4], b[4], c[4], d[4])
+        elif n == 2:
+            a, b = wmes
+            key = (self.name, a[4], b[4])
+        else:
+            key = (self.name, *map(_timetag, wmes))
         state = self.state
         added = state.added
         if key in added:
             del added[key]
         else:
-            state.removed[key] = (self.production, wmes)
+            state.removed[key] = token
 
-    def key(self, token: Token) -> tuple[MatchKey, tuple[WME, ...]]:
-        """The match key of ``token`` and its WMEs in production order."""
-        wmes = token.wmes
-        if self._reorder is not None:
-            wmes = self._reorder(wmes)
-        return (self.name, tuple(map(_timetag, wmes))), wmes
+    def wmes_of(self, token: Token) -> tuple[WME, ...]:
+        """The WMEs of ``token`` in the production's condition order."""
+        reorder = self._reorder
+        return token.wmes if reorder is None else reorder(token.wmes)
 
     def matches(self) -> list[Match]:
         """The current matches (the parent's emitted tokens)."""
         out = []
         for token in self.parent.emitted():
-            key, wmes = self.key(token)
-            out.append(make_match(self.production, wmes, key))
+            key = self.flat_key(token)
+            out.append(make_match(self.production, self.wmes_of(token), (self.name, key[1:])))
         return out
 
 

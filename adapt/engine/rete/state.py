@@ -1,10 +1,12 @@
 """State shared by every node of one Rete network: the operation counter,
 the tokens that hold each WME, and the pending match-set changes.
 
-Pending changes are kept as ``key -> (production, wmes)``; the
+A pending change is filed under the *flat* key ``(name, timetag, ...)`` (one
+tuple: :attr:`Match.key` is ``(name, (timetag, ...))``) and holds the token
+that matched, or ``(production, wmes)`` once the production is gone.  The
 :class:`~adapt.engine.matcher.Match` records are made only for the changes
-that survive until :meth:`NetworkState.take` (most transient ones cancel
-out before that).
+that survive until :meth:`NetworkState.take` -- most transient ones cancel
+out before that.
 """
 
 from __future__ import annotations
@@ -16,12 +18,16 @@ from adapt.engine.production import Production
 from adapt.engine.wme import WME
 
 if TYPE_CHECKING:
+    from adapt.engine.rete.pnode import ProductionNode
     from adapt.engine.rete.token import Token
 
-__all__ = ["NetworkState", "Pending", "make_match"]
+__all__ = ["NetworkState", "Pending", "FlatKey", "make_match"]
 
-#: A pending match change: the production and its WMEs (production order).
-Pending = tuple[Production, tuple[WME, ...]]
+#: ``(production name, timetag, timetag, ...)``
+FlatKey = tuple[Union[str, int], ...]
+#: A pending match change: the token, or the production and its WMEs
+#: (production order) once the production has been removed.
+Pending = Union["Token", tuple[Production, tuple[WME, ...]]]
 
 _new = object.__new__
 
@@ -51,44 +57,61 @@ class NetworkState:
         ``timetag -> token or {token: None}`` for the tokens whose last WME is
         that WME (tokens made by join nodes): what to delete when the WME goes.
     added, removed : dict
-        Pending match-set changes ``key -> (production, wmes)``, keyed by
-        :attr:`Match.key`, in the order they happened; an addition and a
-        removal of the same key cancel out.
+        Pending match-set changes ``flat key -> token or (production, wmes)``
+        in the order they happened; an addition and a removal of the same key
+        cancel out.
+    pnodes : dict
+        ``name -> production node`` of the productions in the network.
     """
 
-    __slots__ = ("epoch", "tokens_by_wme", "added", "removed")
+    __slots__ = ("epoch", "tokens_by_wme", "added", "removed", "pnodes")
 
     def __init__(self) -> None:
         self.epoch = 0
         self.tokens_by_wme: dict[int, Union[Token, dict[Token, None]]] = {}
-        self.added: dict[MatchKey, Pending] = {}
-        self.removed: dict[MatchKey, Pending] = {}
+        self.added: dict[FlatKey, Pending] = {}
+        self.removed: dict[FlatKey, Pending] = {}
+        self.pnodes: dict[str, ProductionNode] = {}
 
-    def match_added(self, key: MatchKey, pending: Pending) -> None:
-        """Record that a match appeared (cancelling a pending removal)."""
-        if key in self.removed:
-            del self.removed[key]
-        else:
-            self.added[key] = pending
-
-    def match_removed(self, key: MatchKey, pending: Pending) -> None:
+    def match_removed(self, key: FlatKey, pending: Pending) -> None:
         """Record that a match disappeared (cancelling a pending addition)."""
         if key in self.added:
             del self.added[key]
         else:
             self.removed[key] = pending
 
+    def detach(self, pnode: ProductionNode) -> None:
+        """``pnode`` leaves the network: resolve its pending changes now."""
+        del self.pnodes[pnode.name]
+        name = pnode.name
+        for pending in (self.added, self.removed):
+            for key, value in pending.items():
+                if key[0] == name and type(value) is not tuple:
+                    pending[key] = (pnode.production, pnode.wmes_of(value))  # type: ignore[arg-type]
+
+    def _matches(self, pending: dict[FlatKey, Pending]) -> list[Match]:
+        pnodes = self.pnodes
+        out = []
+        for key, value in pending.items():
+            name = key[0]
+            if type(value) is tuple:
+                production, wmes = value
+            else:
+                pnode = pnodes[name]  # type: ignore[index]
+                production = pnode.production
+                wmes = pnode.wmes_of(value)  # type: ignore[arg-type]
+            out.append(make_match(production, wmes, (name, key[1:])))  # type: ignore[arg-type]
+        return out
+
     def take(self) -> tuple[list[Match], list[Match]]:
         """The pending ``(added, removed)`` matches, emptying both."""
-        pending = self.added
-        if pending:
-            added = [make_match(p, w, k) for k, (p, w) in pending.items()]
+        if self.added:
+            added = self._matches(self.added)
             self.added = {}
         else:
             added = []
-        pending = self.removed
-        if pending:
-            removed = [make_match(p, w, k) for k, (p, w) in pending.items()]
+        if self.removed:
+            removed = self._matches(self.removed)
             self.removed = {}
         else:
             removed = []
