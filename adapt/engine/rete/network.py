@@ -120,7 +120,21 @@ class Rete:
             return
         wmes[timetag] = wme
         self.state.epoch += 1
-        memories = self._alphas_of(wme)
+        # _alphas_of, inlined for the usual shapes.
+        both, attr_only, value_only, neither = self._shapes
+        if value_only or neither:
+            memories = self._alphas_of(wme)
+        else:
+            alpha = self._alpha
+            memories = alpha.get((wme[1], ANY, wme[3]), ()) if attr_only else ()
+            if both:
+                found = alpha.get((wme[1], wme[2], wme[3]))
+                if found:
+                    memories = memories + found if memories else found
+            for am in memories:
+                if am.tests:
+                    memories = tuple([m for m in memories if not m.tests or passes(m.tests, wme)])
+                    break
         if not memories:
             return
         self._wme_alphas[timetag] = memories
@@ -167,7 +181,13 @@ class Rete:
                         unlink(token)
                         delete_token(token)
             else:
-                unlink(tokens)  # type: ignore[arg-type]
+                # unlink, inlined (a join token always has a parent).
+                parent = tokens.parent  # type: ignore[union-attr]
+                siblings = parent.children
+                if siblings is tokens:
+                    parent.children = None
+                elif type(siblings) is dict:
+                    siblings.pop(tokens, None)
                 delete_token(tokens)  # type: ignore[arg-type]
         for am in memories:
             for negative in am.negatives:

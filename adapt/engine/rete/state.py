@@ -87,7 +87,8 @@ class NetworkState:
         for pending in (self.added, self.removed):
             for key, value in pending.items():
                 if key[0] == name and type(value) is not tuple:
-                    pending[key] = (pnode.production, pnode.wmes_of(value))  # type: ignore[arg-type]
+                    wmes = pnode.wmes_of(value)  # type: ignore[arg-type]
+                    pending[key] = (pnode.production, wmes)
 
     def _matches(self, pending: dict[FlatKey, Pending]) -> list[Match]:
         pnodes = self.pnodes
