@@ -93,6 +93,7 @@ class NetworkState:
     def _matches(self, pending: dict[FlatKey, Pending]) -> list[Match]:
         pnodes = self.pnodes
         out = []
+        append = out.append
         for key, value in pending.items():
             name = key[0]
             if type(value) is tuple:
@@ -100,8 +101,17 @@ class NetworkState:
             else:
                 pnode = pnodes[name]  # type: ignore[index]
                 production = pnode.production
-                wmes = pnode.wmes_of(value)  # type: ignore[arg-type]
-            out.append(make_match(production, wmes, (name, key[1:])))  # type: ignore[arg-type]
+                wmes = value.wmes  # type: ignore[union-attr]
+                reorder = pnode._reorder
+                if reorder is not None:
+                    wmes = reorder(wmes)
+            # make_match, inlined.
+            match: Match = _new(Match)
+            match.production = production
+            match.wmes = wmes
+            match.key = match_key = (name, key[1:])  # type: ignore[assignment]
+            match._hash = hash(match_key)
+            append(match)
         return out
 
     def take(self) -> tuple[list[Match], list[Match]]:
