@@ -149,7 +149,10 @@ def measure(system: str, path: Path, max_decisions: int, timeout: float) -> dict
     try:
         return dict(json.loads(proc.stdout.decode().strip().splitlines()[-1]))
     except (ValueError, IndexError):
-        return {"error": f"child failed: {proc.stderr.decode()[-300:]}"}
+        how = (f"killed by signal {-proc.returncode}" if proc.returncode < 0
+               else f"exit status {proc.returncode}")
+        hint = " (out of memory?)" if proc.returncode in (-9, 137) else ""
+        return {"error": f"child failed: {how}{hint} {proc.stderr.decode()[-300:]}".rstrip()}
 
 
 def median_of(system: str, path: Path, max_decisions: int, runs: int,
