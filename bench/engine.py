@@ -13,7 +13,9 @@ each written as a ``.soar`` file that both systems load unchanged:
   (``(<x> ^v <v>) (<y> ^w <v>)`` before the link ``(<s> ^b <y>)``).  Targets: adapt >= 10 x faster than real
   Soar at N = 5,000, and adapt's time(20,000) / time(5,000) <= 5.
 
-Every measurement is the wall time of the run alone (the rule file is already
+Each child may use at most 8 GB of address space (real Soar's value join
+needs N^2 partial matches and runs out of memory at N = 20,000).  Every
+measurement is the wall time of the run alone (the rule file is already
 loaded) in a fresh child process: adapt via ``Agent(seed=1, matcher="rete")``
 (no trace), real Soar via SML with a kernel created in the child's own thread,
 ``chunk never``, ``trace 0`` (watch 0), ``timers`` left at the default (on), no
@@ -139,11 +141,22 @@ def child_soar(path: str, max_decisions: int) -> dict[str, object]:
             "firings": firings}
 
 
+MEMORY_LIMIT_GB = 8.0  # per child: a quadratic run fails alone instead of starving the machine
+
+
+def _limit_memory() -> None:
+    import resource
+
+    limit = int(MEMORY_LIMIT_GB * 2**30)
+    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+
 def measure(system: str, path: Path, max_decisions: int, timeout: float) -> dict[str, object]:
     argv = [sys.executable, str(Path(__file__).resolve()), "--child", system, str(path),
             str(max_decisions)]
     try:
-        proc = subprocess.run(argv, capture_output=True, timeout=timeout)
+        proc = subprocess.run(argv, capture_output=True, timeout=timeout,
+                              preexec_fn=_limit_memory)
     except subprocess.TimeoutExpired:
         return {"error": f"over the {timeout:.0f} s limit"}
     try:
@@ -151,7 +164,8 @@ def measure(system: str, path: Path, max_decisions: int, timeout: float) -> dict
     except (ValueError, IndexError):
         how = (f"killed by signal {-proc.returncode}" if proc.returncode < 0
                else f"exit status {proc.returncode}")
-        hint = " (out of memory?)" if proc.returncode in (-9, 137) else ""
+        hint = (f" (out of memory? each child may use {MEMORY_LIMIT_GB:g} GB)"
+                if proc.returncode in (-9, -6, 134, 137) else "")
         return {"error": f"child failed: {how}{hint} {proc.stderr.decode()[-300:]}".rstrip()}
 
 
