@@ -346,6 +346,7 @@ class Agent:
             arg, level=self._trace_level, files=self.files, seed=self.seed)
         self.tracer = tw
         k = self.kernel
+        tw.existing_wmes(k.wm)
 
         def on_event(kind: str, payload: object) -> None:
             if kind == "wm":

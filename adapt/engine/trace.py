@@ -84,6 +84,7 @@ class TraceWriter:
             self._owned = True
         self.level = level
         self._phase: dict[str, Any] | None = None
+        self._carry: list[WME] = []
         self.closed = False
         created = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
         self._record({"kind": "header", "format": FORMAT, "version": VERSION, "adapt": version,
@@ -98,8 +99,9 @@ class TraceWriter:
         """A phase starts (``d`` = decisions started so far)."""
         rec: dict[str, Any] = {"kind": "phase", "d": d, "phase": phase}
         if self.level >= 4:
-            rec["adds"] = []
+            rec["adds"] = [_wme_json(w) for w in self._carry]
             rec["removes"] = []
+        self._carry = []
         if self.level >= 3:
             rec["firings"] = []
             rec["retractions"] = []
@@ -116,6 +118,11 @@ class TraceWriter:
         if not rec["writes"]:
             del rec["writes"]
         self._record(rec)
+
+    def existing_wmes(self, wmes: Iterable[WME]) -> None:
+        """WMEs already in working memory when the trace starts: written as
+        adds of the first phase record, so working memory can be rebuilt."""
+        self._carry = sorted(wmes, key=lambda w: w.timetag)
 
     def write_text(self, text: str) -> None:
         """Text written by ``(write ...)`` in the current phase."""

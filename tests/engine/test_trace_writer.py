@@ -1,0 +1,87 @@
+"""The JSON Lines trace: records, levels, flushing, footer on errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from adapt.engine import Agent
+
+COUNTER = """
+sp {propose*init (state <s> ^superstate nil -^count) --> (<s> ^operator <o> +) (<o> ^name init)}
+sp {apply*init (state <s> ^operator.name init) --> (<s> ^count 0)}
+sp {propose (state <s> ^count {<c> < 3}) --> (<s> ^operator <o> +) (<o> ^name count)}
+sp {apply (state <s> ^operator.name count ^count <c>)
+   --> (<s> ^count <c> -) (<s> ^count (+ <c> 1)) (write <c>)}
+sp {done (state <s> ^count 3) --> (halt)}
+"""
+
+
+def records(path: Path) -> list[dict]:
+    return [json.loads(line) for line in path.read_text().splitlines()]
+
+
+def test_level_5_trace_rebuilds_working_memory(tmp_path: Path) -> None:
+    path = tmp_path / "t.jsonl"
+    agent = Agent(trace=str(path))
+    agent.load_text(COUNTER)
+    report = agent.run()
+    agent.close()
+    recs = records(path)
+    assert recs[0]["kind"] == "header" and recs[0]["level"] == 5
+    assert recs[-1]["kind"] == "footer" and recs[-1]["decisions"] == report.decisions
+    decisions = [r for r in recs if r["kind"] == "decision"]
+    assert [r["d"] for r in decisions] == list(range(1, report.decisions + 1))
+    assert decisions[0]["selected"]["name"] == "init"
+    assert decisions[0]["candidates"][0]["preferences"] == [["+", None]]
+    wm: dict[int, list] = {}
+    for r in recs:
+        if r["kind"] == "phase":
+            for tt in r["removes"]:
+                del wm[tt]
+            for add in r["adds"]:
+                wm[add[0]] = add
+    assert len(wm) == report.wm_size_final
+    writes = "".join(r.get("writes", "") for r in recs if r["kind"] == "phase")
+    assert writes == report.output == "012"
+    fired = [f for r in recs if r["kind"] == "phase" for f in r["firings"]]
+    assert {f["support"] for f in fired if f["rule"] == "apply"} == {"o"}
+
+
+def test_level_1_has_no_phase_records(tmp_path: Path) -> None:
+    path = tmp_path / "t.jsonl"
+    agent = Agent(trace=str(path), trace_level=1)
+    agent.load_text(COUNTER)
+    agent.run()
+    agent.close()
+    assert {r["kind"] for r in records(path)} == {"header", "decision", "footer"}
+
+
+def test_footer_written_when_a_user_function_raises(tmp_path: Path) -> None:
+    path = tmp_path / "t.jsonl"
+    agent = Agent(trace=str(path), trace_level=2)
+
+    def boom(*args: object) -> None:
+        raise RuntimeError("sensor failed")
+
+    agent.register_function("boom", boom)
+    agent.load_text(COUNTER + "sp {b (state <s> ^count 2) --> (boom)}")
+    with pytest.raises(Exception):
+        agent.run()
+    agent.close()
+    recs = records(path)
+    assert recs[-1]["kind"] == "footer" and "sensor failed" in recs[-1]["error"]
+
+
+def test_trace_is_valid_up_to_the_last_decision_when_interrupted(tmp_path: Path) -> None:
+    path = tmp_path / "t.jsonl"
+    agent = Agent(trace=str(path), trace_level=2)
+    agent.load_text(COUNTER)
+    agent.run(2)                       # flushed per decision, file still open
+    lines = path.read_text().splitlines()
+    recs = [json.loads(line) for line in lines]
+    assert recs[-1]["kind"] in ("decision", "footer")
+    assert [r["d"] for r in recs if r["kind"] == "decision"] == [1, 2]
+    agent.close()

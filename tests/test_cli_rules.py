@@ -1,0 +1,65 @@
+"""``adapt rules run`` / ``adapt rules check``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from adapt.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+GOOD = "sp {hello (state <s> ^superstate nil) --> (write |hello| (crlf)) (halt)}\n"
+
+
+def test_run_human_summary(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "a.soar"
+    f.write_text(GOOD)
+    assert main(["rules", "run", str(f)]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("hello\n") and "-- halt: 0 decisions" in out
+
+
+def test_run_json_keys(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "a.soar"
+    f.write_text(GOOD)
+    assert main(["rules", "run", str(f), "--json", "--matcher", "naive", "--seed", "3"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    for key in ("halted", "stop_reason", "decisions", "output", "operators", "impasses",
+                "production_firings", "wm_size_final"):
+        assert key in report
+    assert report["output"] == "hello\n" and report["halted"] is True
+
+
+def test_water_jug_example_runs(capsys: pytest.CaptureFixture[str]) -> None:
+    path = ROOT / "rules" / "examples" / "water-jug.soar"
+    if not path.exists():
+        pytest.skip("rules/examples/water-jug.soar not written yet")
+    assert main(["rules", "run", str(path), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["halted"] is True
+
+
+def test_run_with_trace_and_bound(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "a.soar"
+    f.write_text("sp {p (state <s> ^superstate nil) --> (<s> ^operator <o> +) (<o> ^name x)}\n")
+    trace = tmp_path / "t.jsonl"
+    assert main(["rules", "run", str(f), "--json", "--max-decisions", "3",
+                 "--trace", str(trace), "--trace-level", "2"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["stop_reason"] == "max-decisions" and report["decisions"] == 3
+    assert json.loads(trace.read_text().splitlines()[-1])["kind"] == "footer"
+
+
+def test_bad_rules_positioned_error_no_traceback(tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.soar"
+    bad.write_text("sp {broken (state <s> ^a 1)\n  (<s> ^b 2)\n")
+    good = tmp_path / "good.soar"
+    good.write_text(GOOD)
+    assert main(["rules", "check", str(good), str(bad)]) == 1
+    err = capsys.readouterr().err
+    assert f"{bad}:" in err and "Traceback" not in err
+    assert main(["rules", "run", str(bad)]) == 1
+    assert "Traceback" not in capsys.readouterr().err
+    assert main(["rules", "check", str(good)]) == 0
