@@ -64,12 +64,14 @@ def soar_reports(request: pytest.FixtureRequest) -> dict[Path, Report]:
 
 @requires_soar
 @pytest.mark.soar
+@pytest.mark.parametrize("matcher", ["rete", "naive"])
 @pytest.mark.parametrize("agent_file", ALL_FILES, ids=_file_id)
-def test_agent_behaves_as_in_real_soar(agent_file: Path, soar_reports: dict[Path, Report]) -> None:
+def test_agent_behaves_as_in_real_soar(agent_file: Path, matcher: str,
+                                       soar_reports: dict[Path, Report]) -> None:
     soar = soar_reports[agent_file]
-    adapt = run_adapt(agent_file)
+    adapt = run_adapt(agent_file, matcher=matcher)
     difference = first_difference(soar, adapt)
-    assert difference is None, f"{_file_id(agent_file)}: {difference}"
+    assert difference is None, f"{_file_id(agent_file)} ({matcher}): {difference}"
 
 
 @requires_soar
