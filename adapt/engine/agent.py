@@ -53,12 +53,8 @@ def _make_matcher(name: str) -> Matcher:
 
         return NaiveMatcher()
     if name == "rete":
-        try:
-            from adapt.engine.rete import Rete
-        except ImportError:  # the Rete is being written: the reference matcher stands in
-            from adapt.engine.naive import NaiveMatcher
+        from adapt.engine.rete import Rete
 
-            return NaiveMatcher()
         return Rete()
     raise EngineError(f"unknown matcher {name!r} (expected 'rete' or 'naive')")
 
