@@ -39,11 +39,14 @@ from typing import TYPE_CHECKING
 from adapt.engine.matcher import Match, MatchKey
 from adapt.engine.production import (
     CallAction,
+    Condition,
+    DisjunctionTest,
     EqualityTest,
     FunctionCall,
     MakeAction,
     Production,
     RhsValue,
+    Test,
     Variable,
 )
 from adapt.engine.symbols import Identifier, Symbol
@@ -51,9 +54,28 @@ from adapt.engine.symbols import Identifier, Symbol
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.engine.goals import Goal
 
-__all__ = ["RuleInfo", "Instantiation", "SUPPORT_O", "SUPPORT_I", "SUPPORT_NONE"]
+__all__ = ["RuleInfo", "Instantiation", "SUPPORT_O", "SUPPORT_I", "SUPPORT_NONE",
+           "SRC_CONST", "SRC_WME", "SRC_NEW", "SRC_CALL"]
 
 SUPPORT_O, SUPPORT_I, SUPPORT_NONE = "o", "i", "none"
+
+#: Tags of the compiled RHS values of :attr:`RuleInfo.plan`:
+#: ``(SRC_CONST, symbol)``, ``(SRC_WME, index, field)`` (a field of the match's
+#: ``index``-th WME), ``(SRC_NEW, k)`` (the firing's ``k``-th new identifier),
+#: ``(SRC_CALL, name, (arg, ...))``.
+SRC_CONST, SRC_WME, SRC_NEW, SRC_CALL = 0, 1, 2, 3
+
+
+def _may_test_operator(cond: Condition) -> bool:
+    """Could a WME matched by ``cond`` be a selected-operator WME (``^operator`` without +)?"""
+    if cond.acceptable:
+        return False
+    attr: Test | None = cond.attr
+    if isinstance(attr, EqualityTest) and not isinstance(attr.term, Variable):
+        return attr.term == "operator"
+    if isinstance(attr, DisjunctionTest):
+        return "operator" in attr.values
+    return True
 
 
 def _rhs_variables(value: RhsValue | None, out: list[Variable]) -> None:
@@ -82,7 +104,8 @@ class RuleInfo:
     """
 
     __slots__ = ("production", "name", "has_make", "makes_operator_prefs", "declared",
-                 "new_variables", "elaborates_operator")
+                 "new_variables", "elaborates_operator", "static_support", "operator_slots",
+                 "new_hints", "plan")
 
     def __init__(self, production: Production) -> None:
         self.production = production
@@ -110,17 +133,62 @@ class RuleInfo:
                 _rhs_variables(action.call, seen)
         bound = production.binding_sites
         self.new_variables = tuple(v for v in seen if v not in bound)
+        #: the identifier letters of the new identifiers (``<o>`` -> ``o``)
+        self.new_hints = tuple(v.name[1:] for v in self.new_variables)
+        #: the support every match gets, or None when it depends on the match
+        self.static_support: str | None
+        if not self.has_make:
+            self.static_support = SUPPORT_NONE
+        elif self.declared is not None:
+            self.static_support = self.declared
+        elif self.makes_operator_prefs or self.elaborates_operator:
+            self.static_support = SUPPORT_I
+        else:
+            self.static_support = None
+        #: positions in a match of the WMEs that may be a selected-operator WME
+        self.operator_slots = tuple(i for i, c in enumerate(production.positive_conditions)
+                                    if _may_test_operator(c))
+        self.plan = self._compile(production)
+
+    def _compile(self, production: Production) -> tuple[tuple, ...]:
+        """The actions as tuples the kernel evaluates from a match's WMEs directly.
+
+        ``(True, id, attr, value, preference, referent)`` for a make action
+        (``referent`` None or a compiled value), ``(False, call)`` for a
+        stand-alone call; values compiled as the ``SRC_*`` tags describe.
+        """
+        sites = production.binding_sites
+        new_index = {v: k for k, v in enumerate(self.new_variables)}
+
+        def src(value: RhsValue) -> tuple:
+            if isinstance(value, Variable):
+                site = sites.get(value)
+                if site is not None:
+                    return (SRC_WME, site[0], site[1])
+                return (SRC_NEW, new_index[value])
+            if isinstance(value, FunctionCall):
+                return (SRC_CALL, value.name, tuple(src(a) for a in value.args))
+            return (SRC_CONST, value)
+
+        plan: list[tuple] = []
+        for action in production.actions:
+            if isinstance(action, MakeAction):
+                ref = None if action.referent is None else src(action.referent)
+                plan.append((True, src(action.id), src(action.attr), src(action.value),
+                             action.preference, ref))
+            else:
+                plan.append((False, src(action.call)))
+        return tuple(plan)
 
     def support(self, match: Match, goal_id: Symbol) -> str:
         """The support a match of this production gets when its match goal is ``goal_id``."""
-        if not self.has_make:
-            return SUPPORT_NONE
-        if self.declared is not None:
-            return self.declared
-        if self.makes_operator_prefs or self.elaborates_operator:
-            return SUPPORT_I
-        for w in match.wmes:
-            if w.id is goal_id and w.attr == "operator" and not w.acceptable:
+        static = self.static_support
+        if static is not None:
+            return static
+        wmes = match.wmes
+        for i in self.operator_slots:
+            w = wmes[i]
+            if w[0] is goal_id and w[1] == "operator":
                 return SUPPORT_O
         return SUPPORT_I
 

@@ -30,13 +30,21 @@ from __future__ import annotations
 import random
 from typing import Callable
 
-from adapt.engine.functions import FunctionTable, evaluate
+from adapt.engine.functions import FunctionTable
 from adapt.engine.goals import Goal, SlotPreference, item_wmes, substate_wmes, top_state_wmes
-from adapt.engine.instantiation import SUPPORT_O, Instantiation, RuleInfo
+from adapt.engine.instantiation import (
+    SRC_CONST,
+    SRC_NEW,
+    SRC_WME,
+    SUPPORT_I,
+    SUPPORT_O,
+    Instantiation,
+    RuleInfo,
+)
 from adapt.engine.matcher import Match, Matcher
 from adapt.engine.memory import WmeKey, WorkingMemory
 from adapt.engine.preferences import Preference
-from adapt.engine.production import MakeAction, PreferenceKind, Production, Variable
+from adapt.engine.production import PreferenceKind, Production
 from adapt.engine.results import ResultMaker
 from adapt.engine.symbols import Identifier, IdentifierFactory, Symbol, format_symbol
 from adapt.engine.wme import WME
@@ -81,6 +89,8 @@ class Kernel:
         self.firings = 0
         self.tracer: Listener | None = None
         self.events: list[tuple[str, object]] = []
+        #: the matcher may hold match-set changes not yet scheduled
+        self._matcher_dirty = True
         s1 = self.ids.new("S")
         io, il, ol = self.ids.new("I"), self.ids.new("I"), self.ids.new("I")
         self.top = Goal(s1, 0, None)
@@ -101,6 +111,7 @@ class Kernel:
             self.matcher.remove_production(production.name)
         self.rules[production.name] = RuleInfo(production)
         self.matcher.add_production(production)
+        self._matcher_dirty = True
 
     # -- working-memory phase ----------------------------------------------
     def commit(self) -> tuple[list[WME], list[WME]]:
@@ -108,26 +119,39 @@ class Kernel:
 
         Returns every WME added and removed (goal removals included).
         """
-        all_added: list[WME] = []
-        all_removed: list[WME] = []
+        wm = self.wm
+        if not wm.pending and not self._matcher_dirty:
+            return [], []
+        self._matcher_dirty = False
+        all_added: list[WME] | None = None
+        all_removed: list[WME] | None = None
+        matcher = self.matcher
         while True:
-            added, removed = self.wm.commit()
-            all_added.extend(added)
-            all_removed.extend(removed)
-            doomed: list[Goal] = []
+            added, removed = wm.commit()
+            if all_added is None:
+                all_added, all_removed = added, removed
+            else:
+                all_added.extend(added)
+                all_removed.extend(removed)  # type: ignore[union-attr]
+            doomed: list[Goal] | None = None
             if removed:
                 osup = self.osup
                 gds = self.gds_index
                 just = self.results.grounds_index
                 for w in removed:
-                    osup.pop(w.key, None)
-                    tt = w.timetag
+                    if osup:
+                        osup.pop(w[:4], None)
+                    tt = w[4]
                     if tt in gds:
+                        if doomed is None:
+                            doomed = []
                         doomed.extend(gds.pop(tt))
                     if tt in just:
                         for j in just.pop(tt):
                             self._schedule_retraction(j)
-            self._schedule(*self.matcher.take_changes())
+            self._schedule(*matcher.take_changes())
+            if doomed is None:
+                break
             live = [g for g in doomed if self.goals.get(g.id) is g]
             if not live:
                 break
@@ -136,7 +160,7 @@ class Kernel:
             self.remove_goal(top)
         if self.tracer is not None and (all_added or all_removed):
             self.tracer("wm", (all_added, all_removed))
-        return all_added, all_removed
+        return all_added, all_removed  # type: ignore[return-value]
 
     def _schedule(self, added: list[Match], removed: list[Match]) -> None:
         pending_goal = self.pending_goal
@@ -150,16 +174,23 @@ class Kernel:
             inst = self.fired.pop(key, None)
             if inst is not None:  # every fired instantiation retracts (o-supported too)
                 self._schedule_retraction(inst)
+        if not added:
+            return
         goals = self.goals
         rules = self.rules
+        top = self.top
+        only_top = top.lower is None
         for m in added:
-            goal = None
-            for w in m.wmes:
-                g = goals.get(w.id)
-                if g is not None and (goal is None or g.level > goal.level):
-                    goal = g
-            if goal is None:
-                goal = self.top
+            if only_top:
+                goal = top
+            else:
+                goal = None
+                for w in m.wmes:
+                    g = goals.get(w[0])
+                    if g is not None and (goal is None or g.level > goal.level):
+                        goal = g
+                if goal is None:
+                    goal = top
             key = m.key
             if rules[m.production.name].support(m, goal.id) == SUPPORT_O:
                 goal.pending_o[key] = m
@@ -185,73 +216,132 @@ class Kernel:
             retractions = goal.retractions
             if retractions:
                 goal.retractions = {}
+                tracer = self.tracer
                 for inst in retractions.values():
-                    self.emit("retract", inst)
+                    if tracer is not None:
+                        tracer("retract", inst)
                     self.retract(inst)
             matches = goal.pending_i
+            if not matches:
+                return 0
             goal.pending_i = {}
         else:
             matches = goal.pending_o
+            if not matches:
+                return 0
             goal.pending_o = {}
-        if not matches:
-            return 0
         pending_goal = self.pending_goal
         fired = self.fired
+        instantiate = self._instantiate
+        rules = self.rules
         made: list[tuple[Instantiation, list[tuple]]] = []
         for key, m in matches.items():
             del pending_goal[key]
-            pair = self._instantiate(m, goal)
+            rule = rules[m.production.name]
+            if kind == "i":
+                support = rule.static_support
+                if support is None:
+                    support = SUPPORT_I
+            else:
+                support = SUPPORT_O
+            pair = instantiate(m, rule, goal, support)
             fired[key] = pair[0]
             made.append(pair)
         self.firings += len(made)
         # o-rejects first, then everything else (Soar's assert_new_preferences)
-        for inst, prefs in made:
-            if inst.support == SUPPORT_O:
+        # (every match fired in an IE cycle is i-supported or unsupported)
+        if kind != "i":
+            for inst, prefs in made:
                 for p in prefs:
                     if p[0] is _REJECT and p[5]:
                         self._o_reject(p)
+        assert_ = self._assert
         for inst, prefs in made:
-            self._assert(inst, prefs)
+            if prefs:
+                assert_(inst, prefs)
         return len(made)
 
-    def _instantiate(self, m: Match, goal: Goal) -> tuple[Instantiation, list[tuple]]:
-        rule = self.rules[m.production.name]
-        support = rule.support(m, goal.id)
-        inst = Instantiation(m.key, rule, goal, support, m.wmes)
-        bindings: dict[Variable, Symbol] = m.production.bindings(m.wmes)
-        level = goal.level
-        for var in rule.new_variables:
-            ident = self.ids.new(var.name[1:])
-            self.id_level[ident] = level
-            bindings[var] = ident
-        inst.bindings = bindings
-        self.emit("fire", inst)
+    def _instantiate(self, m: Match, rule: RuleInfo, goal: Goal,
+                     support: str) -> tuple[Instantiation, list[tuple]]:
+        wmes = m.wmes
+        inst = Instantiation(m.key, rule, goal, support, wmes)
+        new: list[Identifier] | None = None
+        if rule.new_hints:
+            level = goal.level
+            ids_new = self.ids.new
+            id_level = self.id_level
+            new = []
+            for hint in rule.new_hints:
+                ident = ids_new(hint)
+                id_level[ident] = level
+                new.append(ident)
+        if self.tracer is not None:
+            bindings = m.production.bindings(wmes)
+            if new is not None:
+                for var, ident in zip(rule.new_variables, new):
+                    bindings[var] = ident
+            inst.bindings = bindings
+            self.tracer("fire", inst)
         prefs: list[tuple] = []
         o_support = support == SUPPORT_O
-        table, ctx = self.functions, self.context
-        for action in m.production.actions:
-            if type(action) is MakeAction:
-                ident = bindings.get(action.id)
-                attr = action.attr if type(action.attr) is str else evaluate(
-                    action.attr, bindings, table, ctx)  # type: ignore[arg-type]
-                value = action.value
-                if type(value) is Variable:
-                    value = bindings[value]
-                elif type(value) is not str and type(value) is not int:
-                    value = evaluate(value, bindings, table, ctx)  # type: ignore[arg-type]
+        value_of = self._rhs_value
+        for step in rule.plan:
+            if step[0]:
+                _, isrc, asrc, vsrc, pref, rsrc = step
+                if isrc[0] == SRC_WME:
+                    ident = wmes[isrc[1]][isrc[2]]
+                else:
+                    ident = value_of(isrc, wmes, new)
+                tag = asrc[0]
+                if tag == SRC_CONST:
+                    attr = asrc[1]
+                elif tag == SRC_WME:
+                    attr = wmes[asrc[1]][asrc[2]]
+                else:
+                    attr = value_of(asrc, wmes, new)
+                tag = vsrc[0]
+                if tag == SRC_CONST:
+                    value = vsrc[1]
+                elif tag == SRC_WME:
+                    value = wmes[vsrc[1]][vsrc[2]]
+                elif tag == SRC_NEW:
+                    value = new[vsrc[1]]  # type: ignore[index]
+                else:
+                    value = value_of(vsrc, wmes, new)
                 if ident is None or attr is None or value is None:
                     continue
                 if type(ident) is not Identifier:
-                    ctx.error(  # type: ignore[attr-defined]
+                    self.context.error(  # type: ignore[attr-defined]
                         f"RHS makes a preference for a non-identifier ({format_symbol(ident)})")
                     continue
-                ref = action.referent
-                if ref is not None:
-                    ref = evaluate(ref, bindings, table, ctx)
-                prefs.append((action.preference, ident, attr, value, ref, o_support))
+                ref = None if rsrc is None else value_of(rsrc, wmes, new)
+                prefs.append((pref, ident, attr, value, ref, o_support))
             else:
-                evaluate(action.call, bindings, table, ctx)
+                value_of(step[1], wmes, new)
         return inst, prefs
+
+    def _rhs_value(self, src: tuple, wmes: tuple, new: list[Identifier] | None) -> Symbol | None:
+        """The value of a compiled RHS value (see :attr:`RuleInfo.plan`)."""
+        tag = src[0]
+        if tag == SRC_WME:
+            return wmes[src[1]][src[2]]
+        if tag == SRC_CONST:
+            return src[1]
+        if tag == SRC_NEW:
+            return new[src[1]]  # type: ignore[index]
+        args: list[Symbol] = []
+        for arg in src[2]:
+            tag = arg[0]
+            if tag == SRC_WME:
+                v = wmes[arg[1]][arg[2]]
+            elif tag == SRC_CONST:
+                v = arg[1]
+            else:
+                v = self._rhs_value(arg, wmes, new)
+                if v is None:
+                    return None
+            args.append(v)
+        return self.functions.call(src[1], args, self.context)
 
     def _o_reject(self, p: tuple) -> None:
         _, ident, attr, value, _, _ = p

@@ -58,6 +58,9 @@ from adapt.engine.wme import WME
 
 __all__ = ["WorkingMemory", "WmeListener", "WmeKey"]
 
+#: Builds a WME from a 5-tuple without the named tuple's keyword handling.
+_tuple_new = tuple.__new__
+
 #: ``(id, attr, value, acceptable)``: what makes two WMEs the same.
 WmeKey = tuple[Symbol, Symbol, Symbol, bool]
 
@@ -141,42 +144,54 @@ class WorkingMemory:
         self._adds, self._removes = {}, {}
         wmes = self._wmes
         removed: list[WME] = []
-        for key in removes:
-            if key in adds:
-                continue
-            w = wmes.get(key)
-            if w is not None:
-                self._unlink(key, w)
-                removed.append(w)
+        if removes:
+            unlink = self._unlink
+            for key in removes:
+                if key in adds:
+                    continue
+                w = wmes.get(key)
+                if w is not None:
+                    unlink(key, w)
+                    removed.append(w)
         added: list[WME] = []
-        for key in adds:
-            if key in wmes:
-                continue
-            self._timetag += 1
-            w = WME(key[0], key[1], key[2], key[3], self._timetag)
-            wmes[key] = w
-            ident = key[0]
-            bucket = self._by_id.get(ident)
-            if bucket is None:
-                self._by_id[ident] = {key: w}
-            else:
-                bucket[key] = w
-            value = key[2]
-            if type(value) is Identifier:
-                links = self._links_to.get(value)
-                if links is None:
-                    self._links_to[value] = {key: w}
+        if adds:
+            by_id = self._by_id
+            links_to = self._links_to
+            tt = self._timetag
+            new = _tuple_new
+            for key in adds:
+                if key in wmes:
+                    continue
+                tt += 1
+                w = new(WME, key + (tt,))
+                wmes[key] = w
+                ident = key[0]
+                bucket = by_id.get(ident)
+                if bucket is None:
+                    by_id[ident] = {key: w}
                 else:
-                    links[key] = w
-            added.append(w)
+                    bucket[key] = w
+                value = key[2]
+                if type(value) is Identifier:
+                    links = links_to.get(value)
+                    if links is None:
+                        links_to[value] = {key: w}
+                    else:
+                        links[key] = w
+                added.append(w)
+            self._timetag = tt
         if removed:
             self._collect(removed)
         listener = self.listener
         if listener is not None:
-            for w in removed:
-                listener.remove_wme(w)
-            for w in added:
-                listener.add_wme(w)
+            if removed:
+                remove_wme = listener.remove_wme
+                for w in removed:
+                    remove_wme(w)
+            if added:
+                add_wme = listener.add_wme
+                for w in added:
+                    add_wme(w)
         return added, removed
 
     def _unlink(self, key: WmeKey, w: WME) -> None:
@@ -211,7 +226,9 @@ class WorkingMemory:
 
     def _collect(self, removed: list[WME]) -> None:
         """Remove the structure no longer reachable from a root (appends to ``removed``)."""
-        suspects = [w.value for w in removed if type(w.value) is Identifier]
+        suspects = [w[2] for w in removed if type(w[2]) is Identifier]
+        if not suspects:
+            return
         while suspects:
             ident = suspects.pop()
             if ident in self._roots or ident not in self._by_id:
