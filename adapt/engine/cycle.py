@@ -54,6 +54,9 @@ _MAX_ELAB = "Warning: reached max-elaborations; proceeding to {} phase."
 
 def run(agent: Agent, max_decisions: int | None) -> None:
     """Run phases until a stop: halt, interrupt, goal depth, or the decision bound."""
+    if agent.tracer is None:
+        _run_untraced(agent, max_decisions)
+        return
     done = 0
     while agent.stop_reason is None:
         phase = agent.next_phase
@@ -80,6 +83,45 @@ def run(agent: Agent, max_decisions: int | None) -> None:
             agent.stop_reason = "halt"
 
 
+def _run_untraced(agent: Agent, max_decisions: int | None) -> None:
+    """:func:`run` without a trace: the same phases, without the per-phase hooks
+    (``Agent.end_phase`` only adds the halt message, done here once)."""
+    done = 0
+    limit = -1 if max_decisions is None else max_decisions
+    k = agent.kernel
+    io = agent.io
+    try:
+        while agent.stop_reason is None:
+            phase = agent.next_phase
+            if phase == "input":
+                if io.input_callbacks:
+                    io.run_input()
+                k.commit()
+                agent.next_phase = "proposal"
+            elif phase == "proposal":
+                elaborate(agent, apply=False)
+                agent.next_phase = "decision"
+            elif phase == "decision":
+                decision_phase(agent)
+                done += 1
+                agent.next_phase = "apply"
+            elif phase == "apply":
+                if done == limit:
+                    agent.stop_reason = "max-decisions"
+                    break
+                elaborate(agent, apply=True)
+                agent.next_phase = "output"
+            else:
+                if io.output_callbacks:
+                    io.run_output()
+                agent.next_phase = "input"
+            if agent.halted:
+                agent.stop_reason = "halt"
+    finally:
+        if agent.halted and "This Agent halted." not in agent.messages[-1:]:
+            agent.message("This Agent halted.")
+
+
 def input_phase(agent: Agent) -> None:
     """Let the input callbacks write to the input-link; commit their changes."""
     agent.io.run_input()
@@ -103,31 +145,39 @@ def decision_phase(agent: Agent) -> None:
 def elaborate(agent: Agent, *, apply: bool) -> None:
     """The proposal (``apply=False``) or apply phase's elaboration cycles."""
     k = agent.kernel
-    goal: Goal | None = k.top
+    top = k.top
+    goal: Goal | None = top
     while goal is not None:
         goal.saved_firing = None
         goal = goal.lower
     cycles = 0
+    max_elaborations = agent.max_elaborations
     active: Goal | None = None
     firing = "i"
+    fire = k.fire
+    commit = k.commit
     while True:
-        nxt = _highest_active(k.top, apply)
+        # the highest goal with pending work (the waterfall)
+        nxt: Goal | None = top
+        while nxt is not None:
+            if nxt.pending_i or nxt.retractions or (apply and nxt.pending_o):
+                break
+            nxt = nxt.lower
         if nxt is None:
             if firing == "i" and not k.bottom.i_activity():
                 goal_stack_consistent(agent, k.bottom)
             return
-        if cycles >= agent.max_elaborations:
+        if cycles >= max_elaborations:
             agent.message(_MAX_ELAB.format("output" if apply else "decide"))
             return
         previous = active
         active = nxt
         if previous is None:
-            firing = _kind_at(active, apply)
-        elif active.level == previous.level:
-            if apply and firing == "i" and not active.i_activity():
+            pass
+        elif active is previous or active.level == previous.level:
+            if apply and firing == "i" and not (active.pending_i or active.retractions):
                 if not goal_stack_consistent(agent, active):
                     return
-            firing = _kind_at(active, apply)
         elif active.level > previous.level:
             alive = k.goals.get(previous.id) is previous
             if (not apply or firing == "i") and alive and not previous.i_activity():
@@ -136,16 +186,15 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
             if apply and active.saved_firing == "i" and not active.i_activity():
                 if not goal_stack_consistent(agent, active):
                     return
-            firing = _kind_at(active, apply)
         else:
             previous.saved_firing = firing
             if not goal_stack_consistent(agent, active):
                 return
-            firing = _kind_at(active, apply)
-        k.fire(active, firing)
+        firing = "o" if apply and not (active.pending_i or active.retractions) else "i"
+        fire(active, firing)
         cycles += 1
         agent.elaboration_cycles += 1
-        k.commit()
+        commit()
         if agent.halted or agent.stop_reason is not None:
             return
 

@@ -269,7 +269,11 @@ class WorkingMemory:
 
     def values(self, ident: Symbol, attr: Symbol) -> list[Symbol]:
         """The values of ``(ident ^attr *)`` (not acceptable preferences), oldest first."""
-        return [w.value for w in self.of(ident) if w.attr == attr and not w.acceptable]
+        bucket = self._by_id.get(ident)
+        if not bucket:
+            return []
+        # a bucket's insertion order is timetag order (timetags only grow)
+        return [w[2] for w in bucket.values() if w[1] == attr and not w[3]]
 
     def links_to(self, ident: Identifier) -> list[WME]:
         """The WMEs whose value is ``ident``."""

@@ -391,6 +391,15 @@ def decide(
     ...         Preference(PreferenceKind.REQUIRE, "o2")]).items
     ('o1', 'o2')
     """
+    if type(preferences) is list and preferences:
+        # fast path: acceptable preferences for one value only (the common case)
+        value = preferences[0].value
+        for p in preferences:
+            if p.kind is not _ACCEPTABLE or p.value is not value:
+                break
+        else:
+            if numeric_mode in NUMERIC_MODES and policy in POLICIES:
+                return SlotDecision("select", value, (), (), (value,))
     _check_options(numeric_mode, policy)
     slot = _Slot(preferences)
     result = slot.run()
