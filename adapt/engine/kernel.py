@@ -149,6 +149,9 @@ class Kernel:
                     if tt in just:
                         for j in just.pop(tt):
                             self._schedule_retraction(j)
+            results = self.results
+            if results.negated_index or results.ncc_justs:  # justifications' negations
+                results.check_negations(added, removed)
             self._schedule(*matcher.take_changes())
             if doomed is None:
                 break

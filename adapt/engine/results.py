@@ -6,24 +6,42 @@ of the same firing on an identifier that a result links into the higher
 level (those identifiers are *promoted* to that level).
 
 A result is not supported by the instantiation that made it (that goes away
-with the substate) but by a **justification**: the superstate WMEs the
-substate's reasoning depended on, found by backtracing from the
-instantiation's matched WMEs through the instantiations that made the local
-WMEs it tested.  A substate's ``^item`` WME backtraces to the acceptable
-preference ``(S ^operator O +)`` behind it.  The justification's match goal is
-the lowest state among its WMEs; it is **o-supported** when it tests that
-state's selected operator (then the result persists), otherwise
-**i-supported**: it is retracted, as an ordinary instantiation at that level,
-when any of its WMEs leaves working memory.
+with the substate) but by a **justification** (:class:`Justification`, an
+instantiation without a production), built as Soar builds one:
+
+* **Grounds** -- backtrace from the instantiation's matched WMEs through the
+  instantiations that made the local WMEs it tested (and through theirs, and
+  so on); every matched WME whose identifier belongs to a higher level is a
+  ground.  A substate's ``^item`` WME backtraces to the acceptable preference
+  ``(S ^operator O +)`` behind it (in Soar, ``^item`` is made by an
+  architectural instantiation that tests that preference).
+* **Negated conditions** -- every negated condition and conjunctive negation
+  of the instantiations backtraced through (including those a deeper
+  justification holds), instantiated with that instantiation's bindings, is
+  kept when it is *connected to the grounds*: a negated condition when its
+  identifier is one of the identifiers the grounds mention (as identifier or
+  value); a conjunctive negation when all of its conditions become connected
+  (its positive conditions connect the variables they bind).  Negations that
+  test substate-local structure are dropped (Soar's "local negations"): they
+  do not retract the result.
+
+The justification's match goal is the lowest state among its grounds' ids;
+it is **o-supported** when it tests that state's selected operator and makes
+no preference for that state's operator slot (then the result persists),
+otherwise **i-supported**: it is retracted, as an ordinary instantiation at
+that level, when one of its grounds leaves working memory or one of its
+negated conditions comes to have a match (:meth:`ResultMaker.check_negations`,
+called by :meth:`adapt.engine.kernel.Kernel.commit`).  Operator-slot
+preferences that are results (``(<ss> ^operator <o> >)``, ``<o1> > <o2>``,
+``=`` ...) are held by the justification the same way and leave the slot when
+it retracts.
 
 **Goal dependency set.** When an o-supported instantiation in a substate makes
 local structure, the superstate WMEs behind it (backtraced the same way, but
-stopping at local o-supported WMEs) join the substate's GDS; when one of them
-leaves working memory, the substate is removed (and the decision cycle
-regenerates it if the impasse still holds).
-
-Not modelled: negated conditions in justifications (a result does not retract
-when a WME appears that a substate rule tested for absence).
+stopping at local o-supported WMEs; negated conditions play no part, as in
+Soar) join the substate's GDS; when one of them leaves working memory, the
+substate is removed (and the decision cycle regenerates it if the impasse
+still holds).
 """
 
 from __future__ import annotations
@@ -31,8 +49,16 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from adapt.engine.instantiation import SUPPORT_I, SUPPORT_O, Instantiation
+from adapt.engine.naive import _exists
 from adapt.engine.preferences import Preference
-from adapt.engine.production import PreferenceKind
+from adapt.engine.production import (
+    Condition,
+    ConditionElement,
+    ConjunctiveNegation,
+    PreferenceKind,
+    Variable,
+    equality_variable,
+)
 from adapt.engine.symbols import Identifier
 from adapt.engine.wme import WME
 
@@ -40,20 +66,71 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.engine.goals import Goal
     from adapt.engine.kernel import Kernel
 
-__all__ = ["ResultMaker"]
+__all__ = ["ResultMaker", "Justification"]
 
 _ACCEPTABLE = PreferenceKind.ACCEPTABLE
+
+
+#: A negated condition (or conjunctive negation) of a justification, with the
+#: bindings of the instantiation it came from.
+Negation = tuple[ConditionElement, dict]
+
+
+class Justification(Instantiation):
+    """The instantiation-like support of results: grounds plus negated conditions.
+
+    ``wmes`` are the grounds (positive conditions, instantiated: the WMEs);
+    ``negations`` the negated conditions and conjunctive negations kept, each
+    with the bindings of the substate instantiation it came from.  The
+    justification holds while every ground is in working memory and no
+    negation has a match.
+    """
+
+    __slots__ = ("negations",)
+
+    def __init__(self, goal: Goal, support: str, wmes: tuple,
+                 negations: tuple[Negation, ...]) -> None:
+        super().__init__(None, None, goal, support, wmes)
+        self.negations = negations
+
+    def __repr__(self) -> str:
+        tags = [w.timetag for w in self.wmes]
+        return (f"Justification({self.support}, level {self.goal.level}, {tags}, "
+                f"{len(self.negations)} negated)")
+
+
+class _WMView:
+    """Working memory as the brute-force matcher's negation check reads it."""
+
+    __slots__ = ("wm",)
+
+    def __init__(self, wm: object) -> None:
+        self.wm = wm
+
+    @property
+    def wmes(self) -> list[WME]:
+        return list(self.wm)  # type: ignore[call-overload]
+
+    def candidates(self, cond: Condition, bindings: dict) -> list[WME]:
+        if cond.id in bindings:
+            return self.wm.of(bindings[cond.id])  # type: ignore[attr-defined]
+        return self.wmes
 
 
 class ResultMaker:
     """Finds results, builds their justifications, keeps the GDS up to date."""
 
-    __slots__ = ("kernel", "grounds_index")
+    __slots__ = ("kernel", "grounds_index", "negated_index", "ncc_justs", "_view")
 
     def __init__(self, kernel: Kernel) -> None:
         self.kernel = kernel
         #: timetag -> i-supported justifications that test that WME
         self.grounds_index: dict[int, list[Instantiation]] = {}
+        #: identifier -> justifications with a negated condition on it
+        self.negated_index: dict[object, list[Justification]] = {}
+        #: justifications with a conjunctive negation (checked on every change)
+        self.ncc_justs: list[Justification] = []
+        self._view = _WMView(kernel.wm)
 
     def level(self, ident: object) -> int:
         """The goal level an identifier belongs to (0 when unknown)."""
@@ -86,7 +163,9 @@ class ResultMaker:
     def make(self, inst: Instantiation, results: list[tuple]) -> None:
         """Assert the results of ``inst`` with a justification's support."""
         k = self.kernel
-        grounds = self.backtrace(inst, stop_at_o=False)
+        negated: list[Negation] = []
+        grounds = self.backtrace(inst, stop_at_o=False, negated=negated)
+        negations = _connected(grounds, negated)
         target = min((self.level(p[1]) for p in results), default=inst.goal.level - 1)
         # the justification's match goal: the lowest state among its WMEs' ids
         goal: Goal | None = None
@@ -101,7 +180,10 @@ class ResultMaker:
             if w.id is goal.id and w.attr == "operator" and not w.acceptable:
                 support = SUPPORT_O
                 break
-        just = Instantiation(None, None, goal, support, tuple(grounds))
+        if support == SUPPORT_O and any(p[2] == "operator" and p[1] is goal.id
+                                        for p in results):
+            support = SUPPORT_I  # operator preferences for the match goal: i-support
+        just = Justification(goal, support, tuple(grounds), negations)
         for p in results:
             self._promote(p, target)
         k.emit("result", (inst, just, results))
@@ -126,6 +208,55 @@ class ResultMaker:
             index = self.grounds_index
             for w in grounds:
                 index.setdefault(w.timetag, []).append(just)
+            for element, bindings in negations:
+                if isinstance(element, Condition):
+                    self.negated_index.setdefault(bindings[element.id], []).append(just)
+                elif just not in self.ncc_justs:
+                    self.ncc_justs.append(just)
+            if negations and self._violated(just):
+                # a negation already has a match (the instantiation behind it
+                # is waiting to retract): the justification does not hold
+                k._schedule_retraction(just)
+
+    def check_negations(self, added: list[WME], removed: list[WME]) -> None:
+        """Retract the justifications whose negated conditions now have a match.
+
+        Called after every working-memory commit.  A plain negated condition
+        can only come to match through an added WME on its identifier; a
+        conjunctive negation is re-evaluated after any change.
+        """
+        index = self.negated_index
+        if index and added:
+            hit: list[Justification] = []
+            for w in added:
+                justs = index.get(w[0])
+                if justs:
+                    live = [j for j in justs if not j.retracted]
+                    if len(live) != len(justs):
+                        if live:
+                            index[w[0]] = live
+                        else:
+                            del index[w[0]]
+                    for j in live:
+                        if j not in hit:
+                            hit.append(j)
+            for j in hit:
+                if self._violated(j):
+                    self.kernel._schedule_retraction(j)
+        if self.ncc_justs and (added or removed):
+            live = [j for j in self.ncc_justs if not j.retracted]
+            self.ncc_justs = live
+            for j in live:
+                if self._violated(j):
+                    self.kernel._schedule_retraction(j)
+
+    def _violated(self, just: Justification) -> bool:
+        """Whether one of the justification's negations has a match now."""
+        view = self._view
+        for element, bindings in just.negations:
+            if _exists(element, view, bindings):  # type: ignore[arg-type]
+                return True
+        return False
 
     def note_o_local(self, inst: Instantiation) -> None:
         """An o-supported instantiation made local structure: extend its goal's GDS."""
@@ -138,8 +269,14 @@ class ResultMaker:
                 goal.gds.add(w.timetag)
                 k.gds_index.setdefault(w.timetag, set()).add(goal)
 
-    def backtrace(self, inst: Instantiation, *, stop_at_o: bool) -> list[WME]:
-        """The WMEs above ``inst``'s level that its match depends on."""
+    def backtrace(self, inst: Instantiation, *, stop_at_o: bool,
+                  negated: list[Negation] | None = None) -> list[WME]:
+        """The WMEs above ``inst``'s level that its match depends on.
+
+        When ``negated`` is given, the negated conditions and conjunctive
+        negations of every instantiation backtraced through are appended to
+        it, each with that instantiation's bindings.
+        """
         k = self.kernel
         level = inst.goal.level
         id_level = k.id_level
@@ -148,6 +285,8 @@ class ResultMaker:
         stack = [inst]
         while stack:
             current = stack.pop()
+            if negated is not None:
+                _negations_of(current, negated)
             for w in current.wmes:
                 if id_level.get(w.id, 0) < level:
                     grounds[w.timetag] = w
@@ -195,3 +334,77 @@ def _goal_at(k: Kernel, level: int) -> Goal:
         goal = goal.lower
     return goal
 
+
+def _negations_of(inst: Instantiation, out: list[Negation]) -> None:
+    """Append the negated conditions of ``inst`` with its bindings."""
+    if isinstance(inst, Justification):
+        out.extend(inst.negations)
+        return
+    rule = inst.rule
+    if rule is None:
+        return
+    production = rule.production
+    elements = [c for c in production.conditions
+                if isinstance(c, ConjunctiveNegation) or c.negated]
+    if not elements:
+        return
+    bindings = inst.bindings
+    if bindings is None:
+        bindings = production.bindings(inst.wmes)
+    for element in elements:
+        out.append((element, bindings))
+
+
+def _connected(grounds: list[WME], negated: list[Negation]) -> tuple[Negation, ...]:
+    """The negations connected to the grounds (Soar keeps only those).
+
+    The grounds mark the identifiers they mention (identifier and value
+    fields).  A negated condition is connected when its identifier is marked;
+    a conjunctive negation when all of its conditions become connected, its
+    positive conditions marking the identifiers and variables they bind.
+    """
+    marked: set[object] = set()
+    for w in grounds:
+        marked.add(w.id)
+        if type(w.value) is Identifier:
+            marked.add(w.value)
+    out: list[Negation] = []
+    seen: set[tuple[int, int]] = set()
+    for element, bindings in negated:
+        key = (id(element), id(bindings))
+        if key in seen:
+            continue
+        seen.add(key)
+        if _in_tc(element, bindings, marked):
+            out.append((element, bindings))
+    return tuple(out)
+
+
+def _term_marked(term: object, bindings: dict, marked: set[object]) -> bool:
+    if isinstance(term, Variable):
+        if term in bindings:
+            return bindings[term] in marked
+        return term in marked
+    return term in marked
+
+
+def _in_tc(element: ConditionElement, bindings: dict, marked: set[object]) -> bool:
+    if isinstance(element, Condition):
+        return _term_marked(element.id, bindings, marked)
+    local = set(marked)
+    pending = list(element.conditions)
+    changed = True
+    while pending and changed:
+        changed = False
+        for c in list(pending):
+            if not _in_tc(c, bindings, local):
+                continue
+            pending.remove(c)
+            changed = True
+            if isinstance(c, Condition) and not c.negated:
+                for test in (c.id, c.value):
+                    var = test if isinstance(test, Variable) else equality_variable(test)
+                    if var is None:
+                        continue
+                    local.add(bindings[var] if var in bindings else var)
+    return not pending
