@@ -26,15 +26,15 @@ instantiation without a production), built as Soar builds one:
   do not retract the result.
 
 The justification's match goal is the lowest state among its grounds' ids;
-it is **o-supported** when it tests that state's selected operator and makes
-no preference for that state's operator slot (then the result persists),
-otherwise **i-supported**: it is retracted, as an ordinary instantiation at
+it is **o-supported** when it tests that state's selected operator (then the
+result persists), otherwise **i-supported**: it is retracted, as an ordinary instantiation at
 that level, when one of its grounds leaves working memory or one of its
 negated conditions comes to have a match (:meth:`ResultMaker.check_negations`,
 called by :meth:`adapt.engine.kernel.Kernel.commit`).  Operator-slot
 preferences that are results (``(<ss> ^operator <o> >)``, ``<o1> > <o2>``,
 ``=`` ...) are held by the justification the same way and leave the slot when
-it retracts.
+it retracts -- whatever its support: adapt does not keep o-supported
+operator-slot preferences after their justification's basis changes.
 
 **Goal dependency set.** When an o-supported instantiation in a substate makes
 local structure, the superstate WMEs behind it (backtraced the same way, but
@@ -180,9 +180,6 @@ class ResultMaker:
             if w.id is goal.id and w.attr == "operator" and not w.acceptable:
                 support = SUPPORT_O
                 break
-        if support == SUPPORT_O and any(p[2] == "operator" and p[1] is goal.id
-                                        for p in results):
-            support = SUPPORT_I  # operator preferences for the match goal: i-support
         just = Justification(goal, support, tuple(grounds), negations)
         for p in results:
             self._promote(p, target)
