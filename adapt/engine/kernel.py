@@ -195,7 +195,11 @@ class Kernel:
                 if goal is None:
                     goal = top
             key = m.key
-            if rules[m.production.name].support(m, goal.id) == SUPPORT_O:
+            info = rules[m.production.name]
+            support = info.static_support
+            if support is None:
+                support = info.support(m, goal.id)
+            if support == SUPPORT_O:
                 goal.pending_o[key] = m
             else:
                 goal.pending_i[key] = m
@@ -354,17 +358,53 @@ class Kernel:
         # Soar removes every preference for the value, i-supported ones included
         had = self.osup.pop(key, None) is not None
         if self.isup.pop(key, None) is not None or had:
-            self.wm.remove(ident, attr, value)
+            self.wm.remove_key(key)
 
     def _assert(self, inst: Instantiation, prefs: list[tuple]) -> None:
         if not prefs:
             return
         goal = inst.goal
-        results = self.results.split(inst, prefs) if goal.level > 0 else None
+        if goal.level > 0:
+            results = self.results.split(inst, prefs)
+            if results is not None:
+                self._assert_with_results(inst, prefs, results)
+                return
+        goals = self.goals
+        isup, irej = self.isup, self.irej
+        adds = self.wm.pending_adds
+        for p in prefs:
+            kind, ident, attr, value, ref, o = p
+            if attr == "operator" and ident in goals:
+                self._add_slot_pref(goals[ident], Preference(kind, value, ref), inst)
+            elif kind is _ACCEPTABLE:
+                key = (ident, attr, value, False)
+                if o:
+                    self.osup[key] = inst
+                    self.results.note_o_local(inst)
+                else:
+                    supporters = isup.get(key)
+                    if supporters is None:
+                        isup[key] = [inst]
+                    else:
+                        supporters.append(inst)
+                    inst.i_wmes.append(key)
+                if key not in irej:
+                    adds[key] = None
+            elif kind is _REJECT and not o:
+                key = (ident, attr, value, False)
+                irej.setdefault(key, []).append(inst)
+                inst.i_wmes.append(key)
+                self.wm.remove_key(key)
+        if inst.i_wmes or inst.slot_prefs:
+            goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
+
+    def _assert_with_results(self, inst: Instantiation, prefs: list[tuple],
+                             results: set[tuple]) -> None:
+        goal = inst.goal
         goals = self.goals
         for p in prefs:
             kind, ident, attr, value, ref, o = p
-            if results is not None and p in results:
+            if p in results:
                 continue
             if attr == "operator" and ident in goals:
                 self._add_slot_pref(goals[ident], Preference(kind, value, ref), inst)
@@ -393,10 +433,15 @@ class Kernel:
         goal.prefs.append(sp)
         goal.changed = True
         inst.slot_prefs.append((goal, sp))
-        if pref.kind is _ACCEPTABLE or pref.kind is _REQUIRE:
+        kind = pref.kind
+        if kind is _ACCEPTABLE or kind is _REQUIRE:
             key = (goal.id, "operator", pref.value, True)
-            self.isup.setdefault(key, []).append(inst)
-            self.wm.add(goal.id, "operator", pref.value, True)
+            supporters = self.isup.get(key)
+            if supporters is None:
+                self.isup[key] = [inst]
+            else:
+                supporters.append(inst)
+            self.wm.pending_adds[key] = None
 
     def retract(self, inst: Instantiation) -> None:
         """Remove everything an instantiation supports with i-support."""
@@ -406,22 +451,24 @@ class Kernel:
         isup, osup, wm = self.isup, self.osup, self.wm
         irej = self.irej
         for key in inst.i_wmes:
-            rejecters = irej.get(key)
-            if rejecters is not None and inst in rejecters:
-                rejecters.remove(inst)
-                if not rejecters:
-                    del irej[key]
-                    if key in isup or key in osup:
-                        wm.add(*key)
-                continue
+            if irej:
+                rejecters = irej.get(key)
+                if rejecters is not None and inst in rejecters:
+                    rejecters.remove(inst)
+                    if not rejecters:
+                        del irej[key]
+                        if key in isup or key in osup:
+                            wm.add(*key)
+                    continue
             supporters = isup.get(key)
             if supporters is None or inst not in supporters:
                 continue
-            supporters.remove(inst)
-            if not supporters:
+            if len(supporters) == 1:
                 del isup[key]
                 if key not in osup:
-                    wm.remove(*key)
+                    wm.remove_key(key)
+            else:
+                supporters.remove(inst)
         for goal, sp in inst.slot_prefs:
             try:
                 goal.prefs.remove(sp)
@@ -437,11 +484,12 @@ class Kernel:
                     supporters.remove(inst)
                     if not supporters:
                         del isup[key]
-                        wm.remove(*key)
+                        wm.remove_key(key)
                 if kind is _ACCEPTABLE and goal.operator is value and self.goals.get(goal.id) is goal:
                     self.deselect(goal)  # case (a): its acceptable preference retracted
         goal = inst.goal
-        goal.instantiations.pop(inst.key if inst.key is not None else id(inst), None)
+        if goal.instantiations:
+            goal.instantiations.pop(inst.key if inst.key is not None else id(inst), None)
 
     # -- decisions ---------------------------------------------------------------
     def select(self, goal: Goal, operator: Identifier) -> None:

@@ -124,6 +124,19 @@ class WorkingMemory:
             return
         self._removes[key] = None
 
+    def remove_key(self, key: WmeKey) -> None:
+        """:meth:`remove` by key ``(id, attr, value, acceptable)``."""
+        if key in self._adds and key not in self._wmes:
+            del self._adds[key]
+            return
+        self._removes[key] = None
+
+    @property
+    def pending_adds(self) -> dict[WmeKey, None]:
+        """The buffered additions, by key; the kernel requests an addition
+        with ``pending_adds[key] = None`` (same as :meth:`add`)."""
+        return self._adds
+
     @property
     def pending(self) -> bool:
         """True when changes wait for :meth:`commit`."""
@@ -145,13 +158,22 @@ class WorkingMemory:
         wmes = self._wmes
         removed: list[WME] = []
         if removes:
-            unlink = self._unlink
+            by_id = self._by_id
             for key in removes:
                 if key in adds:
                     continue
-                w = wmes.get(key)
+                w = wmes.pop(key, None)
                 if w is not None:
-                    unlink(key, w)
+                    bucket = by_id[key[0]]
+                    del bucket[key]
+                    if not bucket:
+                        del by_id[key[0]]
+                    value = key[2]
+                    if type(value) is Identifier:
+                        links = self._links_to[value]
+                        del links[key]
+                        if not links:
+                            del self._links_to[value]
                     removed.append(w)
         added: list[WME] = []
         if adds:
