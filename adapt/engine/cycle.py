@@ -96,7 +96,9 @@ def _run_untraced(agent: Agent, max_decisions: int | None) -> None:
             if phase == "input":
                 if io.input_callbacks:
                     io.run_input()
-                k.commit()
+                    k.commit()
+                elif k.wm.pending or k._matcher_dirty:
+                    k.commit()
                 agent.next_phase = "proposal"
             elif phase == "proposal":
                 elaborate(agent, apply=False)
@@ -274,7 +276,8 @@ def _decide_slot(agent: Agent, goal: Goal) -> bool:
         attribute = "operator" if goal.operator is not None else "state"
     else:
         d = decide(goal.preferences(), rng=agent.rng)
-        agent.note_decision(goal, d)
+        if agent.tracer is not None:
+            agent.note_decision(goal, d)
         if d.outcome == "select":
             k.select(goal, d.selected)  # type: ignore[arg-type]
             agent.operators.append([agent.decisions, goal.level,

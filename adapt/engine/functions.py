@@ -302,6 +302,9 @@ def _numbers(name: str, args: Sequence[Symbol], context: RhsContext) -> bool:
 
 
 def _plus(args: Sequence[Symbol], context: RhsContext) -> Symbol | None:
+    if len(args) == 2 and type(args[0]) is int and type(args[1]) is int:  # the common case
+        n = args[0] + args[1]  # type: ignore[operator]
+        return n if -_INT64 <= n < _INT64 else _wrap(n)
     if not _numbers("+", args, context):
         return None
     if all(type(a) is int for a in args):
@@ -327,6 +330,9 @@ def _times(args: Sequence[Symbol], context: RhsContext) -> Symbol | None:
 
 
 def _minus(args: Sequence[Symbol], context: RhsContext) -> Symbol | None:
+    if len(args) == 2 and type(args[0]) is int and type(args[1]) is int:  # the common case
+        n = args[0] - args[1]  # type: ignore[operator]
+        return n if -_INT64 <= n < _INT64 else _wrap(n)
     if not _numbers("-", args, context):
         return None
     if len(args) == 1:

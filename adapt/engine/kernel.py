@@ -241,6 +241,26 @@ class Kernel:
         fired = self.fired
         instantiate = self._instantiate
         rules = self.rules
+        if len(matches) == 1:  # the common case: one firing, nothing to order
+            ((key, m),) = matches.items()
+            del pending_goal[key]
+            rule = rules[m.production.name]
+            if kind == "i":
+                support = rule.static_support
+                if support is None:
+                    support = SUPPORT_I
+            else:
+                support = SUPPORT_O
+            inst, prefs = instantiate(m, rule, goal, support)
+            fired[key] = inst
+            self.firings += 1
+            if prefs:
+                if kind != "i":
+                    for p in prefs:
+                        if p[0] is _REJECT and p[5]:
+                            self._o_reject(p)
+                self._assert(inst, prefs)
+            return 1
         made: list[tuple[Instantiation, list[tuple]]] = []
         for key, m in matches.items():
             del pending_goal[key]
