@@ -203,7 +203,10 @@ class WorkingMemory:
                 added.append(w)
             self._timetag = tt
         if removed:
-            self._collect(removed)
+            for w in removed:
+                if type(w[2]) is Identifier:
+                    self._collect(removed)
+                    break
         listener = self.listener
         if listener is not None:
             if removed:
