@@ -78,10 +78,10 @@ def _may_test_operator(cond: Condition) -> bool:
     return True
 
 
-def _rhs_variables(value: RhsValue | None, out: list[Variable]) -> None:
+def _rhs_variables(value: RhsValue | None, out: dict[Variable, None]) -> None:
+    """Add the variables of an RHS value to ``out`` (an insertion-ordered set)."""
     if isinstance(value, Variable):
-        if value not in out:
-            out.append(value)
+        out[value] = None
     elif isinstance(value, FunctionCall):
         for arg in value.args:
             _rhs_variables(arg, out)
@@ -124,7 +124,7 @@ class RuleInfo:
         self.declared: str | None = (
             SUPPORT_O if "o-support" in flags else SUPPORT_I if "i-support" in flags else None
         )
-        seen: list[Variable] = []
+        seen: dict[Variable, None] = {}
         for action in production.actions:
             if isinstance(action, MakeAction):
                 for v in (action.id, action.attr, action.value, action.referent):
