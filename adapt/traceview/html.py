@@ -84,11 +84,12 @@ def _cycle_entry(cycle: int, records: list[dict[str, Any]], wm: LiveMemory | Non
                 retractions.append([phase, str(f.get("rule")), f.get("level", 0),
                                     list(f.get("wmes") or ())])
             if wm is not None:
+                # adds first: a WME can be added and removed in one phase
+                for a in record.get("adds") or ():
+                    adds[a[0]] = compact_wme(a)
                 for t in record.get("removes") or ():
                     if adds.pop(t, None) is None:
                         removes.append(t)
-                for a in record.get("adds") or ():
-                    adds[a[0]] = compact_wme(a)
                 wm.apply(record)
             if record.get("writes"):
                 writes.append(str(record["writes"]))

@@ -62,17 +62,30 @@ class LiveMemory:
         self._wmes: dict[int, TraceWME] = {w[0]: (w[0], w[1], w[2], w[3], bool(w[4])) for w in wmes}
 
     def apply(self, phase: dict[str, Any]) -> None:
-        """Replay one ``phase`` record: removes first, then adds (as the engine commits)."""
+        """Replay one ``phase`` record: its adds, then its removes.
+
+        A phase runs several elaboration waves, so a WME can be added and
+        removed within the same phase record (an i-supported WME whose
+        instantiation retracts a wave later).  Timetags are never reused, so
+        adding first and removing second always leaves what the engine held
+        at the end of the phase.
+        """
         wmes = self._wmes
-        for timetag in phase.get("removes", ()):
-            wmes.pop(timetag, None)
         for add in phase.get("adds", ()):
             tt, ident, attr, value, acceptable = add
             wmes[tt] = (tt, ident, attr, value, bool(acceptable))
+        for timetag in phase.get("removes", ()):
+            wmes.pop(timetag, None)
 
     def removed(self, phase: dict[str, Any]) -> list[TraceWME]:
-        """The live WMEs a phase record is about to remove (call before :meth:`apply`)."""
-        return [self._wmes[t] for t in phase.get("removes", ()) if t in self._wmes]
+        """The WMEs a phase record removes (call before :meth:`apply`).
+
+        Those live before the phase, and those the same phase adds and removes.
+        """
+        added = {a[0]: (a[0], a[1], a[2], a[3], bool(a[4])) for a in phase.get("adds", ())}
+        wmes = self._wmes
+        return [wmes[t] if t in wmes else added[t] for t in phase.get("removes", ())
+                if t in wmes or t in added]
 
     def get(self, timetag: int) -> TraceWME | None:
         """The live WME with that timetag, or ``None``."""

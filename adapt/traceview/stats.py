@@ -154,8 +154,9 @@ def compute_stats(trace: Trace, series_points: int = 256) -> TraceStats:
                     firings[str(f.get("rule"))] += 1
                 retractions += len(record.get("retractions") or ())
                 if track_wm:
-                    live.difference_update(record.get("removes") or ())
+                    # adds first: a WME can be added and removed in one phase
                     live.update(a[0] for a in record.get("adds") or ())
+                    live.difference_update(record.get("removes") or ())
             elif kind == "decision":
                 decisions += 1
                 level = int(record.get("level") or 0)

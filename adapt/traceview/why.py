@@ -172,10 +172,6 @@ def _scan(trace: Trace, wanted: set[int], productions: dict[str, Production] | N
             if record["kind"] != "phase":
                 continue
             phase = str(record.get("phase"))
-            for t in record.get("removes") or ():
-                if t in pending_removal:
-                    origin = pending_removal.pop(t)
-                    found[t] = Origin(**{**origin.__dict__, "removed": (cycle, phase)})
             for add in record.get("adds") or ():
                 if add[0] not in wanted:
                     continue
@@ -198,6 +194,11 @@ def _scan(trace: Trace, wanted: set[int], productions: dict[str, Production] | N
                     origin = Origin(wme, cycle, phase, _architecture(phase, wme, impasse_states))
                 found[add[0]] = origin
                 pending_removal[add[0]] = origin
+            # after the adds: a WME can be added and removed in one phase
+            for t in record.get("removes") or ():
+                if t in pending_removal:
+                    origin = pending_removal.pop(t)
+                    found[t] = Origin(**{**origin.__dict__, "removed": (cycle, phase)})
         if len(found) == len(wanted) and not pending_removal:
             break
     return found

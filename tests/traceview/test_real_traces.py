@@ -110,3 +110,27 @@ def test_initial_wmes_from_the_header(tmp_path: Path) -> None:
     assert sorted(w[0] for w in memory_at(trace, 1)) == [1, 3]
     assert explain(trace, 1, 0).maker == "the architecture (before the first phase)"
     assert compute_stats(trace).wm_final == 2
+
+
+@pytest.fixture
+def water_jug_run(tmp_path: Path):
+    """Water jug: i-supported WMEs are added and retracted within one apply phase."""
+    root = Path(__file__).resolve().parents[2]
+    agent = engine.Agent(trace=str(tmp_path / "wj.jsonl"), trace_level=5, seed=1)
+    agent.load_file(str(root / "rules" / "examples" / "water-jug.soar"))
+    report = agent.run(max_decisions=100)
+    agent.close()
+    return Trace(tmp_path / "wj.jsonl"), report
+
+
+def test_same_phase_add_and_remove_is_not_kept_alive(water_jug_run) -> None:
+    trace, report = water_jug_run
+    same_phase = [t for r in trace.records() if r["kind"] == "phase"
+                  for t in r.get("removes") or () if t in {a[0] for a in r.get("adds") or ()}]
+    assert same_phase, "the fixture must exercise a WME added and removed in one phase"
+    wm = memory_at(trace, report.decisions)
+    assert len(wm) == report.wm_size_final
+    assert not any(wm.get(t) for t in same_phase)
+    assert compute_stats(trace).wm_final == report.wm_size_final
+    origin = explain(trace, same_phase[0], 0)
+    assert origin.removed is not None and origin.removed[0] == origin.cycle
