@@ -110,14 +110,17 @@ def join_file(n: int) -> str:
 def child_adapt(path: str, max_decisions: int) -> dict[str, object]:
     sys.path.insert(0, str(ROOT))
     from adapt.engine import Agent
+    from adapt.engine.agent import DEFAULT_GC_THRESHOLD
 
-    agent = Agent(seed=1, matcher="rete")
+    gc_env = os.environ.get("ADAPT_BENCH_GC", "")  # set by --gc-threshold
+    gc_threshold = DEFAULT_GC_THRESHOLD if not gc_env else int(gc_env) or None
+    agent = Agent(seed=1, matcher="rete", gc_threshold=gc_threshold)
     agent.load_file(path)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     report = agent.run(max_decisions=max_decisions).to_dict()
-    seconds = time.perf_counter() - start
-    return {"seconds": seconds, "decisions": report["decisions"], "halted": report["halted"],
-            "firings": report["production_firings"]}
+    seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
+    return {"seconds": seconds, "cpu": cpu, "decisions": report["decisions"],
+            "halted": report["halted"], "firings": report["production_firings"]}
 
 
 def child_soar(path: str, max_decisions: int) -> dict[str, object]:
@@ -177,7 +180,10 @@ def median_of(system: str, path: Path, max_decisions: int, runs: int,
         if "seconds" not in result:
             return None, result  # no point repeating a failure or a timeout
         good.append(result)
-    return statistics.median(float(r["seconds"]) for r in good), good[0]
+    first = dict(good[0])
+    if all("cpu" in r for r in good):  # adapt's children also report CPU seconds
+        first["cpu"] = statistics.median(float(r["cpu"]) for r in good)
+    return statistics.median(float(r["seconds"]) for r in good), first
 
 
 def fmt(seconds: float | None) -> str:
@@ -187,12 +193,13 @@ def fmt(seconds: float | None) -> str:
 # ---- the two workloads -----------------------------------------------------------
 
 
-def bench_counter(tmp: Path, limit: int, runs: int, timeout: float) -> None:
+def bench_counter(tmp: Path, limit: int, runs: int, timeout: float,
+                  systems: tuple[str, ...] = ("soar", "adapt")) -> None:
     path = tmp / "counter.soar"
     path.write_text(counter_file(limit))
     print(f"counter: one operator per decision, counting to {limit:,} (median of {runs})")
     rates: dict[str, float] = {}
-    for system in ("soar", "adapt"):
+    for system in systems:
         seconds, info = median_of(system, path, limit + 10, runs, timeout)
         if seconds is None:
             print(f"  {system:<6} {info.get('error')}")
@@ -207,7 +214,8 @@ def bench_counter(tmp: Path, limit: int, runs: int, timeout: float) -> None:
         print(f"  ratio adapt/Soar = {ratio:.3f}  (target >= 0.25: {verdict})")
 
 
-def bench_join(tmp: Path, sizes: list[int], runs: int, timeout: float) -> None:
+def bench_join(tmp: Path, sizes: list[int], runs: int, timeout: float,
+               systems: tuple[str, ...] = ("soar", "adapt")) -> None:
     print(f"value join: N objects of each of two kinds, one rule joining equal values "
           f"(median of {runs})")
     times: dict[tuple[str, int], float] = {}
@@ -215,11 +223,14 @@ def bench_join(tmp: Path, sizes: list[int], runs: int, timeout: float) -> None:
         path = tmp / f"join-{n}.soar"
         path.write_text(join_file(n))
         row = []
-        for system in ("soar", "adapt"):
+        for system in systems:
             seconds, info = median_of(system, path, 10, runs, timeout)
             if seconds is not None:
                 times[(system, n)] = seconds
-                row.append(f"{system} {fmt(seconds)} ({info['firings']} firings)")
+                cpu = f", CPU {float(info['cpu']):.3f} s" if "cpu" in info else ""
+                if "cpu" in info:
+                    times[("adapt-cpu", n)] = float(info["cpu"])
+                row.append(f"{system} {fmt(seconds)} ({info['firings']} firings{cpu})")
             else:
                 row.append(f"{system} {info.get('error')}")
         speedup = ""
@@ -234,6 +245,9 @@ def bench_join(tmp: Path, sizes: list[int], runs: int, timeout: float) -> None:
         growth = times[("adapt", 20000)] / times[("adapt", 5000)]
         verdict = "meets" if growth <= 5 else "MISSES"
         print(f"  adapt time(20,000) / time(5,000) = {growth:.2f} (target <= 5: {verdict})")
+        if ("adapt-cpu", 5000) in times and ("adapt-cpu", 20000) in times:
+            print(f"  adapt CPU time(20,000) / CPU time(5,000) = "
+                  f"{times[('adapt-cpu', 20000)] / times[('adapt-cpu', 5000)]:.2f}")
     if ("soar", 5000) in times and ("soar", 20000) in times:
         print(f"  Soar  time(20,000) / time(5,000) = "
               f"{times[('soar', 20000)] / times[('soar', 5000)]:.2f}")
@@ -249,15 +263,33 @@ def main() -> int:
     parser.add_argument("--runs", type=int, default=None, help="runs per figure (default 3)")
     parser.add_argument("--timeout", type=float, default=300.0,
                         help="limit per single run, seconds (default 300)")
+    parser.add_argument("--only", choices=("counter", "join"), default=None,
+                        help="run one workload only")
+    parser.add_argument("--sizes", default=None,
+                        help="value-join sizes, comma-separated (default 1000,5000,20000)")
+    parser.add_argument("--systems", default="soar,adapt",
+                        help="comma-separated subset of soar,adapt (default both)")
+    parser.add_argument("--gc-threshold", type=int, default=None,
+                        help="adapt's Agent(gc_threshold=...); 0 leaves Python's collector "
+                             "alone (default: the agent's default policy)")
     opts = parser.parse_args()
     runs = opts.runs or (1 if opts.quick else 3)
     limit = 5_000 if opts.quick else 100_000
     sizes = [500, 1_000] if opts.quick else [1_000, 5_000, 20_000]
+    if opts.sizes:
+        sizes = [int(n) for n in opts.sizes.split(",")]
+    systems = tuple(s for s in ("soar", "adapt") if s in opts.systems.split(","))
+    if opts.gc_threshold is not None:
+        os.environ["ADAPT_BENCH_GC"] = str(opts.gc_threshold)
+    gc_note = ("default" if opts.gc_threshold is None
+               else "off" if opts.gc_threshold == 0 else str(opts.gc_threshold))
     print(f"bench/engine.py  {time.strftime('%Y-%m-%d %H:%M')}  python {sys.version.split()[0]}"
-          f"  cpus {os.cpu_count()}")
+          f"  cpus {os.cpu_count()}  adapt gc_threshold: {gc_note}")
     with tempfile.TemporaryDirectory() as tmp:
-        bench_counter(Path(tmp), limit, runs, opts.timeout)
-        bench_join(Path(tmp), sizes, runs, opts.timeout)
+        if opts.only in (None, "counter"):
+            bench_counter(Path(tmp), limit, runs, opts.timeout, systems)
+        if opts.only in (None, "join"):
+            bench_join(Path(tmp), sizes, runs, opts.timeout, systems)
     return 0
 
 

@@ -24,6 +24,7 @@ Examples
 
 from __future__ import annotations
 
+import gc
 import os
 import random
 import time
@@ -44,7 +45,11 @@ from adapt.engine.trace import TraceWriter, symbol_json
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
-__all__ = ["Agent"]
+__all__ = ["Agent", "DEFAULT_GC_THRESHOLD"]
+
+#: Generation-0 threshold of CPython's cyclic garbage collector while
+#: :meth:`Agent.run` runs (see ``gc_threshold`` and ``docs/performance.md``).
+DEFAULT_GC_THRESHOLD = 100_000
 
 
 def _make_matcher(name: str) -> Matcher:
@@ -57,6 +62,29 @@ def _make_matcher(name: str) -> Matcher:
 
         return Rete()
     raise EngineError(f"unknown matcher {name!r} (expected 'rete' or 'naive')")
+
+
+#: The generation-1 and generation-2 thresholds of the policy (see ``gc_threshold``):
+#: with CPython's 10 and 10, a run that starts with the collector's counters
+#: near their limits still gets a full collection of the whole heap early on.
+_GC_OLDER = (50, 100)
+
+
+def _raise_gc_threshold(threshold: int | None) -> tuple[int, ...] | None:
+    """Raise the collector's thresholds to ``(threshold, 50, 100)`` (each
+    only if higher); returns the thresholds to restore, or None when nothing
+    was changed."""
+    if threshold is None or not gc.isenabled():
+        return None
+    saved = gc.get_threshold()
+    if saved[0] == 0:  # automatic collection is off
+        return None
+    wanted = (max(saved[0], threshold), max(saved[1], _GC_OLDER[0]),
+              max(saved[2], _GC_OLDER[1]))
+    if wanted == saved:
+        return None
+    gc.set_threshold(*wanted)
+    return saved
 
 
 class _Context:
@@ -105,11 +133,38 @@ class Agent:
         Elaboration cycles per proposal or apply phase (Soar: 100).
     max_goal_depth : int
         Deepest substate level before the run stops (Soar: 100).
+    gc_threshold : int or None
+        The garbage-collection policy of :meth:`run`.  While it runs, the
+        thresholds of Python's cyclic garbage collector are raised (never
+        lowered) to ``(gc_threshold, 50, 100)`` -- CPython's defaults are
+        ``(700, 10, 10)`` -- and the caller's thresholds are restored when it
+        returns.  The engine keeps many long-lived container objects (WMEs,
+        tokens, instantiations, the network); with the default thresholds
+        the collector runs a full collection, which scans all of them, every
+        few hundred thousand allocations, and a large run becomes
+        superlinear.  ``None`` (or 0) leaves the collector alone; nothing is
+        changed either when the caller has disabled it (``gc.disable()``).
+        Cyclic garbage then waits longer to be freed: at most about
+        ``gc_threshold`` container objects' worth.
+
+    Examples
+    --------
+    >>> import gc
+    >>> before = gc.get_threshold()
+    >>> _ = Agent().run(max_decisions=2)      # raised during the run only
+    >>> gc.get_threshold() == before
+    True
+    >>> Agent(gc_threshold=None).gc_threshold is None
+    True
     """
 
     def __init__(self, *, seed: int = 1, matcher: str = "rete", trace: Any = None,
                  trace_level: int = 5, max_elaborations: int = 100,
-                 max_goal_depth: int = 100) -> None:
+                 max_goal_depth: int = 100,
+                 gc_threshold: int | None = DEFAULT_GC_THRESHOLD) -> None:
+        if gc_threshold is not None and gc_threshold < 0:
+            raise EngineError(f"gc_threshold must be >= 0 or None, not {gc_threshold}")
+        self.gc_threshold = gc_threshold or None
         self.seed = seed
         self.rng = random.Random(seed)
         self.functions: FunctionTable = default_functions()
@@ -188,6 +243,7 @@ class Agent:
         if not self.halted:
             self.stop_reason = None
         error: str | None = None
+        saved_gc = _raise_gc_threshold(self.gc_threshold)
         try:
             if not self.halted:
                 cycle.run(self, max_decisions)
@@ -197,6 +253,8 @@ class Agent:
                 self.stop_reason = "interrupted"
             raise
         finally:
+            if saved_gc is not None:
+                gc.set_threshold(*saved_gc)
             if self.halted:
                 self.stop_reason = "halt"
             if self.tracer is not None:
