@@ -64,9 +64,7 @@ class InputWriter:
         """A new identifier for structure under the input-link."""
         self._check()
         k = self._links.kernel
-        ident = k.ids.new(letter)
-        k.id_level[ident] = 0
-        return ident
+        return k.ids.new(letter)
 
     def add(self, id: Identifier, attr: object, value: object) -> None:
         """Add ``(id ^attr value)``; ``value`` may be a new identifier."""

@@ -46,7 +46,7 @@ from adapt.engine.memory import WmeKey, WorkingMemory
 from adapt.engine.preferences import Preference
 from adapt.engine.production import PreferenceKind, Production
 from adapt.engine.results import ResultMaker
-from adapt.engine.symbols import Identifier, IdentifierFactory, Symbol, format_symbol
+from adapt.engine.symbols import Identifier, IdentifierFactory, Symbol, format_symbol, level_of
 from adapt.engine.wme import WME
 
 __all__ = ["Kernel", "Listener"]
@@ -78,7 +78,6 @@ class Kernel:
         self.wm = WorkingMemory(matcher)
         self.rules: dict[str, RuleInfo] = {}
         self.goals: dict[Symbol, Goal] = {}
-        self.id_level: dict[Symbol, int] = {}
         self.isup: dict[WmeKey, list[Instantiation]] = {}
         self.osup: dict[WmeKey, Instantiation] = {}
         self.irej: dict[WmeKey, list[Instantiation]] = {}
@@ -97,8 +96,6 @@ class Kernel:
         self.bottom = self.top
         self.goals[s1] = self.top
         self.input_link, self.output_link = il, ol
-        for ident in (s1, io, il, ol):
-            self.id_level[ident] = 0
         self.wm.add_root(s1)
         for t in top_state_wmes(s1, io, il, ol):
             self.wm.add(*t)
@@ -296,12 +293,7 @@ class Kernel:
         if rule.new_hints:
             level = goal.level
             ids_new = self.ids.new
-            id_level = self.id_level
-            new = []
-            for hint in rule.new_hints:
-                ident = ids_new(hint)
-                id_level[ident] = level
-                new.append(ident)
+            new = [ids_new(hint, level) for hint in rule.new_hints]
         if self.tracer is not None:
             bindings = m.production.bindings(wmes)
             if new is not None:
@@ -533,7 +525,7 @@ class Kernel:
         """Create a substate below ``goal`` (removing any existing one)."""
         if goal.lower is not None:
             self.remove_goal(goal.lower)
-        ident = self.ids.new("S")
+        ident = self.ids.new("S", goal.level + 1)
         sub = Goal(ident, goal.level + 1, goal)
         sub.impasse, sub.attribute = impasse, attribute
         sub.items, sub.non_numeric = items, non_numeric
@@ -541,7 +533,6 @@ class Kernel:
         goal.changed = False
         self.bottom = sub
         self.goals[ident] = sub
-        self.id_level[ident] = sub.level
         self.wm.add_root(ident)
         for t in substate_wmes(ident, goal.id, impasse, attribute, items, non_numeric):
             self.wm.add(*t)
@@ -585,8 +576,7 @@ class Kernel:
                 self.fired.pop(inst.key, None)
             self.retract(inst)
         goal.retractions = {}
-        id_level = self.id_level
-        for key in [k for k in self.osup if id_level.get(k[0], 0) >= level]:
+        for key in [k for k in self.osup if level_of(k[0]) >= level]:
             del self.osup[key]
             if key not in self.isup:
                 self.wm.remove(*key)

@@ -59,7 +59,7 @@ from adapt.engine.production import (
     Variable,
     equality_variable,
 )
-from adapt.engine.symbols import Identifier
+from adapt.engine.symbols import Identifier, level_of
 from adapt.engine.wme import WME
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -134,12 +134,11 @@ class ResultMaker:
 
     def level(self, ident: object) -> int:
         """The goal level an identifier belongs to (0 when unknown)."""
-        return self.kernel.id_level.get(ident, 0)  # type: ignore[arg-type]
+        return level_of(ident)
 
     def split(self, inst: Instantiation, prefs: list[tuple]) -> set[tuple] | None:
         """The preferences of ``inst`` that are results (``None`` when none)."""
         level = inst.goal.level
-        id_level = self.kernel.id_level
         results: set[tuple] = set()
         linked: set[Identifier] = set()
         changed = True
@@ -149,11 +148,11 @@ class ResultMaker:
                 if p in results:
                     continue
                 ident = p[1]
-                if id_level.get(ident, 0) < level or ident in linked:
+                if level_of(ident) < level or ident in linked:
                     results.add(p)
                     changed = True
                     value = p[3]
-                    if type(value) is Identifier and id_level.get(value, 0) >= level \
+                    if type(value) is Identifier and value.level >= level \
                             and value not in linked:
                         linked.add(value)
         if not results:
@@ -276,7 +275,6 @@ class ResultMaker:
         """
         k = self.kernel
         level = inst.goal.level
-        id_level = k.id_level
         grounds: dict[int, WME] = {}
         seen: set[int] = {id(inst)}
         stack = [inst]
@@ -285,7 +283,7 @@ class ResultMaker:
             if negated is not None:
                 _negations_of(current, negated)
             for w in current.wmes:
-                if id_level.get(w.id, 0) < level:
+                if level_of(w.id) < level:
                     grounds[w.timetag] = w
                     continue
                 key = w.key
@@ -317,9 +315,9 @@ class ResultMaker:
         stack = [value]
         while stack:
             ident = stack.pop()
-            if k.id_level.get(ident, 0) <= level:
+            if ident.level <= level:
                 continue
-            k.id_level[ident] = level
+            ident.level = level
             for w in k.wm.of(ident):
                 if type(w.value) is Identifier:
                     stack.append(w.value)

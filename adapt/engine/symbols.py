@@ -34,6 +34,7 @@ __all__ = [
     "to_symbol",
     "format_symbol",
     "symbol_sort_key",
+    "level_of",
     "IdentifierFactory",
 ]
 
@@ -43,14 +44,21 @@ class Identifier:
 
     Identifiers compare and hash by identity: an agent creates exactly one
     object per identifier, through its :class:`IdentifierFactory`.
+
+    ``level`` is the goal level the identifier belongs to (0: the top state;
+    a substate's local structure has the substate's level until a result
+    promotes it).  It lives on the identifier, as in Soar, so it goes away
+    with the identifier: nothing has to forget it when working memory drops
+    the identifier.
     """
 
-    __slots__ = ("letter", "number", "name")
+    __slots__ = ("letter", "number", "name", "level")
 
-    def __init__(self, letter: str, number: int) -> None:
+    def __init__(self, letter: str, number: int, level: int = 0) -> None:
         self.letter = letter
         self.number = number
         self.name = f"{letter}{number}"
+        self.level = level
 
     def __repr__(self) -> str:
         return self.name
@@ -133,6 +141,11 @@ def format_symbol(value: Symbol) -> str:
     return str(value)
 
 
+def level_of(value: object) -> int:
+    """The goal level of an identifier (:attr:`Identifier.level`); 0 for anything else."""
+    return value.level if type(value) is Identifier else 0  # type: ignore[attr-defined]
+
+
 def symbol_sort_key(value: Symbol) -> tuple[int, object, object]:
     """A total order over symbols, for deterministic printing."""
     if isinstance(value, Identifier):
@@ -152,15 +165,21 @@ class IdentifierFactory:
     (S1, I1, S2, I2)
     """
 
-    __slots__ = ("_counters",)
+    __slots__ = ("_counters", "_letters")
 
     def __init__(self) -> None:
         self._counters: dict[str, int] = {}
+        #: hint -> letter (rules use a handful of hints, one per new variable)
+        self._letters: dict[str, str] = {}
 
-    def new(self, hint: str) -> Identifier:
-        """A fresh identifier whose letter is the first letter of ``hint``
-        (upper-cased), or ``I`` when ``hint`` does not start with a letter."""
-        letter = hint[:1].upper() if hint[:1].isalpha() else "I"
+    def new(self, hint: str, level: int = 0) -> Identifier:
+        """A fresh identifier at goal level ``level`` whose letter is the first
+        letter of ``hint`` (upper-cased), or ``I`` when ``hint`` does not start
+        with a letter."""
+        letter = self._letters.get(hint)
+        if letter is None:
+            letter = hint[:1].upper() if hint[:1].isalpha() else "I"
+            self._letters[hint] = letter
         n = self._counters.get(letter, 0) + 1
         self._counters[letter] = n
-        return Identifier(letter, n)
+        return Identifier(letter, n, level)
