@@ -47,7 +47,6 @@ non-numeric-count 1
 from __future__ import annotations
 
 from adapt.engine.instantiation import Instantiation
-from adapt.engine.matcher import Match, MatchKey
 from adapt.engine.preferences import Preference
 from adapt.engine.symbols import Identifier, Symbol
 
@@ -99,7 +98,8 @@ class Goal:
     changed : bool
         The slot's preferences changed since the last decision about it.
     pending_i, pending_o : dict
-        Matches waiting to fire, by match key.
+        Matches waiting to fire: flat key ``(name, timetag, ...)`` -> the
+        matched WMEs.
     retractions : dict
         Fired instantiations whose match disappeared, waiting to retract.
     gds : set of int
@@ -124,8 +124,8 @@ class Goal:
         self.prefs: list[SlotPreference] = []
         self.operator: Identifier | None = None
         self.changed = False
-        self.pending_i: dict[MatchKey, Match] = {}
-        self.pending_o: dict[MatchKey, Match] = {}
+        self.pending_i: dict[tuple, tuple] = {}
+        self.pending_o: dict[tuple, tuple] = {}
         self.retractions: dict[object, Instantiation] = {}
         self.instantiations: dict[object, Instantiation] = {}
         self.gds: set[int] = set()

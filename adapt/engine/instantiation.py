@@ -36,7 +36,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from adapt.engine.matcher import Match, MatchKey
+from adapt.engine.matcher import Match
 from adapt.engine.production import (
     CallAction,
     Condition,
@@ -182,10 +182,13 @@ class RuleInfo:
 
     def support(self, match: Match, goal_id: Symbol) -> str:
         """The support a match of this production gets when its match goal is ``goal_id``."""
+        return self.support_of(match.wmes, goal_id)
+
+    def support_of(self, wmes: tuple, goal_id: Symbol) -> str:
+        """:meth:`support` of the match over ``wmes`` (condition order)."""
         static = self.static_support
         if static is not None:
             return static
-        wmes = match.wmes
         for i in self.operator_slots:
             w = wmes[i]
             if w[0] is goal_id and w[1] == "operator":
@@ -198,8 +201,9 @@ class Instantiation:
 
     Attributes
     ----------
-    key : MatchKey or None
-        The match's key; ``None`` for a justification.
+    key : tuple or None
+        The match's flat key ``(name, timetag, ...)``; ``None`` for a
+        justification.
     rule : RuleInfo or None
         ``None`` for a justification.
     goal : Goal
@@ -217,7 +221,7 @@ class Instantiation:
     __slots__ = ("key", "rule", "goal", "support", "wmes", "i_wmes", "slot_prefs",
                  "bindings", "retracted")
 
-    def __init__(self, key: MatchKey | None, rule: RuleInfo | None, goal: Goal,
+    def __init__(self, key: tuple | None, rule: RuleInfo | None, goal: Goal,
                  support: str, wmes: tuple) -> None:
         self.key = key
         self.rule = rule

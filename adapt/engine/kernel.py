@@ -41,7 +41,7 @@ from adapt.engine.instantiation import (
     Instantiation,
     RuleInfo,
 )
-from adapt.engine.matcher import Match, Matcher
+from adapt.engine.matcher import Matcher
 from adapt.engine.memory import WmeKey, WorkingMemory
 from adapt.engine.preferences import Preference
 from adapt.engine.production import PreferenceKind, Production
@@ -57,6 +57,15 @@ _REQUIRE = PreferenceKind.REQUIRE
 
 #: Called for trace events: ``listener(kind, payload)``.
 Listener = Callable[[str, object], None]
+
+
+def _raw_changes(matcher: Matcher) -> tuple[dict, dict]:
+    """``matcher.take_changes()`` as the kernel files them: ``(added, removed)``
+    dicts ``(name, timetag, ...) -> wmes`` (what :meth:`Rete.take_raw` gives
+    directly)."""
+    added, removed = matcher.take_changes()
+    return ({(m.key[0], *m.key[1]): m.wmes for m in added},
+            {(m.key[0], *m.key[1]): m.wmes for m in removed})
 
 
 class Kernel:
@@ -76,13 +85,18 @@ class Kernel:
         self.functions = functions
         self.context = context
         self.wm = WorkingMemory(matcher)
+        #: the matcher's changes as ``(added, removed)`` dicts ``flat key -> wmes``
+        self._take_changes: Callable[[], tuple[dict, dict]] = getattr(
+            matcher, "take_raw", None) or (lambda: _raw_changes(matcher))
         self.rules: dict[str, RuleInfo] = {}
         self.goals: dict[Symbol, Goal] = {}
         self.isup: dict[WmeKey, list[Instantiation]] = {}
         self.osup: dict[WmeKey, Instantiation] = {}
         self.irej: dict[WmeKey, list[Instantiation]] = {}
-        self.pending_goal: dict[object, Goal] = {}
-        self.fired: dict[object, Instantiation] = {}
+        #: pending match (flat key ``(name, timetag, ...)``) -> its goal
+        self.pending_goal: dict[tuple, Goal] = {}
+        #: fired match (flat key) -> its instantiation
+        self.fired: dict[tuple, Instantiation] = {}
         self.gds_index: dict[int, set[Goal]] = {}
         self.results = ResultMaker(self)
         self.firings = 0
@@ -122,7 +136,7 @@ class Kernel:
         self._matcher_dirty = False
         all_added: list[WME] | None = None
         all_removed: list[WME] | None = None
-        matcher = self.matcher
+        take_changes = self._take_changes
         while True:
             added, removed = wm.commit()
             if all_added is None:
@@ -149,7 +163,7 @@ class Kernel:
             results = self.results
             if results.negated_index or results.ncc_justs:  # justifications' negations
                 results.check_negations(added, removed)
-            self._schedule(*matcher.take_changes())
+            self._schedule(*take_changes())
             if doomed is None:
                 break
             live = [g for g in doomed if self.goals.get(g.id) is g]
@@ -162,10 +176,11 @@ class Kernel:
             self.tracer("wm", (all_added, all_removed))
         return all_added, all_removed  # type: ignore[return-value]
 
-    def _schedule(self, added: list[Match], removed: list[Match]) -> None:
+    def _schedule(self, added: dict[tuple, tuple], removed: dict[tuple, tuple]) -> None:
+        """File the matcher's changes (flat key -> wmes): a new match waits at
+        its goal, a vanished one is unscheduled or its instantiation retracts."""
         pending_goal = self.pending_goal
-        for m in removed:
-            key = m.key
+        for key in removed:
             goal = pending_goal.pop(key, None)
             if goal is not None:
                 if goal.pending_i.pop(key, None) is None:
@@ -180,26 +195,25 @@ class Kernel:
         rules = self.rules
         top = self.top
         only_top = top.lower is None
-        for m in added:
+        for key, wmes in added.items():
             if only_top:
                 goal = top
             else:
                 goal = None
-                for w in m.wmes:
+                for w in wmes:
                     g = goals.get(w[0])
                     if g is not None and (goal is None or g.level > goal.level):
                         goal = g
                 if goal is None:
                     goal = top
-            key = m.key
-            info = rules[m.production.name]
+            info = rules[key[0]]
             support = info.static_support
             if support is None:
-                support = info.support(m, goal.id)
+                support = info.support_of(wmes, goal.id)
             if support == SUPPORT_O:
-                goal.pending_o[key] = m
+                goal.pending_o[key] = wmes
             else:
-                goal.pending_i[key] = m
+                goal.pending_i[key] = wmes
             pending_goal[key] = goal
 
     def _schedule_retraction(self, inst: Instantiation) -> None:
@@ -239,16 +253,16 @@ class Kernel:
         instantiate = self._instantiate
         rules = self.rules
         if len(matches) == 1:  # the common case: one firing, nothing to order
-            ((key, m),) = matches.items()
+            ((key, wmes),) = matches.items()
             del pending_goal[key]
-            rule = rules[m.production.name]
+            rule = rules[key[0]]
             if kind == "i":
                 support = rule.static_support
                 if support is None:
                     support = SUPPORT_I
             else:
                 support = SUPPORT_O
-            inst, prefs = instantiate(m, rule, goal, support)
+            inst, prefs = instantiate(key, wmes, rule, goal, support)
             fired[key] = inst
             self.firings += 1
             if prefs:
@@ -259,16 +273,16 @@ class Kernel:
                 self._assert(inst, prefs)
             return 1
         made: list[tuple[Instantiation, list[tuple]]] = []
-        for key, m in matches.items():
+        for key, wmes in matches.items():
             del pending_goal[key]
-            rule = rules[m.production.name]
+            rule = rules[key[0]]
             if kind == "i":
                 support = rule.static_support
                 if support is None:
                     support = SUPPORT_I
             else:
                 support = SUPPORT_O
-            pair = instantiate(m, rule, goal, support)
+            pair = instantiate(key, wmes, rule, goal, support)
             fired[key] = pair[0]
             made.append(pair)
         self.firings += len(made)
@@ -285,17 +299,16 @@ class Kernel:
                 assert_(inst, prefs)
         return len(made)
 
-    def _instantiate(self, m: Match, rule: RuleInfo, goal: Goal,
+    def _instantiate(self, key: tuple, wmes: tuple, rule: RuleInfo, goal: Goal,
                      support: str) -> tuple[Instantiation, list[tuple]]:
-        wmes = m.wmes
-        inst = Instantiation(m.key, rule, goal, support, wmes)
+        inst = Instantiation(key, rule, goal, support, wmes)
         new: list[Identifier] | None = None
         if rule.new_hints:
             level = goal.level
             ids_new = self.ids.new
             new = [ids_new(hint, level) for hint in rule.new_hints]
         if self.tracer is not None:
-            bindings = m.production.bindings(wmes)
+            bindings = rule.production.bindings(wmes)
             if new is not None:
                 for var, ident in zip(rule.new_variables, new):
                     bindings[var] = ident

@@ -53,7 +53,7 @@ from adapt.engine.rete.join import JoinNode, JoinTest, TwoInputNode
 from adapt.engine.rete.ncc import NccNode, NccPartner
 from adapt.engine.rete.negative import NegativeNode
 from adapt.engine.rete.pnode import ProductionNode
-from adapt.engine.rete.state import NetworkState
+from adapt.engine.rete.state import FlatKey, NetworkState
 from adapt.engine.rete.token import BetaNode, RootNode, delete_token, unlink
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
@@ -200,6 +200,12 @@ class Rete:
         changes happened; transient matches cancel out."""
         return self.state.take()
 
+    def take_raw(self) -> tuple[dict[FlatKey, tuple[WME, ...]], dict[FlatKey, tuple[WME, ...]]]:
+        """:meth:`take_changes` without :class:`Match` records: ``(added,
+        removed)`` as dicts ``(name, timetag, ...) -> wmes`` (condition order),
+        in order.  The caller reads them at once and must not keep them."""
+        return self.state.take_raw()
+
     def matches(self) -> list[Match]:
         """The current match set."""
         return [m for p in self._pnodes.values() for m in p.matches()]
@@ -244,7 +250,7 @@ class Rete:
             raise EngineError(f"no production named {name} in the matcher")
         state = self.state
         for token in pnode.parent.emitted():
-            state.match_removed(pnode.flat_key(token), token)
+            state.match_removed(pnode.flat_key(token), pnode.wmes_of(token))
         state.detach(pnode)
         pnode.parent.children.remove(pnode)
         self._prune(pnode.parent)

@@ -3,7 +3,7 @@ reaches one is a match.
 
 A production node keeps no memory of its own: its matches are its parent's
 emitted tokens, and a match change is recorded in the network state as
-``(name, timetag, ...) -> token`` (see :mod:`.state`).
+``(name, timetag, ...) -> wmes`` (see :mod:`.state`).
 """
 
 from __future__ import annotations
@@ -95,7 +95,7 @@ class ProductionNode:
         if key in removed:
             del removed[key]
         else:
-            state.added[key] = token
+            state.added[key] = wmes
 
     def left_remove(self, token: Token) -> None:
         # flat_key, inlined.
@@ -120,7 +120,7 @@ class ProductionNode:
         if key in added:
             del added[key]
         else:
-            state.removed[key] = token
+            state.removed[key] = wmes
 
     def wmes_of(self, token: Token) -> tuple[WME, ...]:
         """The WMEs of ``token`` in the production's condition order."""

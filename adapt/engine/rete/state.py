@@ -2,11 +2,12 @@
 the tokens that hold each WME, and the pending match-set changes.
 
 A pending change is filed under the *flat* key ``(name, timetag, ...)`` (one
-tuple: :attr:`Match.key` is ``(name, (timetag, ...))``) and holds the token
-that matched, or ``(production, wmes)`` once the production is gone.  The
-:class:`~adapt.engine.matcher.Match` records are made only for the changes
-that survive until :meth:`NetworkState.take` -- most transient ones cancel
-out before that.
+tuple: :attr:`Match.key` is ``(name, (timetag, ...))``) and holds the
+matched WMEs in the production's condition order.  The
+:class:`~adapt.engine.matcher.Match` records are made only by
+:meth:`NetworkState.take`, for the changes that survive until then (most
+transient ones cancel out before); the kernel takes the raw dictionaries
+(:meth:`NetworkState.take_raw`) and never builds them.
 """
 
 from __future__ import annotations
@@ -25,9 +26,8 @@ __all__ = ["NetworkState", "Pending", "FlatKey", "make_match"]
 
 #: ``(production name, timetag, timetag, ...)``
 FlatKey = tuple[Union[str, int], ...]
-#: A pending match change: the token, or the production and its WMEs
-#: (production order) once the production has been removed.
-Pending = Union["Token", tuple[Production, tuple[WME, ...]]]
+#: A pending match change: the matched WMEs, in the production's order.
+Pending = tuple[WME, ...]
 
 _new = object.__new__
 
@@ -57,14 +57,17 @@ class NetworkState:
         ``timetag -> token or {token: None}`` for the tokens whose last WME is
         that WME (tokens made by join nodes): what to delete when the WME goes.
     added, removed : dict
-        Pending match-set changes ``flat key -> token or (production, wmes)``
-        in the order they happened; an addition and a removal of the same key
+        Pending match-set changes ``flat key -> wmes`` (production order) in
+        the order they happened; an addition and a removal of the same key
         cancel out.
     pnodes : dict
         ``name -> production node`` of the productions in the network.
+    orphans : dict
+        ``flat key -> production`` for the pending changes of productions
+        removed since the last take (their name may already be reused).
     """
 
-    __slots__ = ("epoch", "tokens_by_wme", "added", "removed", "pnodes")
+    __slots__ = ("epoch", "tokens_by_wme", "added", "removed", "pnodes", "orphans")
 
     def __init__(self) -> None:
         self.epoch = 0
@@ -72,6 +75,7 @@ class NetworkState:
         self.added: dict[FlatKey, Pending] = {}
         self.removed: dict[FlatKey, Pending] = {}
         self.pnodes: dict[str, ProductionNode] = {}
+        self.orphans: dict[FlatKey, Production] = {}
 
     def match_removed(self, key: FlatKey, pending: Pending) -> None:
         """Record that a match disappeared (cancelling a pending addition)."""
@@ -81,30 +85,25 @@ class NetworkState:
             self.removed[key] = pending
 
     def detach(self, pnode: ProductionNode) -> None:
-        """``pnode`` leaves the network: resolve its pending changes now."""
+        """``pnode`` leaves the network: remember the production of its
+        pending changes."""
         del self.pnodes[pnode.name]
         name = pnode.name
         for pending in (self.added, self.removed):
-            for key, value in pending.items():
-                if key[0] == name and type(value) is not tuple:
-                    wmes = pnode.wmes_of(value)  # type: ignore[arg-type]
-                    pending[key] = (pnode.production, wmes)
+            for key in pending:
+                if key[0] == name:
+                    self.orphans[key] = pnode.production
 
     def _matches(self, pending: dict[FlatKey, Pending]) -> list[Match]:
         pnodes = self.pnodes
+        orphans = self.orphans
         out = []
         append = out.append
-        for key, value in pending.items():
+        for key, wmes in pending.items():
             name = key[0]
-            if type(value) is tuple:
-                production, wmes = value
-            else:
-                pnode = pnodes[name]  # type: ignore[index]
-                production = pnode.production
-                wmes = value.wmes  # type: ignore[union-attr]
-                reorder = pnode._reorder
-                if reorder is not None:
-                    wmes = reorder(wmes)
+            production = orphans.get(key) if orphans else None
+            if production is None:
+                production = pnodes[name].production  # type: ignore[index]
             # make_match, inlined.
             match: Match = _new(Match)
             match.production = production
@@ -113,6 +112,19 @@ class NetworkState:
             match._hash = hash(match_key)
             append(match)
         return out
+
+    def take_raw(self) -> tuple[dict[FlatKey, Pending], dict[FlatKey, Pending]]:
+        """The pending ``(added, removed)`` changes as they are kept
+        (``flat key -> wmes``, in order), emptying both: what
+        :meth:`take` returns without building a :class:`Match` per change."""
+        added, removed = self.added, self.removed
+        if added:
+            self.added = {}
+        if removed:
+            self.removed = {}
+        if self.orphans:
+            self.orphans = {}
+        return added, removed
 
     def take(self) -> tuple[list[Match], list[Match]]:
         """The pending ``(added, removed)`` matches, emptying both."""
@@ -126,4 +138,6 @@ class NetworkState:
             self.removed = {}
         else:
             removed = []
+        if self.orphans:
+            self.orphans = {}
         return added, removed
