@@ -47,7 +47,7 @@ from typing import Sequence
 
 from adapt.engine.matcher import Match
 from adapt.engine.production import ConditionElement, ConjunctiveNegation, Production, Variable
-from adapt.engine.rete.alpha import ANY, AlphaKey, AlphaMemory, AlphaTest, passes
+from adapt.engine.rete.alpha import ANY, AlphaKey, AlphaMemory, AlphaTest
 from adapt.engine.rete.build import compile_condition, is_positive, order_elements
 from adapt.engine.rete.join import JoinNode, JoinTest, TwoInputNode
 from adapt.engine.rete.ncc import NccNode, NccPartner
@@ -108,8 +108,8 @@ class Rete:
             if memories:
                 found = found + memories if found else memories
         for am in found:
-            if am.tests:
-                return tuple([am for am in found if not am.tests or passes(am.tests, wme)])
+            if am.check is not None:
+                return tuple([m for m in found if m.check is None or m.check(wme)])
         return found
 
     def add_wme(self, wme: WME) -> None:
@@ -132,8 +132,8 @@ class Rete:
                 if found:
                     memories = memories + found if memories else found
             for am in memories:
-                if am.tests:
-                    memories = tuple([m for m in memories if not m.tests or passes(m.tests, wme)])
+                if am.check is not None:
+                    memories = tuple([m for m in memories if m.check is None or m.check(wme)])
                     break
         if not memories:
             return
