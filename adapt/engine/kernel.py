@@ -147,19 +147,21 @@ class Kernel:
             doomed: list[Goal] | None = None
             if removed:
                 osup = self.osup
+                if osup:
+                    for w in removed:
+                        osup.pop(w[:4], None)
                 gds = self.gds_index
                 just = self.results.grounds_index
-                for w in removed:
-                    if osup:
-                        osup.pop(w[:4], None)
-                    tt = w[4]
-                    if tt in gds:
-                        if doomed is None:
-                            doomed = []
-                        doomed.extend(gds.pop(tt))
-                    if tt in just:
-                        for j in just.pop(tt):
-                            self._schedule_retraction(j)
+                if gds or just:  # only with substates
+                    for w in removed:
+                        tt = w[4]
+                        if tt in gds:
+                            if doomed is None:
+                                doomed = []
+                            doomed.extend(gds.pop(tt))
+                        if tt in just:
+                            for j in just.pop(tt):
+                                self._schedule_retraction(j)
             results = self.results
             if results.negated_index or results.ncc_justs:  # justifications' negations
                 results.check_negations(added, removed)
@@ -395,8 +397,9 @@ class Kernel:
                 self._assert_with_results(inst, prefs, results)
                 return
         goals = self.goals
-        isup, irej = self.isup, self.irej
+        isup, irej, osup = self.isup, self.irej, self.osup
         adds = self.wm.pending_adds
+        o_local = False
         for p in prefs:
             kind, ident, attr, value, ref, o = p
             if attr == "operator" and ident in goals:
@@ -404,8 +407,8 @@ class Kernel:
             elif kind is _ACCEPTABLE:
                 key = (ident, attr, value, False)
                 if o:
-                    self.osup[key] = inst
-                    self.results.note_o_local(inst)
+                    osup[key] = inst
+                    o_local = True
                 else:
                     supporters = isup.get(key)
                     if supporters is None:
@@ -420,6 +423,8 @@ class Kernel:
                 irej.setdefault(key, []).append(inst)
                 inst.i_wmes.append(key)
                 self.wm.remove_key(key)
+        if o_local and goal.level > 0:
+            self.results.note_o_local(inst)  # once per firing: it backtraces the whole match
         if inst.i_wmes or inst.slot_prefs:
             goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
 
