@@ -63,3 +63,34 @@ def test_bad_rules_positioned_error_no_traceback(tmp_path: Path,
     assert main(["rules", "run", str(bad)]) == 1
     assert "Traceback" not in capsys.readouterr().err
     assert main(["rules", "check", str(good)]) == 0
+
+
+def test_replaced_production_warns_once(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "dup.soar"
+    f.write_text(GOOD + GOOD)
+    assert main(["rules", "check", str(f)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err.count("warning") == 1 and f"{f}:1:1: warning:" not in captured.err
+    assert ":2:1: warning: production 'hello' replaces" in captured.err
+    assert captured.out == f"{f}: 1 production ok\n"
+
+
+@pytest.mark.parametrize("where", ["missing/t.jsonl", "."])
+def test_trace_path_that_cannot_be_written(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                           where: str) -> None:
+    f = tmp_path / "a.soar"
+    f.write_text(GOOD)
+    target = tmp_path / where
+    assert main(["rules", "run", str(f), "--trace", str(target)]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("adapt: error: ") and str(target) in err and "Traceback" not in err
+
+
+def test_bad_rule_file_keeps_an_existing_trace(tmp_path: Path,
+                                               capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.soar"
+    bad.write_text("sp {broken (state <s> ^a 1)\n")
+    trace = tmp_path / "t.jsonl"
+    trace.write_text('{"kind": "header"}\n')
+    assert main(["rules", "run", str(bad), "--trace", str(trace)]) == 1
+    assert trace.read_text() == '{"kind": "header"}\n'

@@ -6,7 +6,8 @@ Each subcommand group lives in its own module of this package and exposes
 inside the handlers, so ``adapt rules ...`` starts without them.
 
 Every :class:`adapt.errors.AdaptError` is printed as ``adapt: error: ...`` on
-standard error with exit status 1 (2 for usage errors, as argparse does).
+standard error with exit status 1 (2 for usage errors, as argparse does); so is
+an :class:`OSError` (an output path that cannot be written), with its path.
 """
 
 from __future__ import annotations
@@ -64,4 +65,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
     except BrokenPipeError:
         return 0
+    except OSError as exc:  # an output path in a missing directory, unwritable, a directory...
+        where = f"{exc.filename}: " if exc.filename is not None else ""
+        print(f"adapt: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 1
     return int(status or 0)

@@ -40,6 +40,20 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     check.set_defaults(func=check_command)
 
 
+def _warning_line(warning: object) -> str:
+    """``file:line:col: warning: ...`` as the loader words it, with ``warning:`` once.
+
+    Examples
+    --------
+    >>> _warning_line("a.soar:5:1: warning: production 'a' replaces an earlier one")
+    "a.soar:5:1: warning: production 'a' replaces an earlier one"
+    >>> _warning_line("no productions")
+    'warning: no productions'
+    """
+    text = str(warning)
+    return text if "warning:" in text else f"warning: {text}"
+
+
 def run_command(args: argparse.Namespace) -> int:
     """Run the files; exit 0 (a run that stops on its bound is not an error)."""
     from adapt.engine import Agent
@@ -52,7 +66,7 @@ def run_command(args: argparse.Namespace) -> int:
         for path in args.files:
             agent.load_file(path)
         for warning in agent.warnings:
-            print(f"warning: {warning}", file=sys.stderr)
+            print(_warning_line(warning), file=sys.stderr)
         report = agent.run(args.max_decisions)
     finally:
         agent.close()
@@ -87,6 +101,7 @@ def check_command(args: argparse.Namespace) -> int:
             failed = True
             continue
         for warning in rules.warnings:
-            print(f"warning: {warning}", file=sys.stderr)
-        print(f"{path}: {len(rules.productions)} productions ok")
+            print(_warning_line(warning), file=sys.stderr)
+        count = len(rules.productions)
+        print(f"{path}: {count} production{'' if count == 1 else 's'} ok")
     return 1 if failed else 0
