@@ -49,7 +49,7 @@ __all__ = ["Agent", "DEFAULT_GC_THRESHOLD"]
 
 #: Generation-0 threshold of CPython's cyclic garbage collector while
 #: :meth:`Agent.run` runs (see ``gc_threshold`` and ``docs/performance.md``).
-DEFAULT_GC_THRESHOLD = 100_000
+DEFAULT_GC_THRESHOLD = 10_000
 
 
 def _make_matcher(name: str) -> Matcher:
