@@ -74,6 +74,23 @@ def _atomic_write(path: Path, data: bytes) -> None:
         raise
 
 
+def _check_image_path(path: Path, option: str, sixteen_bit: bool = False) -> None:
+    """Refuse, before any work, an output path no image can be written to."""
+    import cv2
+
+    if path.is_dir():
+        raise AdaptError(f"{option} {str(path)!r} is a directory; expected an image file name "
+                         "such as frame.png")
+    ext = path.suffix.lower()
+    allowed = (".png", ".tif", ".tiff") if sixteen_bit else None
+    if allowed is not None and ext not in allowed:
+        raise AdaptError(f"{option} {str(path)!r}: the label image is 16-bit; expected a "
+                         ".png or .tif file name")
+    if not ext or not cv2.haveImageWriter(f"x{ext}"):
+        raise AdaptError(f"{option} {str(path)!r}: cannot write images of type "
+                         f"{ext or '(no extension)'!r}; expected .png, .jpg, .bmp or .tif")
+
+
 def _encode(path: Path, image: Any) -> bytes:
     import cv2
 
@@ -91,8 +108,11 @@ def _render(args: argparse.Namespace) -> int:
     from adapt.scenario import load_scenario
 
     sc = load_scenario(args.scenario)
-    if not args.t >= 0:
+    if not 0 <= args.t < float("inf"):
         raise ImaginationError(f"--t must be a non-negative number of seconds, got {args.t}")
+    _check_image_path(Path(args.out), "--out")
+    if args.labels:
+        _check_image_path(Path(args.labels), "--labels", sixteen_bit=True)
     world = World(sc.scene, seed=sc.seed)
     world.run_until(args.t)
     out = Renderer(sc.scene, sc.camera).render(world.snapshot())
@@ -112,8 +132,8 @@ def _imagine(args: argparse.Namespace) -> int:
     from adapt.scenario import load_scenario
 
     sc = load_scenario(args.scenario)
-    if not args.horizon >= 0:
-        raise ImaginationError(f"--horizon must be a non-negative number of seconds, got {args.horizon}")
+    if not 0 < args.horizon < float("inf"):
+        raise ImaginationError(f"--horizon must be a positive number of seconds, got {args.horizon}")
     if args.dt is not None and not args.dt > 0:
         raise ImaginationError(f"--dt must be a positive number of seconds, got {args.dt}")
     world = World(sc.scene, dt=args.dt, seed=sc.seed)

@@ -70,6 +70,12 @@ def test_imagine_video(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
         (["imagine", str(BUNDLED), "--horizon", "1", "--video", "x.gif"], ".mp4 or .avi"),
         (["render", str(BUNDLED), "--out", "x.png", "--t", "-2"], "--t"),
         (["imagine", str(BUNDLED), "--horizon", "1", "--body", "nobody"], "nobody"),
+        (["imagine", str(BUNDLED), "--horizon", "0"], "--horizon must be a positive number"),
+        (["render", str(BUNDLED), "--out", "x.txt"], "cannot write images of type '.txt'"),
+        (["render", str(BUNDLED), "--out", "x"], "(no extension)"),
+        (["render", str(BUNDLED), "--out", ".", "--t", "0"], "is a directory"),
+        (["render", str(BUNDLED), "--out", "x.png", "--labels", "l.jpg"], "16-bit"),
+        (["render", str(BUNDLED), "--out", "x.png", "--t", "inf"], "--t"),
     ],
 )
 def test_bad_arguments_are_errors(argv: list[str], message: str,
