@@ -36,6 +36,11 @@ __all__ = ["Texture", "load_texture", "texture_path", "TEXTURE_DIR"]
 #: Where the bundled textures live.
 TEXTURE_DIR = Path(__file__).resolve().parent.parent / "data" / "textures"
 
+#: How a bundled photograph is turned at load so that its "up" is the image's up.
+#: scikit-image's ``brick`` was rotated 90 degrees by its source, so its brick
+#: courses run vertically; walls need them horizontal.
+_UPRIGHT: dict[str, int] = {"brick": cv2.ROTATE_90_COUNTERCLOCKWISE}
+
 #: Smallest mip level kept, in pixels.
 _MIN_LEVEL = 8
 
@@ -75,6 +80,10 @@ def texture_path(ref: str) -> Path:
 def load_texture(ref: str) -> Texture:
     """Load (once) and prepare a texture.
 
+    Bundled photographs are turned upright first (the ``brick`` image ships
+    with vertical courses; it is rotated 90 degrees so walls show horizontal
+    ones).
+
     Raises
     ------
     ImageError
@@ -84,6 +93,9 @@ def load_texture(ref: str) -> Texture:
     image = cv2.imread(str(path), cv2.IMREAD_COLOR) if path.is_file() else None
     if image is None or image.size == 0:
         raise ImageError(f"texture file {str(path)!r} is missing or not a readable image")
+    turn = _UPRIGHT.get(ref[len("builtin:"):]) if ref.startswith("builtin:") else None
+    if turn is not None:
+        image = cv2.rotate(image, turn)
     h, w = image.shape[:2]
     top = np.hstack([image, image[:, ::-1]])
     tile = np.ascontiguousarray(np.vstack([top, top[::-1]]))

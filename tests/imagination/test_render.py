@@ -155,3 +155,21 @@ def test_camera_inside_the_room_sees_no_gaps(bundled: Scenario) -> None:
     out = Renderer(bundled.scene, bundled.camera).render()
     lower = out.labels[bundled.camera.height // 2:]
     assert not (lower == LABEL_SKY).any()  # floor and walls cover the lower half
+
+
+def test_brick_walls_show_horizontal_courses(bundled: Scenario) -> None:
+    # the bundled brick photograph has vertical courses; walls must show them
+    # horizontal: mortar lines across rows, so intensity changes more from row
+    # to row than from column to column
+    import cv2
+
+    out = Renderer(bundled.scene, bundled.camera).render(World(bundled.scene, seed=1).snapshot())
+    north = [i for i, w in enumerate(bundled.scene.walls) if w.name == "north"][0]
+    wall = out.labels == LABEL_WALL + north
+    grey = cv2.cvtColor(out.image, cv2.COLOR_BGR2GRAY).astype(np.float64)
+    both_rows = wall[1:, :] & wall[:-1, :]
+    both_cols = wall[:, 1:] & wall[:, :-1]
+    assert bundled.scene.walls[north].texture == "builtin:brick" and both_rows.sum() > 10_000
+    across_rows = np.abs(np.diff(grey, axis=0))[both_rows].mean()
+    across_cols = np.abs(np.diff(grey, axis=1))[both_cols].mean()
+    assert across_rows > 1.5 * across_cols
