@@ -129,17 +129,22 @@ def memory_at(trace: Trace, decision: int) -> LiveMemory:
     ------
     adapt.errors.TraceError
         If the trace was written below level 4 (it has no adds/removes), or
-        ``decision`` is negative.
+        ``decision`` is negative or past the trace's last decision.
     """
     trace.require_level(4, "rebuilding working memory")
     if decision < 0:
         raise TraceError(f"decision {decision}: decisions are numbered from 0")
     wm = LiveMemory()
     wm.apply({"adds": trace.initial_wmes()})
-    for _cycle, records in trace.cycles(last=decision):
+    last = 0
+    for cycle, records in trace.cycles(last=decision):
+        last = cycle
         for record in records:
             if record["kind"] == "phase":
                 wm.apply(record)
+    if decision > last:
+        raise TraceError(f"decision {decision}: {trace.path} ends at decision {last}; "
+                         f"expected a decision from 0 to {last}")
     return wm
 
 

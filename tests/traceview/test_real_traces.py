@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from adapt.errors import TraceError
 from adapt.traceview.memory import memory_at
 from adapt.traceview.reader import Trace
 from adapt.traceview.rules import load_productions
@@ -134,3 +135,10 @@ def test_same_phase_add_and_remove_is_not_kept_alive(water_jug_run) -> None:
     assert compute_stats(trace).wm_final == report.wm_size_final
     origin = explain(trace, same_phase[0], 0)
     assert origin.removed is not None and origin.removed[0] == origin.cycle
+
+
+def test_wm_past_the_last_decision_is_an_error(water_jug_run) -> None:
+    trace, report = water_jug_run
+    assert len(memory_at(trace, report.decisions)) == report.wm_size_final
+    with pytest.raises(TraceError, match=f"ends at decision {report.decisions}"):
+        memory_at(trace, report.decisions + 5)
