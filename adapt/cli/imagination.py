@@ -35,6 +35,8 @@ def register(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None
                    help="simulated time to render (default 0)")
     p.add_argument("--labels", metavar="LABELS.png",
                    help="also write the label image (16-bit PNG of object ids)")
+    p.add_argument("--seed", type=int, default=None, metavar="N",
+                   help="random seed (default: the scenario's seed)")
     p.set_defaults(func=_render)
 
     q = sub.add_parser("imagine", help="predict a scenario ahead of time",
@@ -44,12 +46,14 @@ def register(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None
     q.add_argument("--horizon", type=float, required=True, metavar="S", help="seconds ahead")
     q.add_argument("--json", action="store_true", help="print one JSON object")
     q.add_argument("--video", metavar="PATH", help="write the predicted view (.mp4 or .avi)")
-    q.add_argument("--fps", type=float, default=30.0, help="video frame rate (default 30)")
-    q.add_argument("--dt", type=float, default=None,
+    q.add_argument("--fps", type=float, default=30.0, metavar="FPS", help="video frame rate (default 30)")
+    q.add_argument("--dt", type=float, default=None, metavar="SECONDS",
                    help="physics step in seconds (default: the scenario's, 1/240)")
     q.add_argument("--samples", type=int, default=None, metavar="N",
                    help="number of evenly spaced trajectory samples (default: 10 per second + 1)")
-    q.add_argument("--body", default=None, help="ball to follow (default: the first)")
+    q.add_argument("--body", default=None, metavar="NAME", help="ball to follow (default: the first)")
+    q.add_argument("--seed", type=int, default=None, metavar="N",
+                   help="random seed (default: the scenario's seed)")
     q.set_defaults(func=_imagine)
 
 
@@ -113,7 +117,7 @@ def _render(args: argparse.Namespace) -> int:
     _check_image_path(Path(args.out), "--out")
     if args.labels:
         _check_image_path(Path(args.labels), "--labels", sixteen_bit=True)
-    world = World(sc.scene, seed=sc.seed)
+    world = World(sc.scene, seed=sc.seed if args.seed is None else args.seed)
     world.run_until(args.t)
     out = Renderer(sc.scene, sc.camera).render(world.snapshot())
     target = Path(args.out)
@@ -136,7 +140,8 @@ def _imagine(args: argparse.Namespace) -> int:
         raise ImaginationError(f"--horizon must be a positive number of seconds, got {args.horizon}")
     if args.dt is not None and not args.dt > 0:
         raise ImaginationError(f"--dt must be a positive number of seconds, got {args.dt}")
-    world = World(sc.scene, dt=args.dt, seed=sc.seed)
+    seed = sc.seed if args.seed is None else args.seed
+    world = World(sc.scene, dt=args.dt, seed=seed)
     n = args.samples if args.samples is not None else int(round(args.horizon * 10)) + 1
     if n < 1:
         raise ImaginationError(f"--samples must be at least 1, got {n}")
@@ -154,6 +159,7 @@ def _imagine(args: argparse.Namespace) -> int:
         "scenario": str(args.scenario),
         "body": path.body,
         "dt": world.dt,
+        "seed": seed,
         "horizon": args.horizon,
         "contacts": [
             {"t": c.time, "position": list(c.position), "surface": c.surface, "ball": c.ball,

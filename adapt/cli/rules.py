@@ -27,12 +27,13 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     run.add_argument("files", nargs="+", metavar="FILE")
     run.add_argument("--max-decisions", type=int, default=None, metavar="N",
                      help="stop before the apply phase of the N-th decision")
-    run.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
+    run.add_argument("--seed", type=int, default=1, metavar="N", help="random seed (default 1)")
     run.add_argument("--json", action="store_true", help="print the report as one JSON object")
     run.add_argument("--trace", metavar="PATH", help="write a JSON Lines trace")
     run.add_argument("--trace-level", type=int, default=5, choices=range(1, 6),
                      metavar="1..5", help="trace detail (default 5)")
-    run.add_argument("--matcher", choices=("rete", "naive"), default="rete")
+    run.add_argument("--matcher", choices=("rete", "naive"), default="rete",
+                     help="the Rete matcher (default) or the brute-force one (for checking)")
     run.set_defaults(func=run_command)
 
     check = rsub.add_parser("check", help="parse and lint rule files")

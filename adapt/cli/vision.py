@@ -61,9 +61,9 @@ def register(sub: Any) -> None:
     s.add_argument("scenario", metavar="SCENARIO.yaml")
     s.add_argument("--real", metavar="IMAGE", required=True, help="the real image")
     s.add_argument("--out", metavar="DIR", help="write step_NN.png strips and sync.json here")
-    s.add_argument("--gain", type=float, default=0.5, help="correction gain g in (0, 1] (default 0.5)")
-    s.add_argument("--max-iter", type=int, default=10, help="most renders (default 10)")
-    s.add_argument("--tolerance", type=float, default=0.5, help="stop below this pixel error (default 0.5)")
+    s.add_argument("--gain", type=float, default=0.5, metavar="G", help="correction gain g in (0, 1] (default 0.5)")
+    s.add_argument("--max-iter", type=int, default=10, metavar="N", help="most renders (default 10)")
+    s.add_argument("--tolerance", type=float, default=0.5, metavar="PX", help="stop below this pixel error (default 0.5)")
     s.add_argument("--json", action="store_true", help="print the result as JSON")
     s.set_defaults(func=_run_sync)
 
