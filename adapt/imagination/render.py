@@ -91,6 +91,20 @@ SKY_TOP = np.array([210.0, 170.0, 120.0])
 FloatArray = NDArray[np.float64]
 
 
+def _pixel_bbox(pc: NDArray[np.float64], cam: Camera) -> tuple[int, int, int, int] | None:
+    """Pixel bounding box ``(x0, y0, x1, y1)`` (exclusive end, one pixel of margin) of points
+    in camera coordinates in front of the camera, clipped to the image; ``None`` when empty."""
+    px = pc[:, 0] / pc[:, 2] * cam.fx + cam.cx
+    py = pc[:, 1] / pc[:, 2] * cam.fy + cam.cy
+    x0 = max(int(math.floor(px.min())) - 1, 0)
+    y0 = max(int(math.floor(py.min())) - 1, 0)
+    x1 = min(int(math.ceil(px.max())) + 2, cam.width)
+    y1 = min(int(math.ceil(py.max())) + 2, cam.height)
+    if x0 >= x1 or y0 >= y1:
+        return None
+    return x0, y0, x1, y1
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class RenderResult:
     """One rendered frame.
@@ -248,15 +262,7 @@ class Renderer:
         pc = _clip_near(pc, NEAR)
         if len(pc) == 0:
             return None
-        px = pc[:, 0] / pc[:, 2] * cam.fx + cam.cx
-        py = pc[:, 1] / pc[:, 2] * cam.fy + cam.cy
-        x0 = max(int(math.floor(px.min())) - 1, 0)
-        y0 = max(int(math.floor(py.min())) - 1, 0)
-        x1 = min(int(math.ceil(px.max())) + 2, cam.width)
-        y1 = min(int(math.ceil(py.max())) + 2, cam.height)
-        if x0 >= x1 or y0 >= y1:
-            return None
-        return x0, y0, x1, y1
+        return _pixel_bbox(pc, cam)
 
     def _draw_face(
         self,
@@ -341,15 +347,7 @@ class Renderer:
         pc = cam.to_camera(corners)
         if pc[:, 2].min() <= NEAR:
             return None
-        px = pc[:, 0] / pc[:, 2] * cam.fx + cam.cx
-        py = pc[:, 1] / pc[:, 2] * cam.fy + cam.cy
-        x0 = max(int(math.floor(px.min())) - 1, 0)
-        y0 = max(int(math.floor(py.min())) - 1, 0)
-        x1 = min(int(math.ceil(px.max())) + 2, cam.width)
-        y1 = min(int(math.ceil(py.max())) + 2, cam.height)
-        if x0 >= x1 or y0 >= y1:
-            return None
-        return x0, y0, x1, y1
+        return _pixel_bbox(pc, cam)
 
     def _draw_ball(
         self,
