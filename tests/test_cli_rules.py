@@ -94,3 +94,22 @@ def test_bad_rule_file_keeps_an_existing_trace(tmp_path: Path,
     trace.write_text('{"kind": "header"}\n')
     assert main(["rules", "run", str(bad), "--trace", str(trace)]) == 1
     assert trace.read_text() == '{"kind": "header"}\n'
+
+
+def test_rule_files_without_productions_warn(tmp_path: Path,
+                                             capsys: pytest.CaptureFixture[str]) -> None:
+    empty = tmp_path / "empty.soar"
+    empty.write_text("# only a comment\n")
+    assert main(["rules", "run", str(empty), "--max-decisions", "2", "--json"]) == 0
+    captured = capsys.readouterr()
+    assert "no productions" in captured.err
+    report = json.loads(captured.out)
+    assert report["impasses"] and report["impasses"][0][2:] == ["no-change", "state"]
+
+
+def test_rule_files_with_productions_do_not_warn(tmp_path: Path,
+                                                 capsys: pytest.CaptureFixture[str]) -> None:
+    rules = tmp_path / "one.soar"
+    rules.write_text("sp {hello (state <s> ^superstate nil) --> (write |hi|) (halt)}\n")
+    assert main(["rules", "run", str(rules)]) == 0
+    assert "no productions" not in capsys.readouterr().err

@@ -64,8 +64,10 @@ def run_command(args: argparse.Namespace) -> int:
     agent = Agent(seed=args.seed, matcher=args.matcher, trace=args.trace,
                   trace_level=args.trace_level)
     try:
-        for path in args.files:
-            agent.load_file(path)
+        loaded = sum(len(agent.load_file(path).productions) for path in args.files)
+        if loaded == 0:
+            print("warning: the rule files hold no productions; the run will only make "
+                  "state no-change impasses", file=sys.stderr)
         for warning in agent.warnings:
             print(_warning_line(warning), file=sys.stderr)
         report = agent.run(args.max_decisions)
