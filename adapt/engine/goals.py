@@ -106,11 +106,14 @@ class Goal:
         Timetags of the superstate WMEs this goal depends on.
     arch : list of WmeKey
         The goal's architectural WMEs (removed with it).
+    ungrounded : list of (WmeKey, Instantiation)
+        O-supported results of this goal's firings that had no grounds
+        (no justification): they are removed with the goal, as in Soar.
     """
 
     __slots__ = ("id", "level", "superstate", "lower", "impasse", "attribute", "items",
                  "non_numeric", "prefs", "operator", "changed", "pending_i", "pending_o",
-                 "retractions", "instantiations", "gds", "arch", "saved_firing")
+                 "retractions", "instantiations", "gds", "arch", "ungrounded", "saved_firing")
 
     def __init__(self, ident: Identifier, level: int, superstate: Goal | None) -> None:
         self.id = ident
@@ -130,6 +133,7 @@ class Goal:
         self.instantiations: dict[object, Instantiation] = {}
         self.gds: set[int] = set()
         self.arch: list[tuple] = []
+        self.ungrounded: list[tuple[tuple, Instantiation]] = []
         self.saved_firing: str | None = None
 
     def i_activity(self) -> bool:

@@ -594,6 +594,11 @@ class Kernel:
                 self.fired.pop(inst.key, None)
             self.retract(inst)
         goal.retractions = {}
+        for key, inst in goal.ungrounded:  # results without a justification
+            if self.osup.get(key) is inst:
+                del self.osup[key]
+                if key not in self.isup:
+                    self.wm.remove(*key)
         for key in [k for k in self.osup if level_of(k[0]) >= level]:
             del self.osup[key]
             if key not in self.isup:

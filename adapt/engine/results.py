@@ -164,6 +164,9 @@ class ResultMaker:
         k = self.kernel
         negated: list[Negation] = []
         grounds = self.backtrace(inst, stop_at_o=False, negated=negated)
+        if not grounds and self._surely_ungrounded(inst):
+            self._ungrounded(inst, results)
+            return
         negations = _connected(grounds, negated)
         target = min((self.level(p[1]) for p in results), default=inst.goal.level - 1)
         # the justification's match goal: the lowest state among its WMEs' ids
@@ -213,6 +216,95 @@ class ResultMaker:
                 # a negation already has a match (the instantiation behind it
                 # is waiting to retract): the justification does not hold
                 k._schedule_retraction(just)
+
+    def _surely_ungrounded(self, inst: Instantiation) -> bool:
+        """Whether a complete backtrace of ``inst`` meets no superstate WME.
+
+        Called only when :meth:`backtrace` found no grounds.  This backtrace
+        also follows a selected operator ``(S ^operator O)`` to the
+        instantiations behind its acceptable preference, as Soar does.  It
+        answers ``False`` -- not sure -- when it meets a local WME that is not
+        architectural and whose creator is no longer known (an instantiation
+        that has retracted): Soar would still backtrace through it, and the
+        result is then kept with an empty justification, as before.
+        """
+        k = self.kernel
+        level = inst.goal.level
+        seen: set[int] = {id(inst)}
+        stack = [inst]
+        while stack:
+            current = stack.pop()
+            for w in current.wmes:
+                if level_of(w.id) < level:
+                    return False
+                g = k.goals.get(w.id)
+                attr = w.attr
+                if g is not None:
+                    if attr == "item":  # stands for the superstate's (S ^operator O +)
+                        return False
+                    if attr == "operator" and not w.acceptable:
+                        creators = list(k.isup.get((w.id, attr, w.value, True), ()))
+                        if not creators:
+                            return False
+                    else:
+                        key = w.key
+                        if key in g.arch:
+                            continue
+                        creators = list(k.isup.get(key, ()))
+                else:
+                    key = w.key
+                    creators = list(k.isup.get(key, ()))
+                o = k.osup.get(w.key)
+                if o is not None:
+                    creators.append(o)
+                if not creators:
+                    return False
+                for c in creators:
+                    if id(c) not in seen:
+                        seen.add(id(c))
+                        stack.append(c)
+        return True
+
+    def _ungrounded(self, inst: Instantiation, results: list[tuple]) -> None:
+        """Results whose justification would have no grounds stay the firing's own.
+
+        Soar builds no justification then ("no conditions"): the results keep
+        the preferences of the substate instantiation, with its support, and
+        go with the substate.  An i-supported one retracts with the
+        instantiation; an o-supported one persists until the substate is
+        removed (:attr:`Goal.ungrounded`, emptied by
+        :meth:`adapt.engine.kernel.Kernel.remove_goal`).
+        """
+        k = self.kernel
+        goal = inst.goal
+        target = min(self.level(p[1]) for p in results)
+        for p in results:
+            self._promote(p, target)
+        k.emit("result", (inst, None, results))
+        for p in results:
+            kind, ident, attr, value, ref, o = p
+            if attr == "operator" and ident in k.goals:
+                k._add_slot_pref(k.goals[ident], Preference(kind, value, ref), inst)
+            elif kind is _ACCEPTABLE:
+                key = (ident, attr, value, False)
+                if o:
+                    k.osup[key] = inst
+                    goal.ungrounded.append((key, inst))
+                else:
+                    k.isup.setdefault(key, []).append(inst)
+                    inst.i_wmes.append(key)
+                if key not in k.irej:
+                    k.wm.add(ident, attr, value)
+            elif kind is PreferenceKind.REJECT:
+                if o:
+                    k._o_reject(p)
+                else:
+                    key = (ident, attr, value, False)
+                    k.irej.setdefault(key, []).append(inst)
+                    inst.i_wmes.append(key)
+                    k.wm.remove(ident, attr, value)
+        if inst.i_wmes or inst.slot_prefs:
+            goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
 
     def check_negations(self, added: list[WME], removed: list[WME]) -> None:
         """Retract the justifications whose negated conditions now have a match.

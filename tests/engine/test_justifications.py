@@ -289,3 +289,88 @@ sp {snc*go
 """ + APPLY_BLOCKED)
     text = repr(made[0])
     assert text.startswith("Justification(i, level 0") and f"{int(negated)} negated" in text
+
+
+# -- results with no grounds (Soar builds no justification: "no conditions") --
+
+NO_GROUNDS_VANISH = """
+sp {snc*result
+   (state <s> ^impasse no-change ^attribute state ^superstate <ss>)
+-->
+   (<ss> ^foo bar)}
+sp {top*propose
+   (state <s> ^superstate nil ^foo bar)
+-->
+   (<s> ^operator <o> +)
+   (<o> ^name op)}
+"""
+
+
+def test_result_without_grounds_has_no_justification() -> None:
+    agent, report, made = run(NO_GROUNDS_VANISH, 4)
+    assert made and all(j is None for j in made)  # no justification is built
+    # the result goes with the substate: OP is never selected, a new state
+    # no-change impasse at level 1 comes every decision (as in Soar)
+    assert report.operators == []  # type: ignore[attr-defined]
+    assert [i[1:] for i in report.impasses] == [  # type: ignore[attr-defined]
+        [1, "no-change", "state"]] * 4
+
+
+def test_o_supported_result_without_grounds_goes_with_its_substate() -> None:
+    agent, report, made = run("""
+sp {snc*propose*make
+   (state <s> ^impasse no-change ^attribute state -^made)
+-->
+   (<s> ^operator <o> +)
+   (<o> ^name make)}
+sp {snc*apply*make
+   (state <s> ^operator.name make ^superstate <ss>)
+-->
+   (<ss> ^foo bar)
+   (<s> ^made yes)}
+""", 3)
+    assert made == [None]
+    k = agent.kernel
+    key = (k.top.id, "foo", "bar", False)
+    sub = k.top.lower
+    assert sub is not None and key in k.osup and [e[0] for e in sub.ungrounded] == [key]
+    k.remove_goal(sub)
+    k.commit()
+    assert key not in k.osup and k.wm.get(*key) is None
+
+
+def test_i_supported_result_without_grounds_retracts_with_its_instantiation() -> None:
+    _, report, made = run("""
+sp {snc*elab*result
+   (state <s> ^impasse no-change ^attribute state ^superstate <ss> -^flag)
+-->
+   (<ss> ^foo bar)}
+sp {snc*propose*set
+   (state <s> ^impasse no-change ^attribute state -^flag)
+-->
+   (<s> ^operator <o> +)
+   (<o> ^name set)}
+sp {snc*apply*set
+   (state <s> ^operator.name set)
+-->
+   (<s> ^flag yes)}
+sp {snc*gone
+   (state <s> ^impasse no-change ^superstate <ss> ^flag yes)
+   (<ss> -^foo)
+-->
+   (write |foo gone|)
+   (halt)}
+""")
+    assert made == [None]
+    assert report.halted and report.decisions == 2  # type: ignore[attr-defined]
+
+
+def test_result_with_an_untraceable_local_basis_keeps_an_empty_justification() -> None:
+    # The selected operator's proposal has retracted, so adapt cannot
+    # backtrace it; the result keeps an (empty) justification as before.
+    agent = Agent()
+    agent.load_file("tests/engine/agents/sub_nested.soar")
+    made: list[object] = []
+    agent.kernel.tracer = lambda kind, p: made.append(p[1]) if kind == "result" else None
+    report = agent.run(10)
+    assert report.halted and None not in made
