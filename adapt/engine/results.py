@@ -33,8 +33,8 @@ negated conditions comes to have a match (:meth:`ResultMaker.check_negations`,
 called by :meth:`adapt.engine.kernel.Kernel.commit`).  Operator-slot
 preferences that are results (``(<ss> ^operator <o> >)``, ``<o1> > <o2>``,
 ``=`` ...) are held by the justification the same way and leave the slot when
-it retracts -- whatever its support: adapt does not keep o-supported
-operator-slot preferences after their justification's basis changes.
+it retracts; o-supported ones stay in the slot whatever happens to their basis
+(until their goal is removed), as in Soar.
 
 **Goal dependency set.** When an o-supported instantiation in a substate makes
 local structure, the superstate WMEs behind it (backtraced the same way, but
@@ -202,7 +202,11 @@ class ResultMaker:
                 k.isup.setdefault(key, []).append(just)
                 just.i_wmes.append(key)
             k.wm.add(ident, attr, value)
-        if just.i_wmes or just.slot_prefs:
+        if just.slot_prefs and support == SUPPORT_O:
+            # o-supported operator-slot preferences stay, as in Soar, until
+            # their goal goes
+            goal.instantiations[id(just)] = just
+        elif just.i_wmes or just.slot_prefs:
             goal.instantiations[id(just)] = just
             index = self.grounds_index
             for w in grounds:

@@ -374,3 +374,13 @@ def test_result_with_an_untraceable_local_basis_keeps_an_empty_justification() -
     agent.kernel.tracer = lambda kind, p: made.append(p[1]) if kind == "result" else None
     report = agent.run(10)
     assert report.halted and None not in made
+
+
+def test_o_supported_operator_preference_result_stays_in_the_slot() -> None:
+    text = open("tests/engine/agents/sub_just_osupport_operator_pref.soar").read()
+    _, report, made = run(text, 6)
+    (just,) = made
+    assert just.support == "o" and just.slot_prefs
+    assert not just.retracted  # its ground (S1 ^operator W) left; it stays
+    assert [op[2] for op in report.operators] == ["w", "x"]  # type: ignore[attr-defined]
+    assert report.halted  # type: ignore[attr-defined]
