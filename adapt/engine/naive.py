@@ -44,13 +44,15 @@ from adapt.engine.production import (
     Condition,
     ConditionElement,
     ConjunctiveNegation,
-    ConjunctiveTest,
     DisjunctionTest,
     EqualityTest,
     Production,
     RelationalTest,
     Test,
     Variable,
+    condition_equality_variables,
+    relational_variables,
+    simple_tests,
 )
 from adapt.engine.symbols import Identifier, Symbol, is_number
 from adapt.engine.wme import WME
@@ -108,24 +110,13 @@ def relation_holds(relation: str, value: Symbol, other: Symbol) -> bool:
     raise EngineError(f"unknown relation {relation!r}")
 
 
-def _simple_tests(test: Test | None) -> list[Test]:
-    if test is None:
-        return []
-    if isinstance(test, ConjunctiveTest):
-        out: list[Test] = []
-        for t in test.tests:
-            out.extend(_simple_tests(t))
-        return out
-    return [test]
-
-
 def _match_field(
     test: Test | None, value: Symbol, bindings: Bindings, pending: list[Pending]
 ) -> bool:
     """Check the equality, constant and disjunction parts of ``test`` against
     ``value``, binding unbound equality variables in ``bindings`` (mutated);
     relational tests are appended to ``pending``."""
-    for t in _simple_tests(test):
+    for t in simple_tests(test):
         if isinstance(t, EqualityTest):
             term = t.term
             if isinstance(term, Variable):
@@ -220,35 +211,17 @@ def _exists(element: ConditionElement, wmes: _Memory, bindings: Bindings) -> boo
     return False
 
 
-def _equality_vars(cond: Condition) -> set[Variable]:
-    out = {cond.id}
-    for test in (cond.attr, cond.value):
-        for t in _simple_tests(test):
-            if isinstance(t, EqualityTest) and isinstance(t.term, Variable):
-                out.add(t.term)
-    return out
-
-
-def _relational_vars(cond: Condition) -> set[Variable]:
-    out: set[Variable] = set()
-    for test in (cond.attr, cond.value):
-        for t in _simple_tests(test):
-            if isinstance(t, RelationalTest) and isinstance(t.term, Variable):
-                out.add(t.term)
-    return out
-
-
 def _check_scope(name: str, elements: Sequence[ConditionElement], outer: set[Variable]) -> None:
     bound = set(outer)
     for e in elements:
         if isinstance(e, Condition) and not e.negated:
-            bound |= _equality_vars(e)
+            bound |= condition_equality_variables(e)
     for e in elements:
         if isinstance(e, ConjunctiveNegation):
             _check_scope(name, e.conditions, bound)
             continue
-        local = bound | _equality_vars(e) if e.negated else bound
-        unbound = _relational_vars(e) - local
+        local = bound | condition_equality_variables(e) if e.negated else bound
+        unbound = set(relational_variables(e.attr) + relational_variables(e.value)) - local
         if unbound:
             var = sorted(v.name for v in unbound)[0]
             raise EngineError(

@@ -59,8 +59,8 @@ from adapt.engine.production import (
     SourceLocation,
     Test,
     Variable,
-    equality_variable,
-    variables_in_test,
+    condition_equality_variables,
+    relational_variables,
 )
 from adapt.engine.symbols import Constant, Float
 from adapt.errors import RuleError, RuleSemanticError, RuleSyntaxError
@@ -141,26 +141,9 @@ def _is_state_test(c: ConditionElement) -> bool:
     return isinstance(c, Condition) and not c.negated and (c.attr, c.value) == _TYPE_STATE
 
 
-def _equality_vars(c: Condition) -> set[Variable]:
-    out = {c.id}
-    for t in (c.attr, c.value):
-        v = equality_variable(t)
-        if v is not None:
-            out.add(v)
-    return out
-
-
-def _relational_vars(t: Test | None) -> list[Variable]:
-    if isinstance(t, RelationalTest):
-        return [t.term] if isinstance(t.term, Variable) else []
-    if isinstance(t, ConjunctiveTest):
-        return [v for sub in t.tests for v in _relational_vars(sub)]
-    return []
-
-
 def _relational_vars_deep(c: ConditionElement) -> set[Variable]:
     if isinstance(c, Condition):
-        return set(_relational_vars(c.attr) + _relational_vars(c.value))
+        return set(relational_variables(c.attr) + relational_variables(c.value))
     out: set[Variable] = set()
     for inner in c.conditions:
         out |= _relational_vars_deep(inner)
@@ -176,7 +159,7 @@ def _binders_first(conds: list[ConditionElement]) -> tuple[ConditionElement, ...
     binders: dict[Variable, set[int]] = {}
     for k, c in enumerate(conds):
         if isinstance(c, Condition) and not c.negated:
-            for v in _equality_vars(c):
+            for v in condition_equality_variables(c):
                 binders.setdefault(v, set()).add(k)
     needs = [
         {k2 for v in _relational_vars_deep(c) for k2 in binders.get(v, ()) if k2 != k}
@@ -553,7 +536,7 @@ class _Parser:
         bound: set[Variable] = set()
         for c in conditions:
             if isinstance(c, Condition) and not c.negated:
-                bound |= _equality_vars(c)
+                bound |= condition_equality_variables(c)
         return bound
 
     def check_links(self, elements: tuple[ConditionElement, ...] | list[ConditionElement],
@@ -567,7 +550,7 @@ class _Parser:
             changed = False
             for c in list(pending):
                 if c.id in reach:
-                    reach |= _equality_vars(c)
+                    reach |= condition_equality_variables(c)
                     pending.remove(c)
                     changed = True
         for c in elements:
@@ -586,13 +569,13 @@ class _Parser:
         local = set(outer)
         for c in elements:
             if isinstance(c, Condition) and not c.negated:
-                local |= _equality_vars(c)
+                local |= condition_equality_variables(c)
         for c in elements:
             if isinstance(c, ConjunctiveNegation):
                 self.check_relations(c.conditions, local)
                 continue
-            allowed = local | _equality_vars(c) if c.negated else local
-            for v in _relational_vars(c.attr) + _relational_vars(c.value):
+            allowed = local | condition_equality_variables(c) if c.negated else local
+            for v in relational_variables(c.attr) + relational_variables(c.value):
                 if v not in allowed:
                     assert c.location is not None
                     where = c.location

@@ -69,6 +69,9 @@ __all__ = [
     "FIELD_VALUE",
     "variables_in_test",
     "equality_variable",
+    "simple_tests",
+    "condition_equality_variables",
+    "relational_variables",
 ]
 
 #: Indexes of a WME's fields, as used in :attr:`Production.binding_sites`.
@@ -244,6 +247,38 @@ def variables_in_test(test: Test | None) -> list[Variable]:
     for t in test.tests:
         out.extend(variables_in_test(t))
     return out
+
+
+def simple_tests(test: Test | None) -> list[Test]:
+    """The test's parts with conjunctive tests flattened (``None`` gives ``[]``).
+
+    Examples
+    --------
+    >>> t = ConjunctiveTest((EqualityTest(Variable("<x>")), RelationalTest(">", 3)))
+    >>> [type(p).__name__ for p in simple_tests(t)]
+    ['EqualityTest', 'RelationalTest']
+    """
+    if test is None:
+        return []
+    if isinstance(test, ConjunctiveTest):
+        return [s for t in test.tests for s in simple_tests(t)]
+    return [test]
+
+
+def condition_equality_variables(cond: Condition) -> set[Variable]:
+    """The variables a condition's equality tests bind, its identifier included."""
+    out = {cond.id}
+    for test in (cond.attr, cond.value):
+        for t in simple_tests(test):
+            if isinstance(t, EqualityTest) and isinstance(t.term, Variable):
+                out.add(t.term)
+    return out
+
+
+def relational_variables(test: Test | None) -> list[Variable]:
+    """The variables the test's relational tests compare against, in order."""
+    return [t.term for t in simple_tests(test)
+            if isinstance(t, RelationalTest) and isinstance(t.term, Variable)]
 
 
 def equality_variable(test: Test | None) -> Variable | None:

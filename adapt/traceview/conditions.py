@@ -34,13 +34,13 @@ from adapt.engine.production import (
     Condition,
     ConditionElement,
     ConjunctiveNegation,
-    ConjunctiveTest,
     DisjunctionTest,
     EqualityTest,
     Production,
     RelationalTest,
     Test,
     Variable,
+    simple_tests,
 )
 from adapt.engine.symbols import Symbol, format_symbol
 from adapt.engine.wme import WME
@@ -85,16 +85,8 @@ def condition_text(element: ConditionElement) -> str:
     return ("-" if element.negated else "") + text
 
 
-def _simple(test: Test | None) -> list[Test]:
-    if test is None:
-        return []
-    if isinstance(test, ConjunctiveTest):
-        return [s for t in test.tests for s in _simple(t)]
-    return [test]
-
-
 def _field(test: Test | None, value: Symbol, b: Bindings, later: list[tuple[str, Symbol, Variable]]) -> bool:
-    for t in _simple(test):
+    for t in simple_tests(test):
         if isinstance(t, EqualityTest):
             if isinstance(t.term, Variable):
                 if t.term in b:

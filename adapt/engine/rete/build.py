@@ -43,11 +43,11 @@ from adapt.engine.production import (
     Condition,
     ConditionElement,
     ConjunctiveNegation,
-    ConjunctiveTest,
     DisjunctionTest,
     EqualityTest,
-    Test,
     Variable,
+    condition_equality_variables,
+    simple_tests,
     variables_in_test,
 )
 from adapt.engine.rete.alpha import ANY, AlphaKey, AlphaTest
@@ -77,17 +77,6 @@ def is_positive(element: ConditionElement) -> bool:
     return isinstance(element, Condition) and not element.negated
 
 
-def _simple(test: Test | None) -> list[Test]:
-    if test is None:
-        return []
-    if isinstance(test, ConjunctiveTest):
-        out: list[Test] = []
-        for t in test.tests:
-            out.extend(_simple(t))
-        return out
-    return [test]
-
-
 def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> ConditionSpec:
     """Sort the tests of ``cond`` given the variables bound above it."""
     local: dict[Variable, int] = {}
@@ -99,7 +88,7 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> Condition
     relations: list[tuple[str, int, object]] = []
     for field, test in ((FIELD_ID, EqualityTest(cond.id)), (FIELD_ATTR, cond.attr),
                         (FIELD_VALUE, cond.value)):
-        for t in _simple(test):
+        for t in simple_tests(test):
             if isinstance(t, EqualityTest):
                 term = t.term
                 if isinstance(term, Variable):
@@ -140,16 +129,6 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> Condition
     )
 
 
-def equality_variables(cond: Condition) -> set[Variable]:
-    """The variables an equality test of ``cond`` binds (the identifier included)."""
-    out = {cond.id}
-    for test in (cond.attr, cond.value):
-        for t in _simple(test):
-            if isinstance(t, EqualityTest) and isinstance(t.term, Variable):
-                out.add(t.term)
-    return out
-
-
 def all_variables(element: ConditionElement) -> set[Variable]:
     """Every variable an element mentions, nested ones included."""
     if isinstance(element, ConjunctiveNegation):
@@ -170,12 +149,12 @@ def order_elements(elements: Sequence[ConditionElement], outer: set[Variable]) -
     while remaining:
         pick = next(
             (i for i in remaining
-             if not equality_variables(elements[i]).isdisjoint(known)),  # type: ignore[arg-type]
+             if not condition_equality_variables(elements[i]).isdisjoint(known)),  # type: ignore[arg-type]
             remaining[0],
         )
         remaining.remove(pick)
         positives.append(pick)
-        known |= equality_variables(elements[pick])  # type: ignore[arg-type]
+        known |= condition_equality_variables(elements[pick])  # type: ignore[arg-type]
         bound_after.append(set(known))
     scope = known - outer
     slots: list[list[int]] = [[] for _ in range(len(positives) + 1)]
