@@ -67,8 +67,9 @@ def test_nothing_imports_the_cli() -> None:
             assert not name.startswith("adapt.cli"), f"{path} imports {name}"
 
 
-def test_geometry_and_errors_are_leaves() -> None:
-    for leaf, allowed in (("errors.py", set()), ("geometry.py", {"numpy", "adapt.errors"})):
+def test_geometry_errors_and_files_are_leaves() -> None:
+    for leaf, allowed in (("errors.py", set()), ("files.py", set()),
+                          ("geometry.py", {"numpy", "adapt.errors"})):
         for name in imports_of(PACKAGE / leaf):
             top = name.split(".")[0]
             assert top in STDLIB or top == "__future__" or name in allowed or top in allowed, (

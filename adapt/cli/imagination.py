@@ -15,12 +15,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 from adapt.errors import AdaptError, ImaginationError
+from adapt.files import atomic_path, write_atomic
 
 __all__ = ["register"]
 
@@ -57,25 +56,9 @@ def register(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None
     q.set_defaults(func=_imagine)
 
 
-def _permit(tmp: str) -> None:
-    """Give a temporary file the permissions a plain ``open`` would."""
-    mask = os.umask(0)
-    os.umask(mask)
-    os.chmod(tmp, 0o666 & ~mask)
-
-
 def _atomic_write(path: Path, data: bytes) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        _permit(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    write_atomic(path, data)
 
 
 def _check_image_path(path: Path, option: str, sixteen_bit: bool = False) -> None:
@@ -213,9 +196,7 @@ def _write_video(path: Path, sc: Any, world: Any, horizon: float, fps: float) ->
     if not fps > 0:
         raise AdaptError(f"--fps must be positive, got {fps}")
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=ext)
-    os.close(fd)
-    try:
+    with atomic_path(path, suffix=ext) as tmp:
         writer = cv2.VideoWriter(tmp, cv2.VideoWriter_fourcc(*codecs[ext]), fps,
                                  (sc.camera.width, sc.camera.height))
         if not writer.isOpened():
@@ -228,10 +209,4 @@ def _write_video(path: Path, sc: Any, world: Any, horizon: float, fps: float) ->
             fork.run_until(t0 + k / fps)
             writer.write(renderer.render(fork.snapshot()).image)
         writer.release()
-        _permit(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
     return {"path": str(path), "frames": frames, "fps": fps}

@@ -28,12 +28,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import time
 from pathlib import Path
 from typing import Any
 
 from adapt.errors import ImageError
+from adapt.files import write_atomic
 
 __all__ = ["register"]
 
@@ -80,12 +80,9 @@ def _out_dir(path: str | None) -> Path | None:
 
 
 def _write_json(path: Path, data: object) -> None:
-    tmp = path.with_name(f".{path.name}.tmp{os.getpid()}")
     try:
-        tmp.write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
-        os.replace(tmp, path)
+        write_atomic(path, (json.dumps(data, indent=2) + "\n").encode("utf-8"))
     except OSError as exc:
-        tmp.unlink(missing_ok=True)
         raise ImageError(f"{path}: cannot write ({exc.strerror or exc})") from exc
 
 

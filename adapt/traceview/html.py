@@ -34,6 +34,7 @@ import os
 from importlib import resources
 from typing import Any
 
+from adapt.files import write_atomic
 from adapt.traceview.memory import LiveMemory
 from adapt.traceview.reader import Trace
 from adapt.traceview.show import impasse_text
@@ -192,13 +193,5 @@ def write_html(trace: Trace, out: str | None = None) -> str:
     """Render ``trace`` into ``out`` (default: beside it, ``.html``) atomically; return the path."""
     target = out or os.path.splitext(trace.path)[0] + ".html"
     text = render_page(build_payload(trace))
-    directory = os.path.dirname(os.path.abspath(target))
-    tmp = os.path.join(directory, f".{os.path.basename(target)}.{os.getpid()}.tmp")
-    try:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(text)
-        os.replace(tmp, target)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    write_atomic(target, text.encode("utf-8"))
     return target

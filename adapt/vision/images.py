@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import ImageError, VisionError
+from adapt.files import write_atomic
 
 __all__ = [
     "check_image",
@@ -217,11 +218,8 @@ def write_image(path: str | os.PathLike[str], image: NDArray) -> Path:
         ok = False
     if not ok:
         raise ImageError(f"{path}: cannot encode an image as {ext!r}")
-    tmp = p.with_name(f".{p.name}.tmp{os.getpid()}")
     try:
-        tmp.write_bytes(buf.tobytes())
-        os.replace(tmp, p)
+        write_atomic(p, buf.tobytes())
     except OSError as exc:
-        tmp.unlink(missing_ok=True)
         raise ImageError(f"{path}: cannot write ({exc.strerror or exc})") from exc
     return p
