@@ -28,7 +28,8 @@ import gc
 import os
 import random
 import time
-from typing import Any, Callable, Iterator
+from collections import deque
+from typing import Any, Callable, Iterator, MutableSequence
 
 from adapt.engine import cycle
 from adapt.engine.functions import FunctionTable, default_functions
@@ -146,6 +147,12 @@ class Agent:
         changed either when the caller has disabled it (``gc.disable()``).
         Cyclic garbage then waits longer to be freed: at most about
         ``gc_threshold`` container objects' worth.
+    history : int or None
+        Keep only the most recent ``history`` operator selections, impasses,
+        ``write`` texts and messages in memory (and so in :meth:`report`);
+        ``None`` keeps everything.  An agent that runs for hours (a robot)
+        needs a bound so that its memory stays flat; the counts
+        :attr:`operator_count` and :attr:`impasse_count` are kept either way.
 
     Examples
     --------
@@ -161,9 +168,13 @@ class Agent:
     def __init__(self, *, seed: int = 1, matcher: str = "rete", trace: Any = None,
                  trace_level: int = 5, max_elaborations: int = 100,
                  max_goal_depth: int = 100,
-                 gc_threshold: int | None = DEFAULT_GC_THRESHOLD) -> None:
+                 gc_threshold: int | None = DEFAULT_GC_THRESHOLD,
+                 history: int | None = None) -> None:
         if gc_threshold is not None and gc_threshold < 0:
             raise EngineError(f"gc_threshold must be >= 0 or None, not {gc_threshold}")
+        if history is not None and history < 1:
+            raise EngineError(f"history must be >= 1 or None, not {history}")
+        self.history = history
         self.gc_threshold = gc_threshold or None
         self.seed = seed
         self.rng = random.Random(seed)
@@ -171,16 +182,19 @@ class Agent:
         self.max_elaborations = max_elaborations
         self.max_goal_depth = max_goal_depth
         self.warnings: list[str] = []
-        self.messages: list[str] = []
+        self.messages: MutableSequence[str] = self._log()
         self.files: list[str] = []
         self.halted = False
         self.stop_reason: str | None = None
         self.decisions = 0
         self.elaboration_cycles = 0
-        self.operators: list[list[Any]] = []
-        self.impasses: list[list[Any]] = []
+        self.operators: MutableSequence[list[Any]] = self._log()
+        self.impasses: MutableSequence[list[Any]] = self._log()
+        self.operator_count = 0
+        self.impasse_count = 0
         self.next_phase = "input"
-        self._output: list[str] = []
+        self._output: MutableSequence[str] = self._log()
+        self._write_listeners: list[Callable[[str], None]] = []
         self._context = _Context(self)
         self.kernel = Kernel(_make_matcher(matcher), self.functions, self._context)
         self.io = IoLinks(self.kernel, lambda: self.decisions)
@@ -191,6 +205,9 @@ class Agent:
         self._decision_record: dict[str, Any] | None = None
         if trace is not None and not 1 <= trace_level <= 5:
             raise EngineError(f"trace level must be 1..5, not {trace_level}")
+
+    def _log(self) -> MutableSequence[Any]:
+        return [] if self.history is None else deque(maxlen=self.history)
 
     # -- rules --------------------------------------------------------------
     def load_text(self, text: str, file: str = "<string>") -> RuleFile:
@@ -228,13 +245,17 @@ class Agent:
         self.functions.register(name, fn, min_args=min_args, max_args=max_args)
 
     # -- running ----------------------------------------------------------------
-    def run(self, max_decisions: int | None = None) -> RunReport:
+    def run(self, max_decisions: int | None = None, *, footer: bool = True) -> RunReport:
         """Run until halt, an interrupt, the goal-depth limit, or ``max_decisions``
         decisions (stopping before the apply phase of the last one).
 
         May be called again to continue; the report covers the whole life of
         the agent.  A Python exception from a user RHS function ends the run
         (the trace gets its footer) and propagates.
+
+        ``footer=False`` writes no trace footer at the end of this call: a
+        caller that runs the agent in many slices (a frame loop) writes one
+        footer at the very end with :meth:`write_footer`.
         """
         if max_decisions is not None and max_decisions < 0:
             raise EngineError("max_decisions must be >= 0")
@@ -257,10 +278,15 @@ class Agent:
                 gc.set_threshold(*saved_gc)
             if self.halted:
                 self.stop_reason = "halt"
-            if self.tracer is not None:
+            if self.tracer is not None and (footer or error is not None):
                 self.tracer.footer(self.report().to_dict(), time.perf_counter() - started,
                                    error)
         return self.report()
+
+    def write_footer(self, elapsed_s: float, error: str | None = None) -> None:
+        """Write the trace's footer (for runs made of ``run(..., footer=False)`` slices)."""
+        if self.tracer is not None:
+            self.tracer.footer(self.report().to_dict(), elapsed_s, error)
 
     def step(self) -> RunReport:
         """Run one decision cycle (``run(1)``)."""
@@ -325,6 +351,10 @@ class Agent:
         """Call ``callback(view)`` after each output phase that changed the output-link."""
         self.io.output_callbacks.append(callback)
 
+    def on_write(self, callback: Callable[[str], None]) -> None:
+        """Call ``callback(text)`` with the text of every ``(write ...)`` as it happens."""
+        self._write_listeners.append(callback)
+
     # -- hooks used by the cycle -------------------------------------------------
     def message(self, text: str) -> None:
         """Record a kernel message."""
@@ -336,6 +366,13 @@ class Agent:
         self._output.append(text)
         if self.tracer is not None:
             self.tracer.write_text(text)
+        for listener in self._write_listeners:
+            listener(text)
+
+    @property
+    def halted_message_pending(self) -> bool:
+        """True when the agent halted and "This Agent halted." is not yet the last message."""
+        return self.halted and (not self.messages or self.messages[-1] != "This Agent halted.")
 
     def _symbols_in_use(self) -> set[Symbol]:
         used: set[Symbol] = set()
@@ -350,7 +387,7 @@ class Agent:
 
     def end_phase(self, phase: str) -> None:
         """Called by the cycle as a phase ends."""
-        if self.halted and "This Agent halted." not in self.messages[-1:]:
+        if self.halted_message_pending:
             self.message("This Agent halted.")
         tw = self.tracer
         if tw is None:

@@ -120,7 +120,7 @@ def _run_untraced(agent: Agent, max_decisions: int | None) -> None:
             if agent.halted:
                 agent.stop_reason = "halt"
     finally:
-        if agent.halted and "This Agent halted." not in agent.messages[-1:]:
+        if agent.halted_message_pending:
             agent.message("This Agent halted.")
 
 
@@ -282,6 +282,7 @@ def _decide_slot(agent: Agent, goal: Goal) -> bool:
             k.select(goal, d.selected)  # type: ignore[arg-type]
             agent.operators.append([agent.decisions, goal.level,
                                     k.operator_name(d.selected)])  # type: ignore[arg-type]
+            agent.operator_count += 1
             return True
         if d.outcome == "none":
             impasse, attribute = NO_CHANGE, "state"
@@ -300,5 +301,6 @@ def _decide_slot(agent: Agent, goal: Goal) -> bool:
         agent.stop_reason = "max-goal-depth"
     sub = k.create_impasse(goal, impasse, attribute, items, non_numeric)
     agent.impasses.append([agent.decisions, sub.level, impasse, attribute])
+    agent.impasse_count += 1
     agent.note_impasse(goal, sub)
     return True

@@ -67,18 +67,87 @@ class InputWriter:
         return k.ids.new(letter)
 
     def add(self, id: Identifier, attr: object, value: object) -> None:
-        """Add ``(id ^attr value)``; ``value`` may be a new identifier."""
+        """Add ``(id ^attr value)``; ``value`` may be a new identifier.
+
+        Raises
+        ------
+        EngineError
+            Outside the input phase, or when ``id`` is not an identifier or
+            ``attr`` / ``value`` is not a symbol (a string, int, float or
+            identifier; ``bool`` and ``None`` are not).
+        """
         self._check()
-        self._links.kernel.wm.add(id, to_symbol(attr), to_symbol(value))
+        self._links.kernel.wm.add(_identifier(id), _symbol(attr, "attribute"),
+                                  _symbol(value, "value"))
 
     def remove(self, id: Identifier, attr: object, value: object) -> None:
         """Remove ``(id ^attr value)`` (a no-op if it is not there)."""
         self._check()
-        self._links.kernel.wm.remove(id, to_symbol(attr), to_symbol(value))
+        self._links.kernel.wm.remove(_identifier(id), _symbol(attr, "attribute"),
+                                     _symbol(value, "value"))
+
+    def set(self, id: Identifier, attr: object, value: object) -> None:
+        """Make ``value`` the only value of ``(id ^attr)``.
+
+        Nothing changes when it already is (the WME keeps its timetag, so no
+        rule re-fires); otherwise the other values are removed and ``value``
+        added.  Removing an identifier value lets its structure be garbage
+        collected.
+
+        Examples
+        --------
+        >>> from adapt.engine import Agent
+        >>> agent = Agent()
+        >>> def sense(w):
+        ...     w.set(w.input_link, "x", w.decision)
+        >>> agent.on_input(sense)
+        >>> _ = agent.run(3)
+        >>> [w.value for w in agent.wm if w.attr == "x"]
+        [2]
+        """
+        self._check()
+        ident = _identifier(id)
+        a = _symbol(attr, "attribute")
+        v = _symbol(value, "value")
+        wm = self._links.kernel.wm
+        for key in [k for k in wm.pending_adds if k[0] is ident and k[1] == a and not k[3]]:
+            if key[2] != v:
+                wm.remove(*key)
+        current = wm.values(ident, a)
+        for old in current:
+            if old != v:
+                wm.remove(ident, a, old)
+        if v not in current:
+            wm.add(ident, a, v)
+
+    def clear(self, id: Identifier, attr: object) -> None:
+        """Remove every value of ``(id ^attr)``."""
+        self._check()
+        ident = _identifier(id)
+        a = _symbol(attr, "attribute")
+        wm = self._links.kernel.wm
+        for key in [k for k in wm.pending_adds if k[0] is ident and k[1] == a and not k[3]]:
+            wm.remove(*key)
+        for old in wm.values(ident, a):
+            wm.remove(ident, a, old)
 
     def values(self, id: Identifier, attr: object) -> list[Symbol]:
-        """The current values of ``(id ^attr *)``."""
-        return self._links.kernel.wm.values(id, to_symbol(attr))
+        """The current (committed) values of ``(id ^attr *)``."""
+        return self._links.kernel.wm.values(id, _symbol(attr, "attribute"))
+
+
+def _symbol(value: object, what: str) -> Symbol:
+    try:
+        return to_symbol(value)
+    except TypeError:
+        raise EngineError(f"input-link {what} {value!r} is not a Soar symbol "
+                          "(expected a string, int, float or identifier)") from None
+
+
+def _identifier(value: object) -> Identifier:
+    if type(value) is not Identifier:
+        raise EngineError(f"input-link WMEs need an identifier as their id, got {value!r}")
+    return value  # type: ignore[return-value]
 
 
 @dataclass(frozen=True)

@@ -38,6 +38,9 @@ __all__ = ["TraceWriter", "symbol_json", "FORMAT", "VERSION"]
 FORMAT = "adapt-trace"
 VERSION = 1
 
+#: Record kinds the writer produces itself (see :meth:`TraceWriter.event`).
+_OWN_KINDS = frozenset({"header", "phase", "decision", "footer"})
+
 
 def symbol_json(value: Symbol | None) -> Any:
     """A symbol as the trace writes it (identifiers as ``{"id": "S1"}``).
@@ -171,6 +174,25 @@ class TraceWriter:
             self.end_phase()
         self._record({"kind": "decision", **record})
         self._out.flush()
+
+    def event(self, kind: str, data: dict[str, Any]) -> None:
+        """A record of another layer (``"schema"``, ``"frame"``, ...), written at once.
+
+        The trace format's own kinds cannot be written this way; readers skip
+        kinds they do not know.
+
+        Examples
+        --------
+        >>> import io, json
+        >>> buf = io.StringIO()
+        >>> tw = TraceWriter(buf, level=1)
+        >>> tw.event("schema", {"d": 3, "event": "instantiated", "schema": "ball"})
+        >>> json.loads(buf.getvalue().splitlines()[-1])["event"]
+        'instantiated'
+        """
+        if kind in _OWN_KINDS:
+            raise ValueError(f"{kind!r} records are written by the trace writer itself")
+        self._record({"kind": kind, **data})
 
     def flush(self) -> None:
         """Flush the stream."""

@@ -64,3 +64,69 @@ def test_input_is_committed_at_the_end_of_the_input_phase() -> None:
 
     agent.on_input(sense)
     assert agent.run(3).output == "1 2 3 "
+
+
+def test_set_replaces_and_keeps_an_unchanged_value() -> None:
+    agent = Agent()
+    agent.load_text("sp {see (state <s> ^io.input-link.v <v>) --> (write <v> | |)}")
+    seq = iter([1, 1, 2, 2.0, "a"])
+
+    def sense(w: InputWriter) -> None:
+        w.set(w.input_link, "v", next(seq, "a"))
+
+    agent.on_input(sense)
+    # 1 is kept (no re-fire), 2 and 2.0 are different symbols, "a" last
+    assert agent.run(5).output == "1 2 2.000000 a "
+    assert [w.value for w in agent.wm if w.attr == "v"] == ["a"]
+
+
+def test_set_twice_in_one_phase_keeps_the_last_value() -> None:
+    agent = Agent()
+
+    def sense(w: InputWriter) -> None:
+        w.set(w.input_link, "v", 1)
+        w.set(w.input_link, "v", 2)
+
+    agent.on_input(sense)
+    agent.run(1)
+    assert [w.value for w in agent.wm if w.attr == "v"] == [2]
+
+
+def test_clear_removes_every_value() -> None:
+    agent = Agent()
+
+    def sense(w: InputWriter) -> None:
+        if w.decision == 0:
+            w.add(w.input_link, "v", 1)
+            w.add(w.input_link, "v", 2)
+        else:
+            w.clear(w.input_link, "v")
+
+    agent.on_input(sense)
+    agent.run(1)
+    assert sorted(w.value for w in agent.wm if w.attr == "v") == [1, 2]
+    agent.run(1)
+    assert [w.value for w in agent.wm if w.attr == "v"] == []
+
+
+@pytest.mark.parametrize("value", [None, True, [1], object()])
+def test_a_value_that_is_not_a_symbol_is_an_engine_error(value: object) -> None:
+    agent = Agent()
+
+    def sense(w: InputWriter) -> None:
+        w.add(w.input_link, "v", value)
+
+    agent.on_input(sense)
+    with pytest.raises(EngineError, match="not a Soar symbol"):
+        agent.run(1)
+
+
+def test_an_id_that_is_not_an_identifier_is_an_engine_error() -> None:
+    agent = Agent()
+
+    def sense(w: InputWriter) -> None:
+        w.set("I2", "v", 1)
+
+    agent.on_input(sense)
+    with pytest.raises(EngineError, match="identifier"):
+        agent.run(1)

@@ -1,0 +1,38 @@
+"""Exit statuses of the ``adapt`` command line, one table for every subcommand.
+
+Tools and test harnesses read these (``docs/cli.md`` lists them):
+
+======  ==========================  ==================================================
+status  name                        meaning
+======  ==========================  ==================================================
+0       ``OK``                      done; for ``rules run``: the agent halted
+1       ``ERROR``                   bad input or a failure (``adapt: error: ...``)
+2       ``USAGE``                   a bad command line (argparse's own status)
+3       ``DECISION_LIMIT``          ``rules run``: stopped at ``--max-decisions``
+4       ``GOAL_DEPTH``              ``rules run``: the goal stack grew too deep
+5       ``RULE_INTERRUPT``          ``rules run``: a rule called ``(interrupt)``
+6       ``RULE_ERROR``              ``rules run``: a run-time error in a rule's actions
+7       ``NO_ALIGNMENT``            ``mmd`` / ``sync``: the images could not be aligned
+130     ``INTERRUPTED``             stopped by Ctrl-C (SIGINT); what ran is reported
+======  ==========================  ==================================================
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+
+__all__ = ["Exit"]
+
+
+class Exit(IntEnum):
+    """The exit statuses (see the module docstring)."""
+
+    OK = 0
+    ERROR = 1
+    USAGE = 2
+    DECISION_LIMIT = 3
+    GOAL_DEPTH = 4
+    RULE_INTERRUPT = 5
+    RULE_ERROR = 6
+    NO_ALIGNMENT = 7
+    INTERRUPTED = 130
