@@ -35,6 +35,8 @@ __all__ = [
     "VisionError",
     "ImageError",
     "TraceError",
+    "RealityError",
+    "GroundTruthError",
 ]
 
 
@@ -126,3 +128,14 @@ class ImageError(VisionError):
 
 class TraceError(AdaptError):
     """A trace file is not a trace, or of another format version."""
+
+
+class RealityError(AdaptError):
+    """A reality source cannot deliver what its scenario says: a frame of the
+    wrong size or channel count, a robot command that is not a number, a
+    source iterated twice."""
+
+
+class GroundTruthError(RealityError, LocatedError):
+    """A ground-truth file (``t,object,x,y[,vx,vy]``) has a bad header or row;
+    the message names ``file:line`` and what was expected."""

@@ -75,3 +75,19 @@ def test_geometry_errors_and_files_are_leaves() -> None:
             assert top in STDLIB or top == "__future__" or name in allowed or top in allowed, (
                 f"{leaf} imports {name}"
             )
+
+
+def test_reality_imports_neither_the_engine_nor_vision() -> None:
+    for path in modules_in("reality"):
+        for name in imports_of(path):
+            assert not name.startswith(("adapt.engine", "adapt.vision", "adapt.cli")), (
+                f"reality/{path.name} imports {name}"
+            )
+
+
+@pytest.mark.parametrize("sub", ["vision", "imagination", "engine"])
+def test_the_perceiving_side_never_imports_reality(sub: str) -> None:
+    """Ground truth is for evaluation only: nothing that perceives or decides can reach it."""
+    for path in modules_in(sub):
+        for name in imports_of(path):
+            assert not name.startswith("adapt.reality"), f"{sub}/{path.name} imports {name}"

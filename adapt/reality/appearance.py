@@ -1,0 +1,164 @@
+"""How reality's camera image differs from the imagination's render.
+
+A synthetic reality renders its true scene with the imagination's
+:class:`~adapt.imagination.Renderer` (the texture scale is already in the
+true scene's tiles) and then makes it look like a camera's image with
+:class:`Look`, whose parameters are the scenario's
+:class:`~adapt.scenario.Appearance`.  In order, per pixel and channel:
+
+1. **tint**: the static surfaces (floor, walls, obstacles; found in the
+   label image) are multiplied by ``tint`` ``(b, g, r)``; the sky, balls and
+   the robot are not;
+2. **spin marker** (``spin_marker``): six dark dots on each ball, at the
+   ends of its body axes, turning with its rolling, drawn where the ball is
+   seen (:func:`draw_spin_marker`);
+3. **lighting gradient**: a gain falling linearly from 1 on one side of the
+   image to ``1 - gradient`` on the other, along the direction
+   ``gradient_deg`` (0: bright on the left, dark on the right; 90: bright at
+   the top, dark at the bottom);
+4. **contrast and brightness**: ``(v - 128) * contrast + 128 + brightness``;
+5. **colour shift**: ``color_shift`` ``(b, g, r)`` added;
+6. **blur**: a Gaussian of ``blur`` pixels (sigma);
+7. **sensor noise**: Gaussian, ``noise`` grey levels (sigma), from the
+   ``reality.noise`` stream, then rounding and clipping to ``0..255``.
+
+Examples
+--------
+>>> import numpy as np
+>>> from adapt.scenario import Appearance
+>>> look = Look(Appearance(brightness=20.0, gradient=0.5), (4, 2))
+>>> img = np.full((2, 4, 3), 100, np.uint8)
+>>> out = look.apply(img, np.ones((2, 4), np.int32), np.random.default_rng(0))
+>>> out[0, :, 0].tolist()          # 100 * (1 .. 0.5) + 20, left to right
+[120, 103, 87, 70]
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from adapt.geometry import Camera
+from adapt.imagination.render import LABEL_BALL, LABEL_FLOOR
+from adapt.scenario.records import Appearance
+
+__all__ = ["Look", "lighting_gain", "draw_spin_marker", "MARKER_SIZE", "MARKER_DARKNESS"]
+
+#: Radius of a spin-marker dot, as a fraction of the ball's radius.
+MARKER_SIZE = 0.28
+#: A marker dot keeps this fraction of the pixel's brightness.
+MARKER_DARKNESS = 0.3
+
+#: The six body directions that carry a marker dot.
+_DOTS = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
+
+
+def lighting_gain(size: tuple[int, int], gradient: float, gradient_deg: float) -> NDArray[np.float32]:
+    """The lighting gain ``(H, W)``: 1 on the bright side, ``1 - gradient`` on the dark.
+
+    Examples
+    --------
+    >>> lighting_gain((3, 3), 0.5, 90.0)[:, 0].tolist()    # top to bottom
+    [1.0, 0.75, 0.5]
+    """
+    w, h = size
+    a = math.radians(gradient_deg)
+    dx, dy = math.cos(a), math.sin(a)
+    xs = np.arange(w, dtype=np.float64)[None, :]
+    ys = np.arange(h, dtype=np.float64)[:, None]
+    proj = xs * dx + ys * dy
+    corners = [0.0, (w - 1) * dx, (h - 1) * dy, (w - 1) * dx + (h - 1) * dy]
+    lo, hi = min(corners), max(corners)
+    f = (proj - lo) / (hi - lo) if hi - lo > 1e-12 else np.zeros_like(proj)
+    return (1.0 - gradient * f).astype(np.float32)
+
+
+class Look:
+    """Applies an :class:`~adapt.scenario.Appearance` to rendered frames of one size.
+
+    The lighting gain and the affine terms are computed once; :meth:`apply`
+    costs a few array passes per frame.
+    """
+
+    def __init__(self, appearance: Appearance, size: tuple[int, int]) -> None:
+        self.appearance = appearance
+        self.size = (int(size[0]), int(size[1]))
+        a = appearance
+        light = lighting_gain(self.size, a.gradient, a.gradient_deg) * np.float32(a.contrast)
+        self._gain = np.ascontiguousarray(light[:, :, None])
+        self._offset = np.array([128.0 * (1.0 - a.contrast) + a.brightness + c
+                                 for c in a.color_shift], np.float32)
+        self._tint = np.array(a.tint, np.float32) - 1.0
+        self._tinted = bool(np.any(self._tint != 0.0))
+
+    def apply(self, image: NDArray[np.uint8], labels: NDArray[np.int32],
+              rng: np.random.Generator | None) -> NDArray[np.uint8]:
+        """The camera's image of a render (``image`` BGR, ``labels`` its label image).
+
+        ``rng`` draws the sensor noise (it may be None when ``noise`` is 0).
+        The spin marker is drawn separately (:func:`draw_spin_marker`), before this.
+        """
+        a = self.appearance
+        out = image.astype(np.float32)
+        if self._tinted:
+            surface = ((labels >= LABEL_FLOOR) & (labels < LABEL_BALL)).astype(np.float32)
+            out *= 1.0 + surface[:, :, None] * self._tint
+        out *= self._gain
+        out += self._offset
+        if a.blur > 0:
+            out = cv2.GaussianBlur(out, (0, 0), a.blur)
+        if a.noise > 0:
+            assert rng is not None, "sensor noise needs a generator"
+            out += rng.standard_normal(out.shape, dtype=np.float32) * np.float32(a.noise)
+        np.clip(out, 0.0, 255.0, out=out)
+        return np.rint(out).astype(np.uint8)
+
+
+def draw_spin_marker(image: NDArray[np.uint8], labels: NDArray[np.int32], camera: Camera,
+                     center: tuple[float, float, float], radius: float,
+                     orientation: NDArray[np.float64], label: int) -> int:
+    """Darken six dots on a ball (its body axes turned by ``orientation``)
+    where the ball's ``label`` is seen; returns how many dots face the camera.
+
+    The dots are drawn as the ellipses a round spot on the sphere projects
+    to, clipped to the ball's own pixels, in place.
+    """
+    c = np.asarray(center, float)
+    dirs = _DOTS @ np.asarray(orientation, float).T      # body axes in the world
+    points = c + radius * dirs
+    to_cam = camera.position - points
+    facing = np.einsum("ij,ij->i", dirs, to_cam) > 0
+    if not facing.any():
+        return 0
+    pc = camera.to_camera(points[facing])
+    if pc[:, 2].min() <= 1e-6:
+        return 0
+    px = camera.project(points[facing])
+    dist = np.linalg.norm(to_cam[facing], axis=1)
+    # Foreshortening: the spot's circle seen at angle acos(n . view).
+    cosv = np.einsum("ij,ij->i", dirs[facing], to_cam[facing]) / dist
+    major = MARKER_SIZE * radius * camera.fx / pc[:, 2]
+    # Direction of the normal in the image: the ellipse's minor axis lies along it.
+    centre_px = camera.project(c[None, :])[0]
+    h, w = labels.shape
+    r_px = radius * camera.fx / float(camera.to_camera(c[None, :])[0, 2]) + 2.0
+    x0, x1 = max(int(centre_px[0] - r_px), 0), min(int(centre_px[0] + r_px) + 2, w)
+    y0, y1 = max(int(centre_px[1] - r_px), 0), min(int(centre_px[1] + r_px) + 2, h)
+    if x0 >= x1 or y0 >= y1:
+        return 0
+    mask = np.zeros((y1 - y0, x1 - x0), np.uint8)
+    for (u, v), a, k in zip(px, major, cosv):
+        d = np.array([u, v]) - centre_px
+        angle = math.degrees(math.atan2(d[1], d[0])) if np.hypot(*d) > 1e-6 else 0.0
+        axes = (max(a * max(k, 0.05), 0.5), max(a, 0.5))   # (along the normal, across it)
+        cv2.ellipse(mask, ((float(u - x0), float(v - y0)), (2 * axes[0], 2 * axes[1]), angle),
+                    255, -1, cv2.LINE_AA)
+    own = labels[y0:y1, x0:x1] == label
+    weight = (mask.astype(np.float32) / 255.0) * own
+    view = image[y0:y1, x0:x1]
+    dark = view.astype(np.float32) * (1.0 - (1.0 - MARKER_DARKNESS) * weight[:, :, None])
+    view[:] = np.rint(dark).astype(np.uint8)
+    return int(facing.sum())
