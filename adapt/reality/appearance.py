@@ -19,8 +19,10 @@ true scene's tiles) and then makes it look like a camera's image with
 4. **contrast and brightness**: ``(v - 128) * contrast + 128 + brightness``;
 5. **colour shift**: ``color_shift`` ``(b, g, r)`` added;
 6. **blur**: a Gaussian of ``blur`` pixels (sigma);
-7. **sensor noise**: Gaussian, ``noise`` grey levels (sigma), from the
-   ``reality.noise`` stream, then rounding and clipping to ``0..255``.
+7. **sensor noise**: Gaussian, ``noise`` grey levels (sigma), independent
+   per pixel, channel and frame, from the ``reality.noise`` stream (drawn as
+   one of 65,536 equally likely quantiles, so never beyond 4.3 sigma), then
+   clipping to ``0..255`` and rounding.
 
 Examples
 --------
@@ -35,7 +37,9 @@ Examples
 
 from __future__ import annotations
 
+import functools
 import math
+import statistics
 
 import cv2
 import numpy as np
@@ -51,6 +55,9 @@ __all__ = ["Look", "lighting_gain", "draw_spin_marker", "MARKER_SIZE", "MARKER_D
 MARKER_SIZE = 0.28
 #: A marker dot keeps this fraction of the pixel's brightness.
 MARKER_DARKNESS = 0.3
+
+#: Sensor noise is drawn as one of this many equally likely Gaussian quantiles.
+NOISE_LEVELS = 65536
 
 #: The six body directions that carry a marker dot.
 _DOTS = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
@@ -76,23 +83,40 @@ def lighting_gain(size: tuple[int, int], gradient: float, gradient_deg: float) -
     return (1.0 - gradient * f).astype(np.float32)
 
 
+@functools.lru_cache(maxsize=1)
+def _normal_quantiles() -> NDArray[np.float32]:
+    """The standard normal's quantiles at ``(k + 0.5) / 65536``: a table that turns
+    uniform 16-bit integers into Gaussian noise five times faster than
+    ``Generator.standard_normal`` (|z| <= 4.3)."""
+    dist = statistics.NormalDist()
+    q = [dist.inv_cdf((k + 0.5) / NOISE_LEVELS) for k in range(NOISE_LEVELS)]
+    table = np.array(q, np.float32)
+    table.setflags(write=False)
+    return table
+
+
 class Look:
     """Applies an :class:`~adapt.scenario.Appearance` to rendered frames of one size.
 
-    The lighting gain and the affine terms are computed once; :meth:`apply`
-    costs a few array passes per frame.
+    The lighting gain, the affine terms and the work buffers are made once;
+    :meth:`apply` costs a few in-place array passes per frame.  A ``Look`` is
+    not shared between threads.
     """
 
     def __init__(self, appearance: Appearance, size: tuple[int, int]) -> None:
         self.appearance = appearance
         self.size = (int(size[0]), int(size[1]))
         a = appearance
+        w, h = self.size
         light = lighting_gain(self.size, a.gradient, a.gradient_deg) * np.float32(a.contrast)
         self._gain = np.ascontiguousarray(light[:, :, None])
         self._offset = np.array([128.0 * (1.0 - a.contrast) + a.brightness + c
                                  for c in a.color_shift], np.float32)
-        self._tint = np.array(a.tint, np.float32) - 1.0
-        self._tinted = bool(np.any(self._tint != 0.0))
+        self._tint = np.array([(1.0, 1.0, 1.0), a.tint], np.float32)
+        self._tinted = a.tint != (1.0, 1.0, 1.0)
+        self._buf = np.empty((h, w, 3), np.float32)
+        self._work = np.empty((h, w, 3), np.float32)
+        self._noise_table = (_normal_quantiles() * np.float32(a.noise)) if a.noise > 0 else None
 
     def apply(self, image: NDArray[np.uint8], labels: NDArray[np.int32],
               rng: np.random.Generator | None) -> NDArray[np.uint8]:
@@ -102,19 +126,25 @@ class Look:
         The spin marker is drawn separately (:func:`draw_spin_marker`), before this.
         """
         a = self.appearance
-        out = image.astype(np.float32)
+        out, work = self._buf, self._work
+        np.copyto(out, image, casting="unsafe")
         if self._tinted:
-            surface = ((labels >= LABEL_FLOOR) & (labels < LABEL_BALL)).astype(np.float32)
-            out *= 1.0 + surface[:, :, None] * self._tint
+            surface = (labels >= LABEL_FLOOR) & (labels < LABEL_BALL)
+            np.take(self._tint, surface.view(np.uint8), axis=0, out=work)
+            out *= work
         out *= self._gain
         out += self._offset
         if a.blur > 0:
-            out = cv2.GaussianBlur(out, (0, 0), a.blur)
-        if a.noise > 0:
+            cv2.GaussianBlur(out, (0, 0), a.blur, dst=work)
+            out, work = work, out
+        if self._noise_table is not None:
             assert rng is not None, "sensor noise needs a generator"
-            out += rng.standard_normal(out.shape, dtype=np.float32) * np.float32(a.noise)
+            draws = rng.integers(0, NOISE_LEVELS, out.shape, dtype=np.uint16)
+            np.take(self._noise_table, draws, out=work)
+            out += work
         np.clip(out, 0.0, 255.0, out=out)
-        return np.rint(out).astype(np.uint8)
+        np.rint(out, out=out)
+        return out.astype(np.uint8)
 
 
 def draw_spin_marker(image: NDArray[np.uint8], labels: NDArray[np.int32], camera: Camera,

@@ -159,6 +159,14 @@ class SyntheticSource:
         The truth of the frames made so far (evaluation only).
     parameters : TrueParameters
         What was drawn for this run.
+    scene : SceneSpec
+        The true scene (true parameters, every object, the real robot).
+    render_scene : SceneSpec
+        The true scene as rendered (texture tiles scaled).
+    world : RealWorld
+        Reality's physics.
+    look : Look
+        The appearance applied to each render.
     """
 
     def __init__(self, scenario: Scenario, *, streams: Streams,
@@ -189,8 +197,8 @@ class SyntheticSource:
         self.truth = RecordedTruth(self.parameters, history)
         self._fps = float(scenario.run.fps)
         self._length = int(scenario.run.frames)
-        self._look = Look(reality.appearance, scenario.camera.size)
-        self._render_scene = render_scene(scene, reality.appearance.texture_scale)
+        self.look = Look(reality.appearance, scenario.camera.size)
+        self.render_scene = render_scene(scene, reality.appearance.texture_scale)
         self._renderer: Renderer | None = None
         self._started = False
         self._closed = False
@@ -252,7 +260,7 @@ class SyntheticSource:
         r = self._renderer
         if r is None or not (np.array_equal(r.camera.rotation, cam.rotation)
                              and np.array_equal(r.camera.position, cam.position)):
-            r = self._renderer = Renderer(self._render_scene, cam)
+            r = self._renderer = Renderer(self.render_scene, cam)
         state = self.world.state()
         out = r.render(state)
         image = out.image
@@ -263,12 +271,13 @@ class SyntheticSource:
                     x, y = state.body(ball.name).position
                     draw_spin_marker(image, out.labels, cam, (x, y, ball.radius), ball.radius,
                                      self.world.orientation(ball.name), LABEL_BALL + i)
-        image = self._look.apply(image, out.labels, self._noise)
+        image = self.look.apply(image, out.labels, self._noise)
         image.setflags(write=False)
-        self.truth.record(self._truth(index, t, cam))
+        self.truth.record(self.frame_truth(index, t, cam))
         return Frame(index, t, image)
 
-    def _truth(self, index: int, t: float, cam: Camera) -> FrameTruth:
+    def frame_truth(self, index: int, t: float, cam: Camera) -> FrameTruth:
+        """The truth now, as frame ``index`` at time ``t`` seen by ``cam``."""
         world = self.world
         objects: dict[str, ObjectTruth | None] = {}
         for name in world.names:
