@@ -28,9 +28,9 @@ Examples
 >>> agent.on_input(sense)
 >>> _ = agent.run(2)
 >>> print(agent.print_state(agent.input_link, depth=3))
-(I2 ^thing I3)
-  (I3 ^part I4 ^x 1.500000)
-    (I4 ^size 2)
+(I2 ^thing T1)
+  (T1 ^part P1 ^x 1.500000)
+    (P1 ^size 2)
 """
 
 from __future__ import annotations
