@@ -13,8 +13,12 @@ Examples
 --------
 >>> p = Parameter("gain", float, 0.5, "fraction of the camera correction applied per frame",
 ...               low=0.0, high=1.0, low_open=True)
->>> p.check(0.25), p.check(2)
-(0.25, 2.0)
+>>> p.check(0.25), p.check(1)
+(0.25, 1.0)
+>>> p.check(2)
+Traceback (most recent call last):
+...
+adapt.schemas.spec.ParameterError: expected at most 1, got 2
 """
 
 from __future__ import annotations
