@@ -187,10 +187,12 @@ class SceneBackground(Schema):
     def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[np.float32] | None:
         """How much the real image differs from the imagination's *background* (no moving
         objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels, with the
-        frame's gain and bias and outside the MMD mask; None without alignment.
+        frame's gain and bias; None without alignment.
 
         This is the difference an object schema looks for its object in: the object
-        wherever it really is, whatever the imagination shows of it.
+        wherever it really is, whatever the imagination shows of it.  The MMD mask is not
+        applied: its Gaussians, centred on background corners matched next to the object,
+        would eat into the object's outline and bias its fitted position.
         """
         res = self.result
         if res is None or not res.aligned:
@@ -202,9 +204,7 @@ class SceneBackground(Schema):
                                      borderMode=cv2.BORDER_REPLICATE).astype(np.float32)
         adjusted = warped * res.gain.astype(np.float32) + res.bias.astype(np.float32)
         diff = np.abs(real[y:y + h, x:x + w].astype(np.float32) - adjusted)
-        d = diff.max(axis=2) if diff.ndim == 3 else diff
-        d *= 1.0 - res.mask[y:y + h, x:x + w]
-        return d
+        return diff.max(axis=2) if diff.ndim == 3 else diff
 
     def to_real(self, pixel: tuple[float, float]) -> tuple[float, float]:
         """A synthetic pixel in the real frame (through ``H_e``; unchanged without it)."""
