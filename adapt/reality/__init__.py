@@ -126,11 +126,10 @@ def open_reality(scenario: Scenario, *, streams: Streams) -> RealitySource:
 
     Raises
     ------
-    ImageError
-        A video that cannot be opened, or no readable first image.
     RealityError
-        A first frame of the wrong size or channel count; a video without a
-        frame rate.
+        A video that cannot be opened, an unreadable first image, a first
+        frame of the wrong size or channel count, a video without a frame
+        rate.
     GroundTruthError
         A ground-truth file with a bad header or row.
     """

@@ -18,7 +18,7 @@ A video file whose stream ends before the frame count in its header (a
 truncated file) ends cleanly at its last readable frame: iteration stops,
 :attr:`VideoSource.note` says how many frames were missing, and a
 :class:`RealityWarning` is issued.  An image of the sequence that cannot be
-read is an error (:class:`~adapt.errors.ImageError`) naming the file.
+read is an error (:class:`~adapt.errors.RealityError`) naming the file.
 
 A ground-truth CSV (``reality.ground_truth``) is read and checked when the
 source is opened and is available as :attr:`VideoSource.truth`, for
@@ -48,7 +48,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from adapt.errors import ImageError, RealityError
+from adapt.errors import RealityError
 from adapt.frames import Frame
 from adapt.reality.truth import CsvTruth, load_truth_csv
 from adapt.scenario import Scenario, VideoReality
@@ -85,7 +85,7 @@ def _check(image: NDArray[np.generic] | None, index: int, where: str,
            size: tuple[int, int]) -> NDArray[np.uint8]:
     """A frame as read, checked: 8-bit, three channels, the expected size."""
     if image is None:
-        raise ImageError(f"frame {index} ({where}) is not a readable image")
+        raise RealityError(f"frame {index} ({where}) is not a readable image")
     channels = 1 if image.ndim == 2 else image.shape[2]
     if image.dtype != np.uint8:
         raise RealityError(f"frame {index} ({where}) has {image.dtype} pixels; expected 8-bit "
@@ -141,7 +141,7 @@ class VideoSource:
             raise
         if self._first is None:
             self.close()
-            raise ImageError(f"{where}: the video has no frames")
+            raise RealityError(f"{where}: the video has no frames")
 
     # -- constructors ----------------------------------------------------------------------
 
@@ -152,7 +152,7 @@ class VideoSource:
         files = sorted(globbing.glob(pattern), key=natural_key)
         files = [f for f in files if Path(f).is_file()]
         if not files:
-            raise ImageError(f"no image file matches {pattern!r}")
+            raise RealityError(f"no image file matches {pattern!r}")
         cls._check_fps(fps, pattern)
         truth = None if ground_truth is None else CsvTruth(load_truth_csv(ground_truth), fps)
         return cls(files=files, capture=None, where=pattern, fps=fps, size=size, limit=limit,
@@ -164,11 +164,11 @@ class VideoSource:
         """A video file (``fps`` None: the file's own rate)."""
         p = Path(path)
         if not p.is_file():
-            raise ImageError(f"video file {str(p)!r} not found")
+            raise RealityError(f"video file {str(p)!r} not found")
         capture = cv2.VideoCapture(str(p))
         if not capture.isOpened():
             capture.release()
-            raise ImageError(f"{str(p)!r}: OpenCV cannot open it as a video")
+            raise RealityError(f"{str(p)!r}: OpenCV cannot open it as a video")
         if fps is None:
             fps = float(capture.get(cv2.CAP_PROP_FPS))
             if not (fps > 0 and math.isfinite(fps)):

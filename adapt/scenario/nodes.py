@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import re
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -288,7 +289,7 @@ class NodeReader:
         """A file path, relative to the scenario file (not checked for existence)."""
         value = self.string(node, path)
         p = Path(value).expanduser()
-        return p if p.is_absolute() else self.base / p
+        return Path(os.path.normpath(p if p.is_absolute() else self.base / p))
 
     def existing_file(self, node: Node, path: str, what: str) -> Path:
         """A path (relative to the scenario) that must name an existing file."""

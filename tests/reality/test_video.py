@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 import pytest
 
-from adapt.errors import GroundTruthError, ImageError, RealityError
+from adapt.errors import GroundTruthError, RealityError
 from adapt.frames import VideoSink
 from adapt.reality import RealitySource, RealityWarning, VideoSource, open_reality
 from adapt.scenario import load_scenario
@@ -87,9 +87,9 @@ def test_an_image_sequence_plays_in_natural_order(tmp_path: Path) -> None:
 
 def test_a_video_that_cannot_be_opened(tmp_path: Path) -> None:
     (tmp_path / "bad.mp4").write_bytes(b"this is not a video" * 20)
-    with pytest.raises(ImageError, match="cannot open it as a video"):
+    with pytest.raises(RealityError, match="cannot open it as a video"):
         VideoSource.video(tmp_path / "bad.mp4", fps=None, size=SIZE)
-    with pytest.raises(ImageError, match="not found"):
+    with pytest.raises(RealityError, match="not found"):
         VideoSource.video(tmp_path / "none.mp4", fps=None, size=SIZE)
 
 
@@ -148,15 +148,15 @@ def test_an_unreadable_image_names_its_file(tmp_path: Path) -> None:
     src = VideoSource.images(str(tmp_path / "*.png"), fps=5, size=SIZE)
     frames = iter(src)
     next(frames)
-    with pytest.raises(ImageError, match=r"frame 1 \(.*img1.png\) is not a readable image"):
+    with pytest.raises(RealityError, match=r"frame 1 \(.*img1.png\) is not a readable image"):
         next(frames)
 
 
 def test_an_unreadable_first_image_fails_when_opened(tmp_path: Path) -> None:
     (tmp_path / "a.png").write_bytes(b"")
-    with pytest.raises(ImageError, match="a.png"):
+    with pytest.raises(RealityError, match="a.png"):
         VideoSource.images(str(tmp_path / "*.png"), fps=5, size=SIZE)
-    with pytest.raises(ImageError, match="no image file matches"):
+    with pytest.raises(RealityError, match="no image file matches"):
         VideoSource.images(str(tmp_path / "*.jpg"), fps=5, size=SIZE)
     with pytest.raises(RealityError, match="positive frame rate"):
         VideoSource.images(str(tmp_path / "*.png"), fps=0.0, size=SIZE)
