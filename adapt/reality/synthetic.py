@@ -91,8 +91,9 @@ def draw_parameters(scenario: Scenario, streams: Streams) -> TrueParameters:
     objects = []
     for i, o in enumerate(reality.objects):
         rng = params[i + 1]
-        values = [r.draw(rng) for r in (o.restitution, o.friction, o.rolling_resistance, o.mass,
-                                        o.drag, o.spin)]
+        restitution, friction, rolling, mass, drag, spin = (
+            r.draw(rng) for r in (o.restitution, o.friction, o.rolling_resistance, o.mass,
+                                  o.drag, o.spin))
         appears: float | None = None
         position, velocity = o.ball.position, o.ball.velocity
         if o.throw is not None:
@@ -102,7 +103,8 @@ def draw_parameters(scenario: Scenario, streams: Streams) -> TrueParameters:
             position = (th.x.draw(ev), th.y.draw(ev))
             speed, heading = th.speed.draw(ev), math.radians(th.heading_deg.draw(ev))
             velocity = (speed * math.cos(heading), speed * math.sin(heading))
-        objects.append(ObjectParameters(o.name, o.declared, *values, appears, position, velocity))
+        objects.append(ObjectParameters(o.name, o.declared, restitution, friction, rolling, mass, drag,
+                                        spin, appears, position, velocity))
     offset, rotation = draw_offset(reality.camera, params[0])
     robot = scenario.scene.robot
     truth = reality.robot
