@@ -1,6 +1,6 @@
 """Cost of one synthetic-reality frame at 640x480 (figures, not tests).
 
-Run ``python bench/reality.py``.  The scene is the bundled bouncing-ball room
+Run ``python bench/reality.py`` (about a minute).  The scene is the bundled bouncing-ball room
 with a reality section that turns every effect on (drag, spin, a thrown
 object of reality only, a camera offset, tint, gradient, contrast, colour
 shift, blur, noise, texture scale, spin markers).  It prints the median
@@ -21,6 +21,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 
 from adapt.imagination import LABEL_BALL, Renderer  # noqa: E402
@@ -54,18 +55,6 @@ def scenario(robot_camera: bool):  # type: ignore[no-untyped-def]
                             "  position: [0.1, 0.0, 0.6]\n  look_at: [2.0, 0.0, 0.3]\n"
                             "  mount: robot\n")
     return loads_scenario(text + REALITY)
-
-
-def whole_frames(robot_camera: bool) -> list[float]:
-    src = SyntheticSource(scenario(robot_camera), streams=Streams(1))
-    if robot_camera:   # with a fixed camera the robot stays out of view, behind it
-        src.robot.command_robot((0.3, 0.4), 0.5)
-    times = []
-    for i in range(FRAMES):
-        t = time.perf_counter()
-        src.frame(i)
-        times.append(time.perf_counter() - t)
-    return times[1:]   # the first frame renders the first background
 
 
 def stages(robot_camera: bool) -> dict[str, list[float]]:
@@ -112,18 +101,24 @@ def stages(robot_camera: bool) -> dict[str, list[float]]:
 
 
 def main() -> int:
-    for robot_camera in (False, True):
-        label = "camera on a moving robot" if robot_camera else "fixed camera"
-        whole = statistics.median(whole_frames(robot_camera))
-        parts = {k: statistics.median(v) for k, v in stages(robot_camera).items()}
-        peer = parts.pop("peer render")
-        total = sum(parts.values())
-        print(f"{label}: one 640x480 frame, median of {FRAMES - 1}: {whole * 1e3:.1f} ms "
-              f"({1 / whole:.0f} frames/s)")
-        for k, v in parts.items():
-            print(f"  {k:<11} {v * 1e3:7.2f} ms  {100 * v / total:5.1f}%")
-        print(f"  peer: the imagination rendering the same state over its cached background: "
-              f"{peer * 1e3:.2f} ms; a reality frame costs {whole / peer:.1f}x that")
+    print("one 640x480 synthetic frame: physics to the frame's time + true camera + render + "
+          f"spin markers + appearance + truth; medians of {FRAMES - 1} frames")
+    for threads in (1, 2):
+        cv2.setNumThreads(threads)
+        for robot_camera in (False, True):
+            label = "camera on a moving robot" if robot_camera else "fixed camera"
+            runs = stages(robot_camera)
+            peer = statistics.median(runs.pop("peer render"))
+            totals = [sum(v) for v in zip(*runs.values())]
+            whole = statistics.median(totals)
+            parts = {k: statistics.median(v) for k, v in runs.items()}
+            print(f"{label}, OpenCV threads = {threads}: {whole * 1e3:.1f} ms "
+                  f"({1 / whole:.0f} frames/s)")
+            shares = "  ".join(f"{k} {v * 1e3:.2f} ms ({100 * v / sum(parts.values()):.0f}%)"
+                               for k, v in parts.items())
+            print(f"  {shares}")
+            print(f"  peer (the imagination rendering the same state over its cached background): "
+                  f"{peer * 1e3:.2f} ms; a reality frame costs {whole / peer:.1f}x that")
     return 0
 
 
