@@ -61,7 +61,8 @@ from adapt.reality.truth import (
     RobotState,
     TrueParameters,
 )
-from adapt.reality.video import RealityWarning, VideoSource
+from adapt.reality.video import VideoSource
+from adapt.reality.warning import RealityWarning
 from adapt.scenario import Scenario, SyntheticReality
 from adapt.seeds import Streams
 

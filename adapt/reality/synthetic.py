@@ -47,6 +47,7 @@ Examples
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import replace
 from types import MappingProxyType
 from typing import Iterator, Sequence
@@ -69,6 +70,7 @@ from adapt.reality.truth import (
     RecordedTruth,
     TrueParameters,
 )
+from adapt.reality.warning import RealityWarning
 from adapt.scenario import Mount, Scenario, SyntheticReality
 from adapt.seeds import Streams
 
@@ -202,6 +204,11 @@ class SyntheticSource:
         self.look = Look(reality.appearance, scenario.camera.size)
         self.render_scene = render_scene(scene, reality.appearance.texture_scale)
         self._renderer: Renderer | None = None
+        if reality.appearance.texture_phase != (0.0, 0.0):
+            warnings.warn(
+                f"{reality.appearance.source.location}: reality.appearance.texture_phase is not "
+                "applied yet (it needs the renderer's per-surface appearances); the real "
+                "textures start where the model's do", RealityWarning, stacklevel=2)
         self._started = False
         self._closed = False
 

@@ -51,13 +51,10 @@ from numpy.typing import NDArray
 from adapt.errors import RealityError
 from adapt.frames import Frame
 from adapt.reality.truth import CsvTruth, load_truth_csv
+from adapt.reality.warning import RealityWarning
 from adapt.scenario import Scenario, VideoReality
 
 __all__ = ["VideoSource", "RealityWarning", "natural_key", "frame_limit"]
-
-
-class RealityWarning(UserWarning):
-    """A reality source delivered less than it promised (a truncated video)."""
 
 
 def natural_key(path: str) -> list[object]:
