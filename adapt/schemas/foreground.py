@@ -224,6 +224,8 @@ class ForegroundObject(Schema):
         bx, by, bw, bh, area = (int(v) for v in stats[best])
         mask = labels[by:by + bh, bx:bx + bw] == best
         bbox = (bx + x0, by + y0, bw, bh)
+        if bbox[0] == 0 or bbox[1] == 0 or bbox[0] + bw >= w:
+            return None  # cut by the image's edge: its outline would mislead the fit
         fit = fit_ball(mask, (bx + x0, by + y0), self.network.mirror.camera,
                        radius=None if self.ball is None else self.ball.radius,
                        to_camera=bg.pixels_to_synthetic)
