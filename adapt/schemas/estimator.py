@@ -31,7 +31,7 @@ True
 >>> est.measure("restitution", 0.66, 0.02)
 >>> e = est.estimate("restitution")
 >>> round(e.mean, 3), e.std < 0.02, e.count
-(0.664, True, 1)
+(0.665, True, 1)
 """
 
 from __future__ import annotations
@@ -165,6 +165,7 @@ class ParameterEstimator:
         #: ``(time, position, velocity)`` of the line fitted after the last bounce.
         self.last_after: tuple[float, np.ndarray, np.ndarray] | None = None
         self._track: deque[tuple[float, float, float]] = deque(maxlen=120)
+        self._residuals: deque[float] = deque(maxlen=60)
         self._quiet_until = -math.inf
         self._candidate: tuple[float, list[tuple[float, float, float]],
                                list[tuple[float, float, float]]] | None = None
@@ -198,7 +199,15 @@ class ParameterEstimator:
 
     # -- sightings ---------------------------------------------------------------------------
 
-    def observe(self, time: float, position: Sequence[float], *, noise: float = 0.005
+    @property
+    def noise(self) -> float:
+        """The sightings' noise, metres: the median residual of recent straight
+        stretches (a bounce-free half window), at least 2 mm; 5 mm before any."""
+        if not self._residuals:
+            return 0.005
+        return max(float(np.median(self._residuals)), 0.002)
+
+    def observe(self, time: float, position: Sequence[float], *, noise: float | None = None
                 ) -> Bounce | None:
         """Take one sighting; returns a :class:`Bounce` when one has just been measured.
 
