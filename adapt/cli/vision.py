@@ -210,19 +210,27 @@ def _strip(path: Path, real: Any, step: Any) -> Path:
     return write_strip(path, [row], title=title)
 
 
-def _look_at_distance(scenario: Any) -> float:
-    """Distance from the nominal camera to the scenario's own ``look_at``, so the
-    printed ``look_at`` lies next to it (1 m when it cannot be read)."""
+def _look_at_distance(camera: Any, scene: Any) -> float:
+    """How far along ``camera``'s viewing axis to put the printed ``look_at``: the
+    first wall or floor the axis meets (where a scenario's own ``look_at``
+    usually is), else 1 m.  Any point on the axis gives the same camera."""
     import numpy as np
-    import yaml
 
-    try:
-        raw = yaml.safe_load(Path(scenario.path).read_text(encoding="utf-8"))
-        target = np.asarray(raw["camera"]["look_at"], dtype=float).reshape(3)
-        d = float(np.linalg.norm(target - scenario.camera.position))
-    except Exception:  # noqa: BLE001 - only a presentation default
-        return 1.0
-    return d if math.isfinite(d) and d > 1e-6 else 1.0
+    c, z = camera.position, camera.rotation[2]
+    hits = []
+    if z[2] < -1e-9 and c[2] > 0:
+        hits.append(-c[2] / z[2])  # the floor, z = 0
+    for wall in scene.walls:
+        a, b = np.asarray(wall.start, float), np.asarray(wall.end, float)
+        d = b - a
+        m = np.array([[z[0], -d[0]], [z[1], -d[1]]])
+        if abs(np.linalg.det(m)) < 1e-12:
+            continue
+        t, u = np.linalg.solve(m, a - c[:2])
+        if t > 0 and 0.0 <= u <= 1.0 and 0.0 <= c[2] + t * z[2] <= wall.height:
+            hits.append(t)
+    hit = min(hits) if hits else 1.0
+    return float(hit) if math.isfinite(hit) and hit > 1e-6 else 1.0
 
 
 def _camera_keys(camera: Any, distance: float) -> dict[str, Any]:
@@ -304,7 +312,7 @@ def _run_sync(args: argparse.Namespace) -> int:
         full_pose=args.full_pose, on_step=on_step,
     )
     try:
-        keys = _camera_keys(result.camera, _look_at_distance(scenario))
+        keys = _camera_keys(result.camera, _look_at_distance(result.camera, scenario.scene))
     except AdaptError:  # a camera looking straight up or down has no look_at / roll
         import numpy as np
 
