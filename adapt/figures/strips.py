@@ -254,7 +254,8 @@ def write_strip(
                 ax.add_patch(Rectangle((x - 0.5, y - 0.5), bw, bh, fill=False, edgecolor=colour,
                                        linewidth=1.5))
     buf = io.BytesIO()
-    fig.savefig(buf, format=fmt, dpi=DPI, facecolor="white")
+    extra = {"pil_kwargs": {"compress_level": 3}} if fmt == "png" else {}
+    fig.savefig(buf, format=fmt, dpi=DPI, facecolor="white", **extra)
     try:
         write_atomic(p, buf.getvalue())
     except OSError as exc:
