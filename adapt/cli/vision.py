@@ -210,51 +210,48 @@ def _strip(path: Path, real: Any, step: Any) -> Path:
     return write_strip(path, [row], title=title)
 
 
-def _look_at_distance(camera: Any, scene: Any) -> float:
-    """How far along ``camera``'s viewing axis to put the printed ``look_at``: the
-    first wall or floor the axis meets (where a scenario's own ``look_at``
-    usually is), else 1 m.  Any point on the axis gives the same camera."""
-    import numpy as np
+def _camera_keys(camera: Any, scenario: Any) -> dict[str, Any]:
+    """The scenario's ``camera`` keys of ``camera`` (and its world rotation).
 
-    c, z = camera.position, camera.rotation[2]
-    hits = []
-    if z[2] < -1e-9 and c[2] > 0:
-        hits.append(-c[2] / z[2])  # the floor, z = 0
-    for wall in scene.walls:
-        a, b = np.asarray(wall.start, float), np.asarray(wall.end, float)
-        d = b - a
-        m = np.array([[z[0], -d[0]], [z[1], -d[1]]])
-        if abs(np.linalg.det(m)) < 1e-12:
-            continue
-        t, u = np.linalg.solve(m, a - c[:2])
-        if t > 0 and 0.0 <= u <= 1.0 and 0.0 <= c[2] + t * z[2] <= wall.height:
-            hits.append(t)
-    hit = min(hits) if hits else 1.0
-    return float(hit) if math.isfinite(hit) and hit > 1e-6 else 1.0
-
-
-def _camera_keys(camera: Any, distance: float) -> dict[str, Any]:
-    """The scenario's ``camera`` keys of ``camera`` (and its rotation matrix)."""
+    The ``look_at`` is put at the distance of the scenario's own, so the two
+    are easy to compare (any point on the viewing axis gives the same camera);
+    for a camera on the robot, ``position`` and ``look_at`` are given in the
+    robot's frame at its starting pose, as the scenario writes them."""
     import numpy as np
 
     from adapt.geometry import look_at_parameters
 
-    target, roll = look_at_parameters(camera.rotation, camera.position, distance)
-    return {
+    mount = scenario.mount
+    distance = float(np.linalg.norm(np.subtract(mount.look_at, mount.position)))
+    target, roll = look_at_parameters(camera.rotation, camera.position, distance if distance > 0 else 1.0)
+    position = np.asarray(camera.position, float)
+    robot = scenario.scene.robot
+    on_robot = getattr(mount.kind, "value", "fixed") == "robot" and robot is not None
+    if on_robot:  # world -> robot frame (the inverse of CameraMount.world_pose)
+        a = math.radians(robot.heading_deg)
+        rot = np.array([[math.cos(a), -math.sin(a), 0.0], [math.sin(a), math.cos(a), 0.0], [0.0, 0.0, 1.0]])
+        offset = np.array([robot.position[0], robot.position[1], 0.0])
+        position, target = rot.T @ (position - offset), rot.T @ (target - offset)
+    keys: dict[str, Any] = {
         "fx": float(camera.fx), "fy": float(camera.fy), "cx": float(camera.cx), "cy": float(camera.cy),
         "width": int(camera.width), "height": int(camera.height),
-        "position": [round(float(v), 6) for v in camera.position],
-        "look_at": [round(float(v), 6) for v in target],
-        "roll_deg": round(roll, 5),
-        "rotation": np.round(camera.rotation, 8).tolist(),
+        "position": [round(float(v), 6) + 0.0 for v in position],  # + 0.0: no "-0.0"
+        "look_at": [round(float(v), 6) + 0.0 for v in target],
+        "roll_deg": round(roll, 5) + 0.0,
     }
+    if on_robot:
+        keys["mount"] = "robot"
+    keys["rotation"] = np.round(camera.rotation, 8).tolist()
+    return keys
 
 
 def _camera_yaml(keys: dict[str, Any], converged: bool) -> str:
     note = ("synchronised with the real image" if converged
             else "after the last correction (not converged)")
     lines = [f"camera:                     # {note}: paste over the scenario's camera"]
-    for k in ("fx", "fy", "cx", "cy", "width", "height", "position", "look_at", "roll_deg"):
+    for k in ("fx", "fy", "cx", "cy", "width", "height", "position", "look_at", "roll_deg", "mount"):
+        if k not in keys:
+            continue
         v = keys[k]
         text = "[" + ", ".join(repr(x) for x in v) + "]" if isinstance(v, list) else repr(v)
         lines.append(f"  {k}: {text}")
@@ -312,7 +309,7 @@ def _run_sync(args: argparse.Namespace) -> int:
         full_pose=args.full_pose, on_step=on_step,
     )
     try:
-        keys = _camera_keys(result.camera, _look_at_distance(result.camera, scenario.scene))
+        keys = _camera_keys(result.camera, scenario)
     except AdaptError:  # a camera looking straight up or down has no look_at / roll
         import numpy as np
 

@@ -267,3 +267,43 @@ def test_sync_bad_input(scenario_real, tmp_path, capsys):
     assert "--gain" in capsys.readouterr().err
     assert main(["sync", str(tmp_path / "none.yaml"), "--real", str(real_path)]) == 1
     assert "no such scenario" in capsys.readouterr().err
+
+
+ROBOT_SCENARIO = """\
+camera:
+  {fx: 525.0, fy: 525.0, cx: 319.5, cy: 239.5, width: 640, height: 480,
+   position: [0.1, 0.0, 0.55], look_at: [3.1, 0.0, 0.3], roll_deg: 0.0, mount: robot}
+world:
+  floor: {texture: gravel, tile: 0.8, extent: [-2.5, -1.0, 2.5, 3.0]}
+  walls:
+    - {name: north, from: [-2.5, 3.0], to: [2.5, 3.0], height: 1.0, texture: brick, tile: 0.6}
+  obstacles:
+    - {name: crate, polygon: [[-1.3, 2.35], [-0.75, 2.35], [-0.75, 2.85], [-1.3, 2.85]], height: 0.4, color: [150, 110, 60]}
+  robot: {position: [0.2, -0.5], heading_deg: 90.0, max_speed: 1.0, max_accel: 2.0}
+"""
+
+
+def test_sync_prints_a_robot_mounted_camera_in_the_robots_frame(tmp_path, capsys):
+    import yaml
+
+    from adapt.imagination import Renderer
+    from adapt.scenario import load_scenario
+
+    path = tmp_path / "robot.yaml"
+    path.write_text(ROBOT_SCENARIO)
+    sc = load_scenario(path)
+    real_cam = sc.camera.with_rotation(rotation_exp([0.015, -0.02, 0.03]) @ sc.camera.rotation)
+    cv2.imwrite(str(tmp_path / "real.png"), Renderer(sc.scene, real_cam).render().image)
+    assert main(["sync", str(path), "--real", str(tmp_path / "real.png"), "--gain", "0.7"]) == Exit.OK
+    out = capsys.readouterr().out
+    keys = yaml.safe_load(out[out.index("camera:"):])["camera"]
+    assert keys["mount"] == "robot"
+    # pasted back, the scenario's camera is the synchronised one
+    pasted = ROBOT_SCENARIO.split("world:")[0].split("\n", 1)[0] + "\n  " + yaml.safe_dump(
+        keys, default_flow_style=True).strip() + "\nworld:" + ROBOT_SCENARIO.split("world:")[1]
+    (tmp_path / "pasted.yaml").write_text(pasted)
+    cam = load_scenario(tmp_path / "pasted.yaml").camera
+    angle = np.degrees(np.arccos(np.clip((np.trace(cam.rotation @ real_cam.rotation.T) - 1) / 2, -1, 1)))
+    assert angle < 0.1
+    assert np.allclose(cam.position, real_cam.position, atol=1e-6)
+    assert keys["position"] == pytest.approx([0.1, 0.0, 0.55], abs=1e-6)  # robot frame, unchanged
