@@ -97,6 +97,27 @@ def test_geometry_errors_and_files_are_leaves() -> None:
             )
 
 
+@pytest.mark.parametrize("path", modules_in("figures"), ids=lambda p: p.name)
+def test_figures_draw_without_knowing_the_layers(path: Path) -> None:
+    # figures: NumPy, matplotlib, adapt.files and adapt.errors only, so any layer's command may draw
+    for name in imports_of(path):
+        top = name.split(".")[0]
+        if top == "adapt":
+            assert name in ("adapt.files", "adapt.errors") or name.startswith("adapt.figures"), (
+                f"figures/{path.name} imports {name}"
+            )
+        else:
+            assert top in STDLIB or top in ("__future__", "numpy", "matplotlib"), (
+                f"figures/{path.name} imports {name}"
+            )
+
+
+def test_vision_does_not_draw_figures() -> None:
+    for path in modules_in("vision"):
+        for name in imports_of(path):
+            assert not name.startswith(("adapt.figures", "matplotlib")), f"vision/{path.name} imports {name}"
+
+
 #: What each layer above the foundations may import from adapt (prefixes).
 ALLOWED = {
     "mirror.py": ("adapt.imagination", "adapt.geometry", "adapt.errors"),
