@@ -34,7 +34,8 @@ from adapt.vision.camera_correction import correct_pose, correct_rotation
 from adapt.vision.homography import corner_error
 from adapt.vision.matching import PreparedImage, prepare
 from adapt.vision.mmd import MMDResult, mmd
-from adapt.vision.regions import find_regions
+from adapt.vision.regions import find_regions, to_input
+from adapt.vision.scale import image_scale
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Frame
@@ -154,8 +155,11 @@ class SceneBackground(Schema):
         if not res.aligned:
             tracks = self.tracker.update([], frame.index)
             return []
-        found = find_regions(res.difference, threshold=self.parameters["threshold"],
-                             min_area=int(self.parameters["min_area"]))
+        scale = image_scale(res.difference.shape)
+        found = to_input(find_regions(res.difference, threshold=self.parameters["threshold"],
+                                      min_area=max(1, int(round(self.parameters["min_area"]
+                                                               * scale * scale)))),
+                         res.frame)
         tracks = self.tracker.update(found, frame.index)
         monitored = self.network.monitored_boxes(exclude=self.name)
         h_inv = np.linalg.inv(res.homography)  # type: ignore[arg-type]
@@ -330,7 +334,8 @@ SCENE_BACKGROUND = SchemaSpec(
                   "correct the position too, from the floor's homography"),
         Parameter("threshold", float, 30.0, "MMD difference that counts", unit="grey levels",
                   low=0.0, high=255.0, low_open=True),
-        Parameter("min_area", int, 40, "smallest region reported", unit="px", low=1),
+        Parameter("min_area", int, 40, "smallest region reported, at 640x480 (scaled with the "
+                  "image's area)", unit="px", low=1),
     ),
     singleton=True,
 )
