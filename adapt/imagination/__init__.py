@@ -5,6 +5,12 @@
   :class:`Floor`, :class:`RobotSpec`);
 * :mod:`~adapt.imagination.world` - the pymunk :class:`World`, its
   :class:`WorldState` snapshots and :class:`Contact` events;
+* :mod:`~adapt.imagination.surface` - the static :class:`Surface` planes of a
+  scene in world metres; :mod:`~adapt.imagination.appearance` - an
+  :class:`Appearance` that replaces a surface's look at run time;
+* :mod:`~adapt.imagination.backdrop` - the :class:`Backdrop`: surfaces with
+  prepared textures, drawn for any camera pose by one warp per surface;
+  :mod:`~adapt.imagination.raycast` - the exact per-pixel reference;
 * :mod:`~adapt.imagination.render` - the :class:`Renderer` (BGR image and
   label image through an :class:`adapt.geometry.Camera`);
 * :mod:`~adapt.imagination.predict` - rollouts, contact prediction, intercepts
@@ -26,6 +32,8 @@ from adapt.imagination.predict import (
     rollout,
     time_to_reach,
 )
+from adapt.imagination.appearance import Appearance
+from adapt.imagination.backdrop import Backdrop
 from adapt.imagination.render import (
     LABEL_BALL,
     LABEL_FLOOR,
@@ -33,6 +41,7 @@ from adapt.imagination.render import (
     LABEL_ROBOT,
     LABEL_SKY,
     LABEL_WALL,
+    Box,
     Renderer,
     RenderResult,
     initial_state,
@@ -46,6 +55,7 @@ from adapt.imagination.scene import (
     SceneSpec,
     Wall,
 )
+from adapt.imagination.surface import Surface, scene_surfaces
 from adapt.imagination.texture import Texture, load_texture
 from adapt.imagination.world import BodyState, Contact, World, WorldState
 
@@ -61,6 +71,11 @@ __all__ = [
     "BodyState",
     "Contact",
     "Renderer",
+    "Backdrop",
+    "Surface",
+    "Appearance",
+    "scene_surfaces",
+    "Box",
     "Trajectory",
     "Intercept",
     "Ensemble",
