@@ -216,9 +216,14 @@ def prepare_atlas(surface: Surface, appearance: Appearance) -> Atlas | None:
         to_tex = tex @ to_face
         foot = max(abs(to_tex[0, 0]), abs(to_tex[1, 1]))
         k = int(np.clip(math.floor(math.log2(max(foot, 1.0))), 0, len(texture.levels) - 1))
-        m = level_matrix(k) @ to_tex
-        cv2.warpAffine(texture.levels_bgra[k], m[:2], (w, h), dst=base,
-                       flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderMode=cv2.BORDER_WRAP)
+        m = level_matrix(k) @ to_tex  # axis-aligned: u by column, v by row
+        src = texture.levels_bgra[k]
+        lh, lw = src.shape[:2]
+        mx = np.mod(m[0, 0] * np.arange(w) + m[0, 2], lw).astype(np.float32)
+        my = np.mod(m[1, 1] * np.arange(h) + m[1, 2], lh).astype(np.float32)
+        # Sample at coordinates folded into the image: OpenCV's fast path.
+        cv2.remap(src, np.repeat(mx[None, :], h, axis=0), np.repeat(my[:, None], w, axis=1),
+                  cv2.INTER_LINEAR, dst=base, borderMode=cv2.BORDER_WRAP)
         cv2.convertScaleAbs(base, dst=base, alpha=shade)
     valid = appearance.mask.view(np.uint8) * np.uint8(255)
     cv2.copyTo(cv2.cvtColor(appearance.image, cv2.COLOR_BGR2BGRA), valid, base)

@@ -491,22 +491,29 @@ def _warp(
     wrap: bool,
 ) -> None:
     """Warp level ``k`` over ``box`` (in face-box pixels) into ``out``, an array
-    of the box's size."""
+    of the box's size.
+
+    A repeating texture (``wrap``) is first moved by whole periods so that the
+    box's texels start in the image: OpenCV reads pixels inside the image
+    several times faster than it wraps around the border.
+    """
     x0, y0, x1, y1 = box
     src = levels[k]
     m = level_matrix(k) @ m0 @ _translation(x0, y0)
+    border = cv2.BORDER_REPLICATE
     if wrap:
-        # The texture repeats: move the box centre's texel into the first period,
-        # so that OpenCV reads mostly inside the image (its fast path).
+        border = cv2.BORDER_WRAP
         lh, lw = src.shape[:2]
-        cx, cy = (x1 - x0 - 1) / 2.0, (y1 - y0 - 1) / 2.0
+        # Texel coordinates of the box's corners (a projective map over a
+        # rectangle in front of the camera takes its extremes there).
+        cx = np.array([0.0, x1 - x0 - 1, 0.0, x1 - x0 - 1])
+        cy = np.array([0.0, 0.0, y1 - y0 - 1, y1 - y0 - 1])
         wz = m[2, 0] * cx + m[2, 1] * cy + m[2, 2]
-        if wz > 0:
-            uc = (m[0, 0] * cx + m[0, 1] * cy + m[0, 2]) / wz
-            vc = (m[1, 0] * cx + m[1, 1] * cy + m[1, 2]) / wz
-            if math.isfinite(uc) and math.isfinite(vc):
-                m[0] -= math.floor(uc / lw) * lw * m[2]
-                m[1] -= math.floor(vc / lh) * lh * m[2]
+        if (wz > 0).all():
+            u = (m[0, 0] * cx + m[0, 1] * cy + m[0, 2]) / wz
+            v = (m[1, 0] * cx + m[1, 1] * cy + m[1, 2]) / wz
+            if np.isfinite(u).all() and np.isfinite(v).all():
+                m[0] -= math.floor(u.min() / lw) * lw * m[2]
+                m[1] -= math.floor(v.min() / lh) * lh * m[2]
     cv2.warpPerspective(src, m, (x1 - x0, y1 - y0), dst=out,
-                        flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
-                        borderMode=cv2.BORDER_WRAP if wrap else cv2.BORDER_REPLICATE)
+                        flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderMode=border)
