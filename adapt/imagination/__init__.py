@@ -24,11 +24,16 @@ from __future__ import annotations
 
 from adapt.imagination.predict import (
     ENSEMBLE_PARAMETERS,
+    MAX_ENSEMBLE_STEPS,
+    MAX_ENSEMBLE_VALUES,
+    MAX_MEMBERS,
+    MAX_SAMPLES,
     Ensemble,
     Intercept,
     Trajectory,
     ensemble,
     intercept,
+    intercept_reach,
     rollout,
     time_to_reach,
 )
@@ -57,7 +62,15 @@ from adapt.imagination.scene import (
 )
 from adapt.imagination.surface import Surface, scene_surfaces
 from adapt.imagination.texture import Texture, load_texture
-from adapt.imagination.world import BodyState, Contact, World, WorldState
+from adapt.imagination.world import (
+    MAX_STEPS,
+    MAX_SUBSTEPS,
+    BodyState,
+    Contact,
+    StepHook,
+    World,
+    WorldState,
+)
 
 __all__ = [
     "Ball",
@@ -70,6 +83,13 @@ __all__ = [
     "WorldState",
     "BodyState",
     "Contact",
+    "StepHook",
+    "MAX_STEPS",
+    "MAX_SUBSTEPS",
+    "MAX_SAMPLES",
+    "MAX_MEMBERS",
+    "MAX_ENSEMBLE_VALUES",
+    "MAX_ENSEMBLE_STEPS",
     "Renderer",
     "Backdrop",
     "Surface",
@@ -82,6 +102,7 @@ __all__ = [
     "ENSEMBLE_PARAMETERS",
     "rollout",
     "intercept",
+    "intercept_reach",
     "time_to_reach",
     "ensemble",
     "RenderResult",

@@ -558,9 +558,21 @@ class World:
             raise ImaginationError(f"run_until: expected a finite time in seconds, got {time!r}")
         self.step(self._steps_for(max(0.0, t - self.time), "run_until"))
 
-    def steps_for(self, seconds: float) -> int:
-        """The number of steps ``run(seconds)`` takes (checked against :data:`MAX_STEPS`)."""
-        return self._steps_for(seconds, "seconds")
+    def steps_for(self, seconds: float, what: str = "seconds") -> int:
+        """The number of steps ``run(seconds)`` takes, checked against
+        :data:`MAX_STEPS`; an error message starts with ``what``.
+
+        Examples
+        --------
+        >>> w = World(SceneSpec(dt=0.01))
+        >>> w.steps_for(2.0)
+        200
+        >>> w.steps_for(1e9, "--t")
+        Traceback (most recent call last):
+        ...
+        adapt.errors.ImaginationError: --t: 1e+09 s is 100,000,000,000 steps of 0.01 s; a call takes at most 1,000,000 steps (10,000 s): run it in parts
+        """
+        return self._steps_for(seconds, what)
 
     def _steps_for(self, seconds: float, what: str) -> int:
         try:
