@@ -162,7 +162,7 @@ def _vec2(name: str, value: Sequence[float], limit: float = MAX_COORDINATE,
 
 
 def _velocity(name: str, value: Sequence[float]) -> Vec2:
-    v = _vec2(name, value, MAX_SPEED, "m/s")
+    v = _vec2(name, value, math.inf, "m/s")
     if math.hypot(*v) > MAX_SPEED:
         raise ImaginationError(
             f"{name}: expected a speed of at most {MAX_SPEED:g} m/s, got {math.hypot(*v):g}"

@@ -490,7 +490,8 @@ class World:
         worst, who = 0.0, ""
         for name in self.names:
             body = self.body(name)
-            speed = math.sqrt(2.0 * body.kinetic_energy / body.mass)
+            vx, vy = body.velocity
+            speed = math.hypot(vx, vy)
             if name in self._forces:
                 speed += math.hypot(*self._forces[name]) * self.dt / body.mass
             rate = speed / self._radius[name]
@@ -516,24 +517,26 @@ class World:
         ``0.5 v + 1.5 V``, with ``V`` a bound on the robot's speed, so a ball
         keeps below ``max(v, 3 V)``; contacts between balls only share energy.
         Hence no ball is faster than ``sqrt(2 (E + 4.5 V^2 M) / m_min)`` (``E``
-        the balls' kinetic energy, ``M`` their mass).  A margin of 20% covers
-        pymunk's overlap correction.
+        the balls' kinetic energy, spin included as it can turn into speed at a
+        contact; ``M`` their mass).  A margin of 20% covers pymunk's overlap
+        correction.  (pymunk's ``kinetic_energy`` is ``m v^2 + I w^2``: twice
+        the energy.)
         """
-        energy = 0.0
+        twice = 0.0
         for body in self._balls.values():
-            energy += body.kinetic_energy
+            twice += body.kinetic_energy
         rate = 0.0
         vr = 0.0
         robot = self._robot
         if robot is not None:
             spec = self.scene.robot
             assert spec is not None
-            vr = (max(math.sqrt(2.0 * robot.kinetic_energy / spec.mass), spec.max_speed)
-                  + math.sqrt(2.0 * energy / spec.mass))
+            vr = (max(math.sqrt(robot.kinetic_energy / spec.mass), spec.max_speed)
+                  + math.sqrt(twice / spec.mass))
             rate = vr / self._radius[spec.name]
         if self._balls:
             mass, light, small = self._ball_extremes
-            top = math.sqrt(2.0 * (energy + 4.5 * vr * vr * mass) / light)
+            top = math.sqrt((twice + 9.0 * vr * vr * mass) / light)
             rate = max(rate, top / small)
         return max(1, math.ceil(1.2 * rate * self.dt / TRAVEL_FRACTION - 1e-9))
 
