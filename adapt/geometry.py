@@ -78,8 +78,10 @@ def _vector3(name: str, value: ArrayLike) -> FloatArray:
         v = np.array(value, dtype=float).reshape(3)
     except (TypeError, ValueError):
         raise ImaginationError(f"{name}: expected [x, y, z], got {value!r}") from None
-    if not np.all(np.isfinite(v)):
-        raise ImaginationError(f"{name}: expected finite coordinates, got {v.tolist()}")
+    if not np.all(np.isfinite(v)) or np.abs(v).max() > MAX_COORDINATE:
+        raise ImaginationError(
+            f"{name}: expected coordinates within +-{MAX_COORDINATE:g} metres, got {v.tolist()}"
+        )
     return v
 
 

@@ -68,7 +68,7 @@ MAX_MEMBERS = 10_000
 #: Most positions an ensemble keeps (members x sample times).
 MAX_ENSEMBLE_VALUES = 2_000_000
 #: Most physics steps an ensemble runs, all members together.
-MAX_ENSEMBLE_STEPS = 10 * MAX_STEPS
+MAX_ENSEMBLE_STEPS = 5 * MAX_STEPS
 
 FloatArray = NDArray[np.float64]
 
