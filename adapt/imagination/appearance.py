@@ -7,11 +7,12 @@ Background schema learns by back-projecting camera frames onto the surface.
 Where it is valid it is drawn as given; elsewhere the scenario's texture or
 colour shows.
 
-:func:`prepare_atlas` turns an appearance into what the renderers draw: a
-four-channel mip pyramid (colour, and the mask as alpha) whose invalid pixels
-already hold the scenario's shaded texture, so that mip levels never blend in
-a colour that is not there.  It runs once per appearance update, at the
-appearance image's resolution.
+:func:`prepare_atlas` turns an appearance into what the renderers draw: a mip
+pyramid of the appearance image in which the invalid pixels hold the
+scenario's shaded texture (sampled at the appearance's resolution) or colour.
+The renderers then draw the whole extent from it with one warp, and the
+boundary between learned and scenario pixels is as smooth as any texture.
+It runs once per appearance update, at the appearance image's resolution.
 
 Examples
 --------
@@ -20,7 +21,7 @@ Examples
 >>> wall = scene_surfaces(SceneSpec(walls=(Wall("w", (0, 0), (2, 0), height=1.0),)))[1]
 >>> look = Appearance(np.full((50, 100, 3), 200, np.uint8), None, wall.extent)
 >>> atlas = prepare_atlas(wall, look)
->>> atlas.opaque, atlas.levels[0].shape, atlas.polygon == wall.polygon
+>>> atlas.covers, atlas.levels[0].shape, atlas.polygon == wall.polygon
 (True, (50, 100, 4), True)
 """
 
@@ -39,23 +40,18 @@ from adapt.geometry import MAX_IMAGE_SIDE, MAX_PIXELS
 from adapt.imagination.surface import Extent, Surface, check_extent
 from adapt.imagination.texture import load_texture, mip_levels
 
-__all__ = ["Appearance", "Atlas", "prepare_atlas", "texel_matrix", "ALPHA_VALID"]
+__all__ = ["Appearance", "Atlas", "prepare_atlas", "texel_matrix"]
 
 FloatArray = NDArray[np.float64]
-
-#: An atlas pixel is drawn from the appearance where its (interpolated) alpha
-#: is at least this; the mask's edge thus falls half-way between a valid and
-#: an invalid pixel.
-ALPHA_VALID = 128
-
 
 @dataclass(frozen=True, slots=True, eq=False)
 class Appearance:
     """An image of one surface in its own face coordinates, with a validity mask.
 
     Where ``mask`` is true the image replaces the scenario's texture or
-    colour; elsewhere the scenario's shows.  The image is drawn as given (the
-    renderer's fixed light does not shade it: it is what a camera saw).
+    colour; elsewhere the scenario's shows, at the image's resolution.  The
+    image is drawn as given (the renderer's fixed light does not shade it: it
+    is what a camera saw).
 
     Parameters
     ----------
@@ -131,22 +127,22 @@ class Atlas:
     Attributes
     ----------
     levels : tuple of (H, W, 4) uint8 ndarray
-        Mip pyramid; BGR is the appearance where valid and the scenario's
-        shaded texture or colour elsewhere; alpha is 255 where valid.
+        Mip pyramid (BGRA, opaque): the appearance where valid and the
+        scenario's shaded texture or colour elsewhere.
     face_to_texel : (3, 3) ndarray
         Face coordinates ``(s, t, 1)`` to level-0 pixel coordinates.
     polygon : tuple of (s, t)
         The part of the surface the appearance covers (surface polygon and
         extent intersected), counter-clockwise.
-    opaque : bool
-        The appearance is valid everywhere and covers the whole surface, so
-        the scenario's texture is never seen.
+    covers : bool
+        The extent covers the whole surface: nothing of it is drawn from the
+        scenario's texture directly.
     """
 
     levels: tuple[NDArray[np.uint8], ...]
     face_to_texel: FloatArray
     polygon: tuple[tuple[float, float], ...]
-    opaque: bool
+    covers: bool
 
 
 def texel_matrix(surface: Surface) -> FloatArray | None:
@@ -210,7 +206,7 @@ def prepare_atlas(surface: Surface, appearance: Appearance) -> Atlas | None:
     tex = texel_matrix(surface)
     if tex is None or surface.texture is None:
         b, g, r = (c * shade for c in surface.color[::-1])
-        base[:] = (min(round(b), 255), min(round(g), 255), min(round(r), 255), 0)
+        base[:] = (min(round(b), 255), min(round(g), 255), min(round(r), 255), 255)
     else:
         texture = load_texture(surface.texture)
         to_tex = tex @ to_face
@@ -227,9 +223,7 @@ def prepare_atlas(surface: Surface, appearance: Appearance) -> Atlas | None:
         cv2.convertScaleAbs(base, dst=base, alpha=shade)
     valid = appearance.mask.view(np.uint8) * np.uint8(255)
     cv2.copyTo(cv2.cvtColor(appearance.image, cv2.COLOR_BGR2BGRA), valid, base)
-    base[:, :, 3] = valid
-    opaque = covers and bool(appearance.mask.all())
-    return Atlas(mip_levels(base), np.linalg.inv(to_face), tuple(poly), opaque)
+    return Atlas(mip_levels(base), np.linalg.inv(to_face), tuple(poly), covers)
 
 
 def _area(poly: Sequence[tuple[float, float]]) -> float:

@@ -54,7 +54,6 @@ from numpy.typing import ArrayLike, NDArray
 from adapt.errors import ImaginationError
 from adapt.geometry import Camera
 from adapt.imagination.appearance import (
-    ALPHA_VALID,
     Appearance,
     Atlas,
     level_matrix,
@@ -296,55 +295,62 @@ class Backdrop:
             cv2.bitwise_and(lroi, 0, dst=lroi, mask=vis)
             cv2.add(lroi, s.label, dst=lroi, mask=vis)
             iroi = image[y0:y1, x0:x1]
+            sroi = scratch[y0:y1, x0:x1]
             hom = _translation(-x0, -y0) @ s.homography(cam)  # face -> box pixels
             atlas = self._atlases.get(s.name)
-            if atlas is None or not atlas.opaque:
-                if p.texture is None or p.texel is None:
-                    cv2.bitwise_and(iroi, (0, 0, 0, 0), dst=iroi, mask=vis)
-                    cv2.add(iroi, p.fill, dst=iroi, mask=vis)
-                else:
-                    sroi = scratch[y0:y1, x0:x1]
-                    _warp_levels(p.texture.levels_bgra, p.texel, hom, vis, sroi, wrap=True)
-                    cv2.convertScaleAbs(sroi, dst=sroi, alpha=p.shade)
-                    cv2.copyTo(sroi, vis, iroi)
+            need = vis
             if atlas is not None:
-                self._draw_atlas(atlas, p, cam, (x0, y0, x1, y1), hom, vis, scratch, iroi)
+                drawn = _draw_atlas(atlas, p, cam, (x0, y0), hom, vis, sroi, iroi)
+                if drawn is not None:
+                    need = cv2.bitwise_and(vis, cv2.bitwise_not(drawn))
+                    if not cv2.countNonZero(need):
+                        continue
+            if p.texture is None or p.texel is None:
+                cv2.bitwise_and(iroi, (0, 0, 0, 0), dst=iroi, mask=need)
+                cv2.add(iroi, p.fill, dst=iroi, mask=need)
+            else:
+                box = _warp_levels(p.texture.levels_bgra, p.texel, hom, need, sroi, wrap=True)
+                if box is not None:
+                    bx0, by0, bx1, by1 = box
+                    part = sroi[by0:by1, bx0:bx1]
+                    cv2.convertScaleAbs(part, dst=part, alpha=p.shade)
+                    cv2.copyTo(part, need[by0:by1, bx0:bx1], iroi[by0:by1, bx0:bx1])
         bgr = cv2.cvtColor(image, cv2.COLOR_BGRA2BGR)
         with np.errstate(divide="ignore"):
             depth = np.divide(np.float32(1.0), invz)
         return bgr, labels, depth
 
-    def _draw_atlas(
-        self,
-        atlas: Atlas,
-        p: _Prepared,
-        cam: Camera,
-        box: tuple[int, int, int, int],
-        hom: FloatArray,
-        vis: NDArray[np.uint8],
-        scratch: NDArray[np.uint8],
-        iroi: NDArray[np.uint8],
-    ) -> None:
-        x0, y0, x1, y1 = box
-        if atlas.opaque:
-            over = vis
-        else:
-            shape = _project(p.world(atlas.polygon), cam, _frustum(cam))
-            if shape is None:
-                return
-            (ax0, ay0, ax1, ay1), pts = shape
-            over = np.zeros_like(vis)
-            # The atlas polygon's pixels, in the face's box coordinates.
-            shifted = pts + np.array([(ax0 - x0) << _SHIFT, (ay0 - y0) << _SHIFT], np.int32)
-            cv2.fillConvexPoly(over, shifted, 255, cv2.LINE_8, _SHIFT)
-            cv2.bitwise_and(over, vis, dst=over)
-            if not cv2.countNonZero(over):
-                return
-        sroi = scratch[y0:y1, x0:x1]
-        _warp_levels(atlas.levels, atlas.face_to_texel, hom, over, sroi, wrap=False)
-        valid = cv2.compare(cv2.extractChannel(sroi, 3), ALPHA_VALID, cv2.CMP_GE)
-        cv2.bitwise_and(valid, over, dst=valid)
-        cv2.copyTo(sroi, valid, iroi)
+def _draw_atlas(
+    atlas: Atlas,
+    p: _Prepared,
+    cam: Camera,
+    origin: tuple[int, int],
+    hom: FloatArray,
+    vis: NDArray[np.uint8],
+    sroi: NDArray[np.uint8],
+    iroi: NDArray[np.uint8],
+) -> NDArray[np.uint8] | None:
+    """Draw an appearance over the visible pixels ``vis`` of its face's box;
+    return the mask of the pixels it drew (``None`` if none)."""
+    x0, y0 = origin
+    if atlas.covers:
+        over = vis
+    else:
+        shape = _project(p.world(atlas.polygon), cam, _frustum(cam))
+        if shape is None:
+            return None
+        (ax0, ay0, _, _), pts = shape
+        over = np.zeros_like(vis)
+        # The atlas polygon's pixels, in the face's box coordinates.
+        shifted = pts + np.array([(ax0 - x0) << _SHIFT, (ay0 - y0) << _SHIFT], np.int32)
+        cv2.fillConvexPoly(over, shifted, 255, cv2.LINE_8, _SHIFT)
+        cv2.bitwise_and(over, vis, dst=over)
+    box = _warp_levels(atlas.levels, atlas.face_to_texel, hom, over, sroi, wrap=False)
+    if box is None:
+        return None
+    bx0, by0, bx1, by1 = box
+    cv2.copyTo(sroi[by0:by1, bx0:bx1], over[by0:by1, bx0:bx1], iroi[by0:by1, bx0:bx1])
+    return over
 
 
 def _translation(x0: int, y0: int) -> FloatArray:
@@ -442,21 +448,24 @@ def _warp_levels(
     out: NDArray[np.uint8],
     *,
     wrap: bool,
-) -> None:
+) -> tuple[int, int, int, int] | None:
     """Warp a mip-mapped source into ``out`` (a box of the image) where ``mask`` is set.
 
     ``texel`` maps face coordinates to level-0 source pixels and ``hom`` face
     coordinates to box pixels.  The mip level is chosen on a grid from the
     pixel-to-texel footprint, as the reference does per pixel; each level is
-    warped over the box of the pixels that use it.
+    warped over the box of the pixels that use it.  Returns the part of the
+    box written, ``(x0, y0, x1, y1)``, or ``None`` if ``mask`` is empty.
     """
-    bh, bw = mask.shape
-    m0 = texel @ np.linalg.inv(hom)  # box pixel -> level-0 texel
+    rx, ry, rw, rh = cv2.boundingRect(mask)
+    if rw == 0:
+        return None
+    m0 = texel @ np.linalg.inv(hom) @ _translation(rx, ry)  # rect pixel -> level-0 texel
     top = len(levels) - 1
-    gw, gh = -(-bw // _GRID), -(-bh // _GRID)
+    gw, gh = -(-rw // _GRID), -(-rh // _GRID)
     gx = np.arange(gw) * _GRID + (_GRID - 1) / 2.0
     gy = np.arange(gh) * _GRID + (_GRID - 1) / 2.0
-    px, py = np.meshgrid(np.minimum(gx, bw - 1), np.minimum(gy, bh - 1))
+    px, py = np.meshgrid(np.minimum(gx, rw - 1), np.minimum(gy, rh - 1))
     wz = m0[2, 0] * px + m0[2, 1] * py + m0[2, 2]
     with np.errstate(divide="ignore", invalid="ignore"):
         u = (m0[0, 0] * px + m0[0, 1] * py + m0[0, 2]) / wz
@@ -467,19 +476,22 @@ def _warp_levels(
         grid = np.floor(np.log2(np.maximum(foot, 1.0)))
     grid = np.where(np.isfinite(grid) & (wz > 0), np.clip(grid, 0, top), top).astype(np.uint8)
     present = np.unique(grid)
+    rect_out = out[ry:ry + rh, rx:rx + rw]
     if len(present) == 1:
-        _warp(levels, int(present[0]), m0, (0, 0, bw, bh), out, wrap)
-        return
-    full = cv2.resize(grid, (gw * _GRID, gh * _GRID), interpolation=cv2.INTER_NEAREST)[:bh, :bw]
+        _warp(levels, int(present[0]), m0, (0, 0, rw, rh), rect_out, wrap)
+        return rx, ry, rx + rw, ry + rh
+    rect_mask = mask[ry:ry + rh, rx:rx + rw]
+    full = cv2.resize(grid, (gw * _GRID, gh * _GRID), interpolation=cv2.INTER_NEAREST)[:rh, :rw]
     for k in present:
         sel = cv2.compare(full, int(k), cv2.CMP_EQ)
-        cv2.bitwise_and(sel, mask, dst=sel)
+        cv2.bitwise_and(sel, rect_mask, dst=sel)
         x, y, w, h = cv2.boundingRect(sel)
         if w == 0:
             continue
         band = np.empty((h, w, out.shape[2]), np.uint8)
         _warp(levels, int(k), m0, (x, y, x + w, y + h), band, wrap)
-        cv2.copyTo(band, sel[y:y + h, x:x + w], out[y:y + h, x:x + w])
+        cv2.copyTo(band, sel[y:y + h, x:x + w], rect_out[y:y + h, x:x + w])
+    return rx, ry, rx + rw, ry + rh
 
 
 def _warp(

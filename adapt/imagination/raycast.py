@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.geometry import Camera
-from adapt.imagination.appearance import ALPHA_VALID, Atlas, level_matrix
+from adapt.imagination.appearance import Atlas, level_matrix
 from adapt.imagination.scene import Color
 from adapt.imagination.surface import LIGHT
 from adapt.imagination.texture import Texture
@@ -42,7 +42,7 @@ class Face:
 
     ``texel`` maps ``(s, t, 1)`` to level-0 texel coordinates of ``texture``
     (``None`` paints ``color``); ``shade`` multiplies the colour; ``atlas``
-    is an appearance drawn (unshaded) over the face where it is valid.
+    is an appearance drawn (unshaded) over the part of the face it covers.
     """
 
     origin: FloatArray
@@ -178,8 +178,7 @@ def draw_face(
         over = inside & _in_polygon(face.atlas.polygon, s, t)
         if over.any():
             got = _sample(face.atlas.levels, face.atlas.face_to_texel, s, t, over, wrap=False)
-            use = over & (got[..., 3] >= ALPHA_VALID)
-            colors[use] = got[..., :3][use]
+            colors[over] = got[..., :3][over]
     iview = image[y0:y1, x0:x1]
     iview[inside] = np.clip(np.round(colors[inside]), 0, 255).astype(np.uint8)
     labels[y0:y1, x0:x1][inside] = face.label

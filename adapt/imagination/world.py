@@ -488,12 +488,12 @@ class World:
     def _substeps(self) -> int:
         """Sub-steps the next step needs, from the bodies' speeds now."""
         worst, who = 0.0, ""
-        for name in self.names:
-            body = self.body(name)
+        forces = self._forces
+        for name, body in self._moving():
             vx, vy = body.velocity
             speed = math.hypot(vx, vy)
-            if name in self._forces:
-                speed += math.hypot(*self._forces[name]) * self.dt / body.mass
+            if forces and name in forces:
+                speed += math.hypot(*forces[name]) * self.dt / body.mass
             rate = speed / self._radius[name]
             if rate > worst:
                 worst, who = rate, name
@@ -506,6 +506,13 @@ class World:
                 "passing through walls; use a smaller dt"
             )
         return max(k, 1)
+
+    def _moving(self) -> list[tuple[str, pymunk.Body]]:
+        """(name, body) of the balls, then the robot."""
+        items = list(self._balls.items())
+        if self._robot is not None and self.scene.robot is not None:
+            items.append((self.scene.robot.name, self._robot))
+        return items
 
     def _bound_substeps(self) -> int:
         """Sub-steps some step of a call without hooks or pending forces may
