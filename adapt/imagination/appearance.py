@@ -223,7 +223,8 @@ def prepare_atlas(surface: Surface, appearance: Appearance) -> Atlas | None:
         cv2.convertScaleAbs(base, dst=base, alpha=shade)
     valid = appearance.mask.view(np.uint8) * np.uint8(255)
     cv2.copyTo(cv2.cvtColor(appearance.image, cv2.COLOR_BGR2BGRA), valid, base)
-    return Atlas(mip_levels(base), np.linalg.inv(to_face), tuple(poly), covers)
+    return Atlas(mip_levels(base), np.asarray(np.linalg.inv(to_face), np.float64), tuple(poly),
+                 covers)
 
 
 def _area(poly: Sequence[tuple[float, float]]) -> float:

@@ -45,7 +45,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Mapping, Sequence
+from typing import Any, Mapping, Sequence
 
 import cv2
 import numpy as np
@@ -62,7 +62,7 @@ from adapt.imagination.appearance import (
 )
 from adapt.imagination.raycast import FAR, NEAR, Face, draw_face
 from adapt.imagination.scene import SceneSpec
-from adapt.imagination.surface import Surface, scene_surfaces
+from adapt.imagination.surface import Surface, check_extent, scene_surfaces
 from adapt.imagination.texture import Texture, load_texture
 
 __all__ = ["Backdrop", "Background", "SKY_HORIZON", "SKY_TOP"]
@@ -200,7 +200,8 @@ class Backdrop:
                 )
             look = image
         else:
-            look = Appearance(image, mask, target._extent_or(extent))
+            look = Appearance(image, mask, target._extent_or(
+                None if extent is None else check_extent(extent)))
         atlas = prepare_atlas(target, look)
         self._appearances[surface] = look
         if atlas is None:
@@ -260,7 +261,8 @@ class Backdrop:
         h, w = cam.height, cam.width
         sky = np.zeros((h, 1, 4), np.uint8)
         sky[:, 0, :3] = _sky(cam).astype(np.uint8)
-        image = cv2.resize(sky, (w, h), interpolation=cv2.INTER_NEAREST)  # fast broadcast
+        image = np.asarray(cv2.resize(sky, (w, h), interpolation=cv2.INTER_NEAREST),  # a fast
+                           np.uint8)  # broadcast of the sky column
         labels = np.zeros((h, w), np.int32)
         invz = np.zeros((h, w), np.float32)
         if self._scratch is None or self._scratch.shape[:2] != (h, w):
@@ -291,9 +293,7 @@ class Backdrop:
             if not cv2.countNonZero(vis):
                 continue
             cv2.copyTo(face_invz, vis, zroi)
-            lroi = labels[y0:y1, x0:x1]
-            cv2.bitwise_and(lroi, 0, dst=lroi, mask=vis)
-            cv2.add(lroi, s.label, dst=lroi, mask=vis)
+            _set(labels[y0:y1, x0:x1], s.label, vis)
             iroi = image[y0:y1, x0:x1]
             sroi = scratch[y0:y1, x0:x1]
             hom = _translation(-x0, -y0) @ s.homography(cam)  # face -> box pixels
@@ -302,12 +302,11 @@ class Backdrop:
             if atlas is not None:
                 drawn = _draw_atlas(atlas, p, cam, (x0, y0), hom, vis, sroi, iroi)
                 if drawn is not None:
-                    need = cv2.bitwise_and(vis, cv2.bitwise_not(drawn))
+                    need = np.asarray(cv2.bitwise_and(vis, cv2.bitwise_not(drawn)), np.uint8)
                     if not cv2.countNonZero(need):
                         continue
             if p.texture is None or p.texel is None:
-                cv2.bitwise_and(iroi, (0, 0, 0, 0), dst=iroi, mask=need)
-                cv2.add(iroi, p.fill, dst=iroi, mask=need)
+                _set(iroi, p.fill, need)
             else:
                 box = _warp_levels(p.texture.levels_bgra, p.texel, hom, need, sroi, wrap=True)
                 if box is not None:
@@ -315,9 +314,9 @@ class Backdrop:
                     part = sroi[by0:by1, bx0:bx1]
                     cv2.convertScaleAbs(part, dst=part, alpha=p.shade)
                     cv2.copyTo(part, need[by0:by1, bx0:bx1], iroi[by0:by1, bx0:bx1])
-        bgr = cv2.cvtColor(image, cv2.COLOR_BGRA2BGR)
+        bgr = np.asarray(cv2.cvtColor(image, cv2.COLOR_BGRA2BGR), np.uint8)
         with np.errstate(divide="ignore"):
-            depth = np.divide(np.float32(1.0), invz)
+            depth = np.divide(np.float32(1.0), invz).astype(np.float32, copy=False)
         return bgr, labels, depth
 
 def _draw_atlas(
@@ -351,6 +350,12 @@ def _draw_atlas(
     bx0, by0, bx1, by1 = box
     cv2.copyTo(sroi[by0:by1, bx0:bx1], over[by0:by1, bx0:bx1], iroi[by0:by1, bx0:bx1])
     return over
+
+
+def _set(roi: NDArray[Any], value: float | tuple[float, ...], mask: NDArray[np.uint8]) -> None:
+    """``roi[mask] = value`` in place, by two masked OpenCV operations (no allocation)."""
+    cv2.bitwise_and(roi, 0, dst=roi, mask=mask)  # type: ignore[call-overload]
+    cv2.add(roi, value, dst=roi, mask=mask)  # type: ignore[call-overload]
 
 
 def _translation(x0: int, y0: int) -> FloatArray:
@@ -483,7 +488,7 @@ def _warp_levels(
     rect_mask = mask[ry:ry + rh, rx:rx + rw]
     full = cv2.resize(grid, (gw * _GRID, gh * _GRID), interpolation=cv2.INTER_NEAREST)[:rh, :rw]
     for k in present:
-        sel = cv2.compare(full, int(k), cv2.CMP_EQ)
+        sel = np.asarray(cv2.compare(full, int(k), cv2.CMP_EQ), np.uint8)  # type: ignore[call-overload]
         cv2.bitwise_and(sel, rect_mask, dst=sel)
         x, y, w, h = cv2.boundingRect(sel)
         if w == 0:

@@ -65,7 +65,7 @@ class Texture:
         images about twice as fast as three-channel ones."""
         out = []
         for level in self.levels:
-            four = cv2.cvtColor(level, cv2.COLOR_BGR2BGRA)
+            four = np.asarray(cv2.cvtColor(level, cv2.COLOR_BGR2BGRA), np.uint8)
             four.setflags(write=False)
             out.append(four)
         return tuple(out)

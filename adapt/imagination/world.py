@@ -435,10 +435,10 @@ class World:
 
     def step(self, n: int = 1) -> None:
         """Advance ``n`` fixed steps of ``dt`` (at most :data:`MAX_STEPS`)."""
-        if isinstance(n, bool) or not isinstance(n, int):
-            if not (isinstance(n, float) and n.is_integer()):
-                raise ImaginationError(f"steps: expected a whole number, got {n!r}")
+        if isinstance(n, float) and float(n).is_integer():
             n = int(n)
+        if isinstance(n, bool) or not isinstance(n, int):
+            raise ImaginationError(f"steps: expected a whole number, got {n!r}")
         if not 0 <= n <= MAX_STEPS:
             raise ImaginationError(
                 f"steps: expected 0 to {MAX_STEPS:,} steps per call, got {n:,}"

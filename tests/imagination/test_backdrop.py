@@ -254,7 +254,7 @@ def test_unbounded_floor_appearance_needs_an_extent_and_covers_only_it() -> None
     backdrop.set_appearance("floor", np.full((100, 100, 3), 250, np.uint8),
                             extent=(-0.5, 1.0, 0.5, 2.0))
     camera = cam((0, -1, 1.0), (0, 2, 0))
-    image, labels, _ = backdrop.render(camera)
+    image = backdrop.render(camera)[0]
     inside = camera.project(np.array([[0.0, 1.5, 0.0]]))[0].round().astype(int)
     outside = camera.project(np.array([[1.5, 1.5, 0.0]]))[0].round().astype(int)
     assert (image[inside[1], inside[0]] == 250).all()

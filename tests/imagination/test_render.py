@@ -199,7 +199,7 @@ def test_a_partly_hidden_ball_has_the_box_of_its_visible_part() -> None:
     hidden = r.render(WorldState(0.0, 0, (BodyState("b", (0.0, 0.9), (0.0, 0.0)),)))
     assert whole.boxes["b"] == box_of(whole.labels, LABEL_BALL)
     assert whole.boxes["robot"] == box_of(whole.labels, LABEL_ROBOT)
-    x, y, w, h = hidden.boxes["b"]
+    _, _, w, h = hidden.boxes["b"]
     assert h < w  # only the top of the ball shows over the box
     assert hidden.boxes["b"] == box_of(hidden.labels, LABEL_BALL)
     gone = r.render(WorldState(0.0, 0, (BodyState("b", (3.0, -1.9), (0.0, 0.0)),)))  # out of view
