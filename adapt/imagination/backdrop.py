@@ -147,7 +147,6 @@ class Backdrop:
         self._appearances: dict[str, Appearance] = {}
         self._atlases: dict[str, Atlas] = {}
         self.version = 0
-        self._scratch: NDArray[np.uint8] | None = None
 
     # -- surfaces and appearances -----------------------------------------------
 
@@ -265,9 +264,7 @@ class Backdrop:
                            np.uint8)  # broadcast of the sky column
         labels = np.zeros((h, w), np.int32)
         invz = np.zeros((h, w), np.float32)
-        if self._scratch is None or self._scratch.shape[:2] != (h, w):
-            self._scratch = np.empty((h, w, 4), np.uint8)
-        scratch = self._scratch
+        scratch = np.empty((h, w, 4), np.uint8)  # per render: renders may run in threads
         xs = np.arange(w, dtype=np.float32)
         ys = np.arange(h, dtype=np.float32)
         c = cam.position
