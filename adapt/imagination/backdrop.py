@@ -464,20 +464,31 @@ def _warp_levels(
         return None
     m0 = texel @ np.linalg.inv(hom) @ _translation(rx, ry)  # rect pixel -> level-0 texel
     top = len(levels) - 1
-    gw, gh = -(-rw // _GRID), -(-rh // _GRID)
-    gx = np.arange(gw) * _GRID + (_GRID - 1) / 2.0
-    gy = np.arange(gh) * _GRID + (_GRID - 1) / 2.0
-    px, py = np.meshgrid(np.minimum(gx, rw - 1), np.minimum(gy, rh - 1))
-    wz = m0[2, 0] * px + m0[2, 1] * py + m0[2, 2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u = (m0[0, 0] * px + m0[0, 1] * py + m0[0, 2]) / wz
-        v = (m0[1, 0] * px + m0[1, 1] * py + m0[1, 2]) / wz
-        dux, duy = (m0[0, 0] - u * m0[2, 0]) / wz, (m0[0, 1] - u * m0[2, 1]) / wz
-        dvx, dvy = (m0[1, 0] - v * m0[2, 0]) / wz, (m0[1, 1] - v * m0[2, 1]) / wz
-        foot = np.maximum(np.hypot(dux, dvx), np.hypot(duy, dvy))
-        grid = np.floor(np.log2(np.maximum(foot, 1.0)))
-    grid = np.where(np.isfinite(grid) & (wz > 0), np.clip(grid, 0, top), top).astype(np.uint8)
-    present = np.unique(grid)
+    # The footprint varies smoothly and takes its extremes on the rectangle's
+    # border: when its corners, edge middles and centre agree on one level,
+    # that is the level of the whole rectangle.
+    rows = m0.tolist()
+    probe = {_level(rows, x, y, top) for x in (0.0, (rw - 1) / 2.0, rw - 1.0)
+             for y in (0.0, (rh - 1) / 2.0, rh - 1.0)}
+    if len(probe) == 1:
+        present = np.array(list(probe), np.uint8)
+        grid = present.reshape(1, 1)
+        gw = gh = 1
+    else:
+        gw, gh = -(-rw // _GRID), -(-rh // _GRID)
+        gx = np.arange(gw) * _GRID + (_GRID - 1) / 2.0
+        gy = np.arange(gh) * _GRID + (_GRID - 1) / 2.0
+        px, py = np.meshgrid(np.minimum(gx, rw - 1), np.minimum(gy, rh - 1))
+        wz = m0[2, 0] * px + m0[2, 1] * py + m0[2, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = (m0[0, 0] * px + m0[0, 1] * py + m0[0, 2]) / wz
+            v = (m0[1, 0] * px + m0[1, 1] * py + m0[1, 2]) / wz
+            dux, duy = (m0[0, 0] - u * m0[2, 0]) / wz, (m0[0, 1] - u * m0[2, 1]) / wz
+            dvx, dvy = (m0[1, 0] - v * m0[2, 0]) / wz, (m0[1, 1] - v * m0[2, 1]) / wz
+            foot = np.maximum(np.hypot(dux, dvx), np.hypot(duy, dvy))
+            level = np.floor(np.log2(np.maximum(foot, 1.0)))
+        grid = np.where(np.isfinite(level) & (wz > 0), np.clip(level, 0, top), top).astype(np.uint8)
+        present = np.unique(grid)
     rect_out = out[ry:ry + rh, rx:rx + rw]
     if len(present) == 1:
         _warp(levels, int(present[0]), m0, (0, 0, rw, rh), rect_out, wrap)
@@ -494,6 +505,23 @@ def _warp_levels(
         _warp(levels, int(k), m0, (x, y, x + w, y + h), band, wrap)
         cv2.copyTo(band, sel[y:y + h, x:x + w], rect_out[y:y + h, x:x + w])
     return rx, ry, rx + rw, ry + rh
+
+
+def _level(m: list[list[float]], x: float, y: float, top: int) -> int:
+    """The mip level of pixel ``(x, y)`` under the pixel-to-texel map ``m``
+    (rows of a 3x3 matrix): ``floor(log2(footprint))``, clipped to ``0 .. top``."""
+    (a, b, c), (d, e, f), (g, h, i) = m
+    wz = g * x + h * y + i
+    if not wz > 0:
+        return top
+    u = (a * x + b * y + c) / wz
+    v = (d * x + e * y + f) / wz
+    dux, duy = (a - u * g) / wz, (b - u * h) / wz
+    dvx, dvy = (d - v * g) / wz, (e - v * h) / wz
+    foot = max(math.hypot(dux, dvx), math.hypot(duy, dvy))
+    if not math.isfinite(foot):
+        return top
+    return min(max(int(math.floor(math.log2(max(foot, 1.0)))), 0), top)
 
 
 def _warp(
