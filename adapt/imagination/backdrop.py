@@ -305,7 +305,8 @@ class Backdrop:
             if p.texture is None or p.texel is None:
                 _set(iroi, p.fill, need)
             else:
-                box = _warp_levels(p.texture.levels_bgra, p.texel, hom, need, sroi, wrap=True)
+                box = _warp_levels(p.texture.levels_bgra, p.texel, hom, need, sroi, wrap=True,
+                                   tiled=p.texture.levels_tiled)
                 if box is not None:
                     bx0, by0, bx1, by1 = box
                     part = sroi[by0:by1, bx0:bx1]
@@ -450,6 +451,7 @@ def _warp_levels(
     out: NDArray[np.uint8],
     *,
     wrap: bool,
+    tiled: Sequence[NDArray[np.uint8]] | None = None,
 ) -> tuple[int, int, int, int] | None:
     """Warp a mip-mapped source into ``out`` (a box of the image) where ``mask`` is set.
 
@@ -491,7 +493,7 @@ def _warp_levels(
         present = np.unique(grid)
     rect_out = out[ry:ry + rh, rx:rx + rw]
     if len(present) == 1:
-        _warp(levels, int(present[0]), m0, (0, 0, rw, rh), rect_out, wrap)
+        _warp(levels, int(present[0]), m0, (0, 0, rw, rh), rect_out, wrap, tiled)
         return rx, ry, rx + rw, ry + rh
     rect_mask = mask[ry:ry + rh, rx:rx + rw]
     full = cv2.resize(grid, (gw * _GRID, gh * _GRID), interpolation=cv2.INTER_NEAREST)[:rh, :rw]
@@ -502,7 +504,7 @@ def _warp_levels(
         if w == 0:
             continue
         band = np.empty((h, w, out.shape[2]), np.uint8)
-        _warp(levels, int(k), m0, (x, y, x + w, y + h), band, wrap)
+        _warp(levels, int(k), m0, (x, y, x + w, y + h), band, wrap, tiled)
         cv2.copyTo(band, sel[y:y + h, x:x + w], rect_out[y:y + h, x:x + w])
     return rx, ry, rx + rw, ry + rh
 
@@ -531,31 +533,83 @@ def _warp(
     box: tuple[int, int, int, int],
     out: NDArray[np.uint8],
     wrap: bool,
+    tiled: Sequence[NDArray[np.uint8]] | None = None,
 ) -> None:
     """Warp level ``k`` over ``box`` (in face-box pixels) into ``out``, an array
     of the box's size.
 
-    A repeating texture (``wrap``) is first moved by whole periods so that the
-    box's texels start in the image: OpenCV reads pixels inside the image
-    several times faster than it wraps around the border.
+    A repeating texture (``wrap``) is read from ``tiled`` (each level repeated
+    2x2): the box is cut into parts whose texels span less than one period,
+    and each part is moved by whole periods to start inside the image, so that
+    OpenCV reads inside the source (its fast path, several times faster than
+    wrapping at the border).
     """
     x0, y0, x1, y1 = box
-    src = levels[k]
-    m = level_matrix(k) @ m0 @ _translation(x0, y0)
-    border = cv2.BORDER_REPLICATE
-    if wrap:
-        border = cv2.BORDER_WRAP
-        lh, lw = src.shape[:2]
-        # Texel coordinates of the box's corners (a projective map over a
-        # rectangle in front of the camera takes its extremes there).
-        cx = np.array([0.0, x1 - x0 - 1, 0.0, x1 - x0 - 1])
-        cy = np.array([0.0, 0.0, y1 - y0 - 1, y1 - y0 - 1])
-        wz = m[2, 0] * cx + m[2, 1] * cy + m[2, 2]
-        if (wz > 0).all():
-            u = (m[0, 0] * cx + m[0, 1] * cy + m[0, 2]) / wz
-            v = (m[1, 0] * cx + m[1, 1] * cy + m[1, 2]) / wz
-            if np.isfinite(u).all() and np.isfinite(v).all():
-                m[0] -= math.floor(u.min() / lw) * lw * m[2]
-                m[1] -= math.floor(v.min() / lh) * lh * m[2]
-    cv2.warpPerspective(src, m, (x1 - x0, y1 - y0), dst=out,
+    m = level_matrix(k) @ m0
+    if not wrap or tiled is None:
+        _warp_part(levels[k], m, box, out, x0, y0, cv2.BORDER_REPLICATE if not wrap
+                   else cv2.BORDER_WRAP)
+        return
+    lh, lw = levels[k].shape[:2]
+    parts = [box]
+    done = 0
+    while parts:
+        bx0, by0, bx1, by1 = parts.pop()
+        span = _span(m, bx0, by0, bx1, by1)
+        if span is None or done > 64 or (bx1 - bx0 <= 8 and by1 - by0 <= 8):
+            _warp_part(levels[k], m, (bx0, by0, bx1, by1), out, x0, y0, cv2.BORDER_WRAP)
+            done += 1
+            continue
+        umin, umax, vmin, vmax = span
+        wide, tall = (umax - umin) / (lw - 2), (vmax - vmin) / (lh - 2)
+        if wide < 1 and tall < 1:
+            shifted = m.copy()
+            shifted[0] -= math.floor(umin / lw) * lw * m[2]
+            shifted[1] -= math.floor(vmin / lh) * lh * m[2]
+            _warp_part(tiled[k], shifted, (bx0, by0, bx1, by1), out, x0, y0,
+                       cv2.BORDER_WRAP)
+            done += 1
+        elif wide >= tall and bx1 - bx0 > 8:
+            mid = (bx0 + bx1) // 2
+            parts += [(bx0, by0, mid, by1), (mid, by0, bx1, by1)]
+        elif by1 - by0 > 8:
+            mid = (by0 + by1) // 2
+            parts += [(bx0, by0, bx1, mid), (bx0, mid, bx1, by1)]
+        else:
+            mid = (bx0 + bx1) // 2
+            parts += [(bx0, by0, mid, by1), (mid, by0, bx1, by1)]
+
+
+def _span(m: FloatArray, x0: int, y0: int, x1: int, y1: int) -> tuple[float, float, float, float] | None:
+    """Range ``(u_min, u_max, v_min, v_max)`` of source coordinates over the
+    pixels ``x0 .. x1 - 1``, ``y0 .. y1 - 1`` (a projective map in front of the
+    camera takes its extremes at the corners), or ``None`` if undefined."""
+    (a, b, c), (d, e, f), (g, h, i) = m.tolist()
+    us, vs = [], []
+    for x in (x0, x1 - 1):
+        for y in (y0, y1 - 1):
+            wz = g * x + h * y + i
+            if not wz > 0:
+                return None
+            us.append((a * x + b * y + c) / wz)
+            vs.append((d * x + e * y + f) / wz)
+    if not all(math.isfinite(t) for t in us + vs):
+        return None
+    return min(us), max(us), min(vs), max(vs)
+
+
+def _warp_part(
+    src: NDArray[np.uint8],
+    m: FloatArray,
+    part: tuple[int, int, int, int],
+    out: NDArray[np.uint8],
+    x0: int,
+    y0: int,
+    border: int,
+) -> None:
+    """Warp ``src`` through ``m`` (box pixels -> source pixels) over ``part`` of
+    the box into the matching part of ``out`` (whose origin is box pixel ``(x0, y0)``)."""
+    px0, py0, px1, py1 = part
+    cv2.warpPerspective(src, m @ _translation(px0, py0), (px1 - px0, py1 - py0),
+                        dst=out[py0 - y0:py1 - y0, px0 - x0:px1 - x0],
                         flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP, borderMode=border)
