@@ -386,60 +386,62 @@ def _inverse_depth(p: _Prepared, cam: Camera) -> tuple[float, float, float]:
             (n[2] - n[0] * cam.cx / cam.fx - n[1] * cam.cy / cam.fy) / d)
 
 
-def _frustum(cam: Camera) -> FloatArray:
+def _frustum(cam: Camera) -> list[tuple[float, float, float, float]]:
     """The view frustum (widened by ``_MARGIN`` pixels) as half-spaces
-    ``a x + b y + c z + d >= 0`` in camera coordinates, one per column."""
+    ``a x + b y + c z + d >= 0`` in camera coordinates."""
     m = _MARGIN
-    return np.array([
+    return [
         (0.0, 0.0, 1.0, -NEAR),
         (cam.fx, 0.0, cam.cx + m, 0.0),
         (-cam.fx, 0.0, cam.width - 1 + m - cam.cx, 0.0),
         (0.0, cam.fy, cam.cy + m, 0.0),
         (0.0, -cam.fy, cam.height - 1 + m - cam.cy, 0.0),
-    ]).T
+    ]
 
 
 def _project(
-    corners: FloatArray, cam: Camera, frustum: FloatArray
+    corners: FloatArray, cam: Camera, frustum: list[tuple[float, float, float, float]]
 ) -> tuple[tuple[int, int, int, int], NDArray[np.int32]] | None:
     """Clip a convex face (world corners) to the view frustum and project it.
 
     Returns the pixel box ``(x0, y0, x1, y1)`` (exclusive end) and the corners
     relative to it in fixed point (``_SHIFT`` bits), or ``None`` if nothing is
-    in view.
+    in view.  (Plain Python: a face has a handful of corners, and NumPy's cost
+    per call would dominate.)
     """
-    pc = (corners - cam.position) @ cam.rotation.T
-    f_all = pc @ frustum[:3] + frustum[3]
-    if (f_all < 0).all(axis=0).any():
-        return None
-    if not (f_all >= 0).all():
-        for j in range(frustum.shape[1]):
-            f = pc @ frustum[:3, j] + frustum[3, j]
-            inside = f >= 0
-            if inside.all():
-                continue
-            if not inside.any():
-                return None
-            out = []
-            n = len(pc)
-            for i in range(n):
-                k = (i + 1) % n
-                if inside[i]:
-                    out.append(pc[i])
-                if inside[i] != inside[k]:
-                    out.append(pc[i] + (f[i] / (f[i] - f[k])) * (pc[k] - pc[i]))
-            pc = np.array(out)
-            if len(pc) < 3:
-                return None
-    px = pc[:, 0] / pc[:, 2] * cam.fx + cam.cx
-    py = pc[:, 1] / pc[:, 2] * cam.fy + cam.cy
-    x0 = max(int(math.floor(px.min())), 0)
-    y0 = max(int(math.floor(py.min())), 0)
-    x1 = min(int(math.ceil(px.max())) + 1, cam.width)
-    y1 = min(int(math.ceil(py.max())) + 1, cam.height)
+    pc: list[list[float]] = ((corners - cam.position) @ cam.rotation.T).tolist()
+    for a, b, c, d in frustum:
+        f = [a * x + b * y + c * z + d for x, y, z in pc]
+        if min(f) >= 0:
+            continue
+        if max(f) < 0:
+            return None
+        out: list[list[float]] = []
+        n = len(pc)
+        for i in range(n):
+            j = (i + 1) % n
+            if f[i] >= 0:
+                out.append(pc[i])
+            if (f[i] >= 0) != (f[j] >= 0):
+                r = f[i] / (f[i] - f[j])
+                p, q = pc[i], pc[j]
+                out.append([p[0] + r * (q[0] - p[0]), p[1] + r * (q[1] - p[1]),
+                            p[2] + r * (q[2] - p[2])])
+        pc = out
+        if len(pc) < 3:
+            return None
+    fx, fy, cx, cy = cam.fx, cam.fy, cam.cx, cam.cy
+    px = [x / z * fx + cx for x, _, z in pc]
+    py = [y / z * fy + cy for _, y, z in pc]
+    x0 = max(math.floor(min(px)), 0)
+    y0 = max(math.floor(min(py)), 0)
+    x1 = min(math.ceil(max(px)) + 1, cam.width)
+    y1 = min(math.ceil(max(py)) + 1, cam.height)
     if x0 >= x1 or y0 >= y1:
         return None
-    pts = np.round(np.stack([px - x0, py - y0], axis=1) * (1 << _SHIFT)).astype(np.int32)
+    scale = float(1 << _SHIFT)
+    pts = np.array([(round((u - x0) * scale), round((v - y0) * scale)) for u, v in zip(px, py)],
+                   np.int32)
     return (x0, y0, x1, y1), pts
 
 
