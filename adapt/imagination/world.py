@@ -28,9 +28,9 @@ can pass through it.  Each step is therefore divided into ``k`` equal
 sub-steps, with ``k`` the smallest number for which no ball (or the robot)
 moves more than ``TRAVEL_FRACTION`` (half) of its radius per sub-step.  ``k``
 is a function of the state at the start of the step only, so a world run in
-one call or step by step follows the same path.  At ordinary speeds ``k = 1``
-and a call checks that once (from a bound on the speeds the call can reach)
-instead of every step.  A step that would need more than ``MAX_SUBSTEPS``
+one call or step by step follows the same path.  At ordinary speeds ``k = 1``,
+and a bound on the speeds the world can reach shows it once (again after a
+force, a new state, ball or command) instead of every step.  A step that would need more than ``MAX_SUBSTEPS``
 sub-steps is an :class:`~adapt.errors.ImaginationError` (use a smaller ``dt``).
 
 Work is bounded: one call of :meth:`World.step`, :meth:`World.run` or
@@ -214,6 +214,9 @@ class World:
         self._control: pymunk.Body | None = None
         self._forces: dict[str, tuple[float, float]] = {}
         self._hooks: list[StepHook] = []
+        # True once a bound showed that no step needs sub-steps until the next
+        # outside change (a force, a state, a ball, a command): see _bound_substeps.
+        self._calm = False
         self._record = record_contacts
         self.space = self._build()
         self._update_extremes()
@@ -369,6 +372,7 @@ class World:
         self.scene = replace(self.scene, balls=self.scene.balls + (spec,))
         self._add_ball(self.space, spec)
         self._update_extremes()
+        self._calm = False
 
     def remove_ball(self, name: str) -> None:
         """Take the ball called ``name`` out of the world (its past contacts stay
@@ -385,6 +389,7 @@ class World:
         self._forces.pop(name, None)
         self.scene = replace(self.scene, balls=tuple(b for b in self.scene.balls if b.name != name))
         self._update_extremes()
+        self._calm = False
 
     # -- hooks ------------------------------------------------------------------
 
@@ -454,10 +459,12 @@ class World:
         if self._forces:  # a force acts in the first step only
             self._advance(self._substeps())
             n -= 1
-        if self._bound_substeps() > 1:
-            for _ in range(n):
-                self._advance(self._substeps())
-            return
+        if not self._calm:
+            if self._bound_substeps() > 1:
+                for _ in range(n):
+                    self._advance(self._substeps())
+                return
+            self._calm = True
         # No body can need sub-steps during this call: plain pymunk steps.
         space_step = self.space.step
         dt = self.dt
@@ -669,6 +676,7 @@ class World:
             body.angle = b.angle
             body.angular_velocity = b.angular_velocity
             self.space.reindex_shapes_for_body(body)
+        self._calm = False
         self._time0 = state.time - state.step * self.dt
         self._steps = state.step
         self.command_robot(state.command[:2], state.command[2])
@@ -721,6 +729,7 @@ class World:
         if not (math.isfinite(fx) and math.isfinite(fy)):
             raise ImaginationError(f"force: expected finite newtons, got {[fx, fy]}")
         body.apply_force_at_world_point((fx, fy), body.position)
+        self._calm = False
         px, py = self._forces.get(name, (0.0, 0.0))
         self._forces[name] = (px + fx, py + fy)
 
@@ -745,6 +754,7 @@ class World:
         if speed > limit:
             vx, vy = vx * limit / speed, vy * limit / speed
         self._command = (vx, vy, w)
+        self._calm = False
         self._control.velocity = (vx, vy)
         self._control.angular_velocity = w
 
