@@ -380,3 +380,41 @@ class Camera:
         pts = self.position + rays * t[:, None]
         pts[~(t > 0)] = np.nan
         return pts
+
+
+def look_at_parameters(
+    rotation: ArrayLike, position: ArrayLike, distance: float = 1.0
+) -> tuple[FloatArray, float]:
+    """The ``look_at`` point and ``roll_deg`` of a camera pose: the inverse of
+    :func:`look_at_rotation`.
+
+    ``look_at`` is the point ``distance`` metres along the viewing axis
+    (the third row of ``rotation``); ``roll_deg`` turns
+    ``look_at_rotation(position, look_at)`` into ``rotation``, so
+    ``look_at_rotation(position, *look_at_parameters(R, position))`` is ``R``.
+    These are the scenario's ``camera`` keys.
+
+    Raises
+    ------
+    ImaginationError
+        If ``rotation`` is not a rotation matrix, ``distance`` is not positive,
+        or the camera looks straight up or down (no roll is defined).
+
+    Examples
+    --------
+    >>> r = look_at_rotation((0.0, -0.6, 0.6), (0.5, 3.0, 0.3), roll_deg=2.5)
+    >>> target, roll = look_at_parameters(r, (0.0, -0.6, 0.6), distance=3.0)
+    >>> round(roll, 6), bool(np.allclose(look_at_rotation((0.0, -0.6, 0.6), target, roll), r))
+    (2.5, True)
+    """
+    r = np.asarray(rotation, dtype=float).reshape(3, 3)
+    if not np.isfinite(r).all() or not np.allclose(r @ r.T, np.eye(3), atol=1e-6) or np.linalg.det(r) < 0:
+        raise ImaginationError("expected a proper rotation matrix (orthonormal, determinant +1)")
+    if not (np.isfinite(distance) and distance > 0):
+        raise ImaginationError(f"the look_at distance must be a positive number, got {distance}")
+    c = np.asarray(position, dtype=float).reshape(3)
+    target = c + float(distance) * r[2]
+    r0 = look_at_rotation(c, target, 0.0)
+    m = r @ r0.T  # the roll about the viewing axis: [[cos, sin, 0], [-sin, cos, 0], [0, 0, 1]]
+    roll = float(np.degrees(np.arctan2(m[0, 1], m[0, 0])))
+    return target, roll
