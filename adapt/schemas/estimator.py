@@ -221,10 +221,14 @@ class ParameterEstimator:
         out = None
         window = list(self._track)[-2 * SIDE:]
         candidate = None
+        if noise is None:
+            noise = self.noise
         if len(window) == 2 * SIDE and window[0][0] > self._quiet_until:
             whole = self._fit(window, window[SIDE][0])
             first = self._fit(window[:SIDE], window[SIDE][0])
             second = self._fit(window[SIDE:], window[SIDE][0])
+            if whole and whole[2] < max(2.5 * noise, 0.003):
+                self._residuals.append(whole[2])
             if whole and first and second and whole[2] > max(4.0 * noise, 0.004):
                 score = max(first[2], second[2]) / whole[2]
                 if score < 0.5:

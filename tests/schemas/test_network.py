@@ -157,7 +157,7 @@ def test_the_drive_schema_reaches_its_target_and_refuses_obstacles() -> None:
 
 
 def test_the_registry_lists_every_builtin_type() -> None:
-    assert REGISTRY.names() == ["drive", "foreground-object", "scene-background"]
+    assert REGISTRY.names() == ["drive", "foreground-object", "intercept", "scene-background"]
     for spec in REGISTRY:
         data = spec.as_json()
         assert data["name"] == spec.name and data["parameters"]

@@ -69,9 +69,10 @@ def test_the_same_scene_gives_the_same_regions_at_every_resolution(renders):
         found[k] = regions[0]
     ref = found[1.0]
     for k, region in found.items():
-        # bounding box and area, scaled back to 640x480
+        # bounding box and area, scaled back to 640x480: within 3 pixels of the coarser
+        # image (at 320x240 the ball's soft contact shadow may add a pixel or two)
         box = np.array(region.bbox) / k
-        assert np.abs(box - ref.bbox).max() <= 3.0, (k, region.bbox, ref.bbox)
+        assert np.abs(box - ref.bbox).max() <= 3.0 * max(1.0, 1.0 / k), (k, region.bbox, ref.bbox)
         assert region.area / k**2 == pytest.approx(ref.area, rel=0.08)
         assert np.allclose(np.array(region.centroid) + 0.5, (np.array(ref.centroid) + 0.5) * k, atol=3 * k)
 
