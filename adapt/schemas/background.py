@@ -87,6 +87,7 @@ class SceneBackground(Schema):
         self._prepared_for: tuple[int, int] | None = None
         self._background: PreparedImage | None = None
         self._warped_labels: NDArray[np.uint16] | None = None
+        self._label_of: dict[str, int] = {}
 
     # -- perception ---------------------------------------------------------------------
 
@@ -106,6 +107,7 @@ class SceneBackground(Schema):
         mirror = self.network.mirror
         rendered = mirror.render()
         self.synthetic, self.labels = rendered.image, rendered.labels
+        self._label_of = {name: label for label, name in rendered.names.items()}
         self._warped_labels = None
         synthetic = self._prepared_synthetic(rendered.image)
         res = mmd(frame.image, synthetic)
@@ -175,6 +177,17 @@ class SceneBackground(Schema):
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
                                     owner, floor, size))
         return out
+
+    def label_of(self, name: str) -> int | None:
+        """The label id of a moving object in this frame's render (None when not drawn)."""
+        return self._label_of.get(name)
+
+    def labels_except(self, name: str) -> list[int]:
+        """Label ids of the moving balls drawn this frame, but ``name``'s."""
+        from adapt.imagination import LABEL_BALL, LABEL_ROBOT
+
+        return [lab for n, lab in self._label_of.items()
+                if n != name and LABEL_BALL <= lab < LABEL_ROBOT]
 
     def imagined_mask(self, label: int) -> NDArray[np.bool_] | None:
         """Pixels of the real frame where the imagination shows object ``label``

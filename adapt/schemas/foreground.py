@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 import cv2
 import numpy as np
 
-from adapt.imagination import LABEL_BALL, Ball
+from adapt.imagination import Ball
 from adapt.kalman import ConstantVelocityKF
 from adapt.schemas.base import BBox, Schema, Status
 from adapt.schemas.estimator import PARAMETERS, ParameterEstimator
@@ -142,15 +142,6 @@ class ForegroundObject(Schema):
     def in_imagination(self) -> bool:
         """True when the imagination has the body."""
         return self.network.mirror.has_body(self.body)
-
-    def _label(self) -> int | None:
-        names = [b.name for b in self.network.mirror.scene.balls]
-        return LABEL_BALL + names.index(self.body) if self.body in names else None
-
-    def _other_labels(self, own: int | None) -> list[int]:
-        """Labels of the other imagined balls (their pixels are not this object)."""
-        n = len(self.network.mirror.scene.balls)
-        return [LABEL_BALL + i for i in range(n) if LABEL_BALL + i != own]
 
     def _radius(self) -> float:
         return self.ball.radius if self.ball is not None else 0.1
@@ -292,8 +283,7 @@ class ForegroundObject(Schema):
         if d is None:
             return None
         diff = d > bg.parameters["threshold"]
-        own = self._label()
-        for other in self._other_labels(own):
+        for other in bg.labels_except(self.body):
             imagined = bg.imagined_mask(other)
             if imagined is not None:
                 diff &= ~imagined[y0:y1, x0:x1]
