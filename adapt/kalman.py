@@ -125,6 +125,21 @@ class ConstantVelocityKF:
         self.updates += 1
         self._last = (float(time), zz)
 
+    @property
+    def velocity_sigma(self) -> float:
+        """RMS standard deviation of the velocity estimate, m/s."""
+        return math.sqrt(max(0.0, (self.P[2, 2] + self.P[3, 3]) / 2.0))
+
+    def reset(self, time: float, position: Sequence[float], velocity: Sequence[float],
+              position_std: float, velocity_std: float) -> None:
+        """Start again from a known state (after a bounce measured by other means)."""
+        self.x = np.array([float(position[0]), float(position[1]),
+                           float(velocity[0]), float(velocity[1])])
+        self.P = np.diag([position_std**2, position_std**2, velocity_std**2, velocity_std**2])
+        self.time = float(time)
+        self.restarts += 1
+        self._last = (float(time), np.array(position[:2], float))
+
     def predict_position(self, horizon: float) -> tuple[float, float]:
         """Where the filter expects the object ``horizon`` seconds after its time."""
         return (float(self.x[0] + self.x[2] * horizon), float(self.x[1] + self.x[3] * horizon))

@@ -14,8 +14,9 @@ Invariants:
 
 * the world only moves forward, in whole fixed steps (``step_to``), and the
   step hooks run before every step;
-* the renderer always matches the current camera and scene; a new camera or
-  a new body costs one background render, nothing else does;
+* the renderer always matches the current camera; a new camera costs one
+  background render (a few milliseconds: one warp per surface), a new body
+  nothing;
 * a camera on the robot follows the imagined robot's pose (the commanded
   motion); the Scene Background schema's corrections are kept as a pose
   offset of the camera relative to that mount.
@@ -38,14 +39,12 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from typing import Callable, Sequence
 
 import numpy as np
 
 from adapt.geometry import Camera
 from adapt.imagination import Ball, Renderer, RenderResult, SceneSpec, World
-from adapt.imagination.world import BodyState
 
 __all__ = ["Mirror", "StepHook"]
 
@@ -72,12 +71,12 @@ class Mirror:
     def __init__(self, scene: SceneSpec, camera: Camera, *, seed: int | None = None,
                  camera_follows_robot: Callable[[tuple[float, float], float], Camera] | None = None,
                  ) -> None:
-        self.world = World(scene, seed=seed)
+        self.world = World(scene, seed=seed, record_contacts=False)
         self._mount = camera_follows_robot
         self._correction = (np.eye(3), np.zeros(3))  # camera pose relative to the mount
         self.camera = camera
         self._renderer = Renderer(scene, camera)
-        self._hooks: list[StepHook] = []
+        self._hooks: dict[StepHook, Callable[[World], None]] = {}
         self.camera_changes = 0
 
     # -- time -----------------------------------------------------------------
@@ -89,31 +88,20 @@ class Mirror:
 
     def step_to(self, time: float) -> None:
         """Advance the world in whole steps to ``time``, running the hooks before each step."""
-        n = int(round((time - self.world.time) / self.world.dt))
-        if n <= 0:
-            return
-        if not self._hooks:
-            self.world.step(n)
-        else:
-            hooks = self._hooks
-            step = self.world.step
-            world = self.world
-            for _ in range(n):
-                t = world.time
-                for hook in hooks:
-                    hook(t)
-                step(1)
+        self.world.run_until(time)
         if self._mount is not None:
             self._follow_robot()
 
     def add_hook(self, hook: StepHook) -> None:
         """Run ``hook(time)`` before every physics step."""
-        self._hooks.append(hook)
+        if hook not in self._hooks:
+            self._hooks[hook] = self.world.add_step_hook(lambda world: hook(world.time))
 
     def remove_hook(self, hook: StepHook) -> None:
         """Stop running ``hook``."""
-        if hook in self._hooks:
-            self._hooks.remove(hook)
+        adapter = self._hooks.pop(hook, None)
+        if adapter is not None:
+            self.world.remove_step_hook(adapter)
 
     # -- the camera -----------------------------------------------------------------
 
@@ -151,7 +139,7 @@ class Mirror:
 
     def render(self) -> RenderResult:
         """What the synthetic camera sees now."""
-        return self._renderer.render(self.world.snapshot())
+        return self._renderer.render(self.world.snapshot(), balls=self.world.balls)
 
     @property
     def background(self) -> RenderResult:
@@ -160,7 +148,7 @@ class Mirror:
 
     @property
     def renderer(self) -> Renderer:
-        """The renderer of the current camera and scene."""
+        """The renderer of the current camera (its backdrop holds the surfaces' appearances)."""
         return self._renderer
 
     # -- bodies ---------------------------------------------------------------------------
@@ -176,34 +164,19 @@ class Mirror:
 
     def add_ball(self, ball: Ball, position: Sequence[float], velocity: Sequence[float]) -> None:
         """Create ``ball`` in the imagination at ``position`` with ``velocity``."""
-        state = self.world.snapshot()
-        new = replace(ball, position=(float(position[0]), float(position[1])),
-                      velocity=(float(velocity[0]), float(velocity[1])))
-        scene = replace(self.world.scene, balls=(*self.world.scene.balls, new))
-        bodies = (*state.bodies, BodyState(new.name, new.position, new.velocity))
-        self._rebuild(scene, replace(state, bodies=bodies))
+        self.world.add_ball(ball, position=position, velocity=velocity)
 
     def remove_ball(self, name: str) -> None:
-        """Take the ball called ``name`` out of the imagination."""
-        if not self.has_body(name):
-            return
-        state = self.world.snapshot()
-        scene = replace(self.world.scene,
-                        balls=tuple(b for b in self.world.scene.balls if b.name != name))
-        self._rebuild(scene, replace(state, bodies=tuple(b for b in state.bodies
-                                                        if b.name != name)))
+        """Take the ball called ``name`` out of the imagination (nothing when it is not there)."""
+        if self.has_body(name):
+            self.world.remove_ball(name)
 
     def replace_ball(self, ball: Ball) -> None:
-        """Give an existing ball new parameters (restitution, friction, ...), keeping its state."""
-        state = self.world.snapshot()
-        scene = replace(self.world.scene, balls=tuple(ball if b.name == ball.name else b
-                                                      for b in self.world.scene.balls))
-        self._rebuild(scene, state)
-
-    def _rebuild(self, scene: SceneSpec, state: object) -> None:
-        world = World(scene, dt=self.world.dt, seed=self.world.seed, state=state)  # type: ignore[arg-type]
-        self.world = world
-        self._renderer = Renderer(scene, self.camera)
+        """Give an existing ball new parameters (restitution, friction, ...), keeping its
+        position and velocity."""
+        p, v = self.world.position(ball.name), self.world.velocity(ball.name)
+        self.world.remove_ball(ball.name)
+        self.world.add_ball(ball, position=p, velocity=v)
 
     # -- the robot -------------------------------------------------------------------------
 

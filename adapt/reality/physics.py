@@ -19,9 +19,9 @@ does not share, so that no choice of the model's parameters fits it exactly:
   linear velocity takes ``2/7`` of what it loses.  A ball that hits a wall
   head-on at ``V`` with restitution ``e`` leaves at ``e V`` and settles, over
   a few tenths of a second, to ``e V - (2/7) spin (1 + e) V``;
-* **objects that appear** at their drawn time and place (a throw) or exist in
-  reality only; until then they are parked far outside the scene and are not
-  present;
+* **objects that appear** at their drawn time and place (a throw): they
+  enter the world (:meth:`World.add_ball <adapt.imagination.World.add_ball>`)
+  at the first step at or after that time, and are not present before;
 * **a robot with its own dynamics**: the true speed and acceleration limits,
   and wheel slip -- the velocity it really drives at is the commanded one
   plus ``slip * |v|`` times a Gaussian vector (and the turn rate times
@@ -29,9 +29,12 @@ does not share, so that no choice of the model's parameters fits it exactly:
   ``reality.noise`` stream; it never exceeds its speed limit, and the pymunk
   drive never accelerates it faster than its acceleration limit.
 
-A bounce is recognised as a change of velocity over one step that the drag,
-the spin transfer and the rolling resistance cannot explain (more than
-``2 c g dt``).
+All of it runs in one step hook (:meth:`World.add_step_hook
+<adapt.imagination.World.add_step_hook>`), before each step: it looks at
+what the last step did, places the objects whose time has come, redraws the
+slip, and applies the drag and spin forces for the step.  A bounce is
+recognised as a change of velocity over one step that the drag, the spin
+transfer and the rolling resistance cannot explain (more than ``2 c g dt``).
 
 Examples
 --------
@@ -55,17 +58,15 @@ import numpy as np
 from adapt.errors import RealityError
 from adapt.geometry import rotation_exp
 from adapt.imagination.scene import Ball, RobotSpec, SceneSpec, Vec2
-from adapt.imagination.world import BodyState, World, WorldState
+from adapt.imagination.world import World, WorldState
 from adapt.reality.truth import ObjectParameters, RobotState
 
-__all__ = ["RealWorld", "SPIN_TIME", "ROLLING_SHARE", "PARK", "true_scene"]
+__all__ = ["RealWorld", "SPIN_TIME", "ROLLING_SHARE", "true_scene"]
 
 #: Time constant of the slip's decay after a bounce, seconds.
 SPIN_TIME = 0.1
 #: Share of the slip that a solid sphere's linear velocity takes (I = 2/5 m r^2).
 ROLLING_SHARE = 2.0 / 7.0
-#: Where objects wait before they appear (far outside any scene), metres.
-PARK = (1.0e4, 1.0e4)
 
 
 def true_scene(scene: SceneSpec, balls: Sequence[Ball], objects: Sequence[ObjectParameters],
@@ -85,20 +86,21 @@ def true_scene(scene: SceneSpec, balls: Sequence[Ball], objects: Sequence[Object
 class _Ball:
     """Reality's own state of one ball beyond pymunk's."""
 
-    name: str
-    radius: float
+    record: Ball
     mass: float
     drag: float
     spin: float
     appear_step: int | None   # None: present from the start
-    position: Vec2
-    velocity: Vec2
     threshold: float          # a velocity change above this in one step is a bounce
     present: bool = False
     ux: float = 0.0           # slip velocity (spin minus linear), m/s
     uy: float = 0.0
     roll: tuple[float, float, float] = (0.0, 0.0, 0.0)  # rotation vector not yet applied
     orientation: np.ndarray | None = None
+
+    @property
+    def name(self) -> str:
+        return self.record.name
 
 
 class RealWorld:
@@ -108,9 +110,10 @@ class RealWorld:
     ----------
     scene : SceneSpec
         The true scene (see :func:`true_scene`): ``scene.balls[i]`` is the
-        ball of ``objects[i]``.
+        ball of ``objects[i]``, at the position and velocity it starts or
+        appears with.
     objects : sequence of ObjectParameters
-        What was drawn for each object (drag, spin, when and where it appears).
+        What was drawn for each object (drag, spin, when it appears).
     dt : float
         Reality's physics step, seconds.
     slip, slip_interval : float
@@ -129,31 +132,25 @@ class RealWorld:
             raise ValueError("wheel slip needs a random generator")
         self.dt = float(dt)
         self._balls: list[_Ball] = []
-        parked = []
-        for i, (b, o) in enumerate(zip(scene.balls, objects)):
+        for b, o in zip(scene.balls, objects):
             step = None if o.appears is None else int(math.ceil(o.appears / self.dt - 1e-9))
             self._balls.append(_Ball(
-                o.name, b.radius, o.mass, o.drag, o.spin, step, o.position, o.velocity,
+                b, o.mass, o.drag, o.spin, step,
                 2.0 * o.rolling_resistance * scene.gravity * self.dt + 1e-6,
-                orientation=np.eye(3)))
-            if step is None:
-                parked.append(b)
-            else:
-                parked.append(replace(b, position=(PARK[0] + 10.0 * i, PARK[1]),
-                                      velocity=(0.0, 0.0)))
-        self.world = World(replace(scene, balls=tuple(parked)), dt=self.dt,
-                           record_contacts=False)
-        for ball in self._balls:
-            ball.present = ball.appear_step is None
+                present=step is None, orientation=np.eye(3)))
+        start = tuple(b.record for b in self._balls if b.present)
+        self.world = World(replace(scene, balls=start), dt=self.dt, record_contacts=False)
         self._robot = scene.robot
         self._command = (0.0, 0.0, 0.0)
         self._slip = float(slip)
         self._slip_every = max(1, int(round(slip_interval / self.dt)))
         self._rng = rng
         self._noise = (0.0, 0.0, 0.0)
+        self._expected: list[tuple[_Ball, float, float]] = []
+        self.world.add_step_hook(self._before_step)
         self._appear()
 
-    # -- the robot (an Actuator) -------------------------------------------------------
+# -- the robot (an Actuator) -------------------------------------------------------
 
     def command_robot(self, velocity: Sequence[float], angular_velocity: float = 0.0) -> None:
         """Command the real robot: velocity (m/s, world frame) and turn rate (rad/s).
@@ -201,14 +198,21 @@ class RealWorld:
 
     def run_until(self, time: float) -> None:
         """Step until reality's time reaches ``time`` (to the nearest step)."""
-        target = int(round(time / self.dt))
-        while self.world.steps < target:
-            self.step()
+        self.world.run_until(time)
+        self._observe()
+        self._appear()
         self._turn_balls()
 
     def step(self) -> None:
-        """One step of ``dt`` with reality's drag, spin and slip."""
-        world = self.world
+        """One step of ``dt`` with reality's drag, spin, throws and slip."""
+        self.world.step(1)
+        self._observe()
+        self._appear()
+
+    def _before_step(self, world: World) -> None:
+        """The step hook: what the last step did, then this step's events and forces."""
+        self._observe()
+        self._appear()
         dt = self.dt
         if self._slip > 0 and world.steps % self._slip_every == 0:
             assert self._rng is not None
@@ -216,11 +220,10 @@ class RealWorld:
             self._noise = (float(n[0]), float(n[1]), float(n[2]))
             self._drive()
         decay = 1.0 - math.exp(-dt / SPIN_TIME)
-        expected: list[tuple[_Ball, float, float]] = []
         for b in self._balls:
             if not b.present:
                 continue
-            vx, vy = world.body(b.name).velocity
+            vx, vy = world.velocity(b.name)
             speed = math.hypot(vx, vy)
             # Drag, and the share of the decaying slip the linear velocity takes.
             ax = -b.drag * speed * vx
@@ -235,33 +238,33 @@ class RealWorld:
                     b.ux = b.uy = 0.0
             if ax or ay:
                 world.apply_force(b.name, (b.mass * ax, b.mass * ay))
-            expected.append((b, vx + ax * dt, vy + ay * dt))
-        world.step(1)
-        for b, ex, ey in expected:
-            vx, vy = world.body(b.name).velocity
+            self._expected.append((b, vx + ax * dt, vy + ay * dt))
+
+    def _observe(self) -> None:
+        """Take what the last step did: bounces feed the slip, rolling turns the balls."""
+        if not self._expected:
+            return
+        dt = self.dt
+        for b, ex, ey in self._expected:
+            vx, vy = self.world.velocity(b.name)
             dx, dy = vx - ex, vy - ey
             if b.spin > 0 and math.hypot(dx, dy) > b.threshold:
                 b.ux -= b.spin * dx
                 b.uy -= b.spin * dy
             # The ball turns with its spin velocity (linear plus slip).
             sx, sy = vx + b.ux, vy + b.uy
-            k = dt / b.radius
+            k = dt / b.record.radius
             rx, ry, rz = b.roll
             b.roll = (rx - sy * k, ry + sx * k, rz)
-        self._appear()
+        self._expected.clear()
 
     def _appear(self) -> None:
-        """Place the objects whose time has come (at the start of a step)."""
-        due = [b for b in self._balls
-               if not b.present and b.appear_step is not None and self.world.steps >= b.appear_step]
-        if not due:
-            return
-        now = self.world.snapshot()
-        self.world.set_state(WorldState(
-            now.time, now.step,
-            tuple(BodyState(b.name, b.position, b.velocity) for b in due), now.command))
-        for b in due:
-            b.present = True
+        """Put the objects whose time has come into the world (before a step)."""
+        for b in self._balls:
+            if not b.present and b.appear_step is not None \
+                    and self.world.steps >= b.appear_step:
+                self.world.add_ball(b.record)
+                b.present = True
 
     def _turn_balls(self) -> None:
         for b in self._balls:
@@ -308,10 +311,8 @@ class RealWorld:
         return o.copy()
 
     def state(self) -> WorldState:
-        """The present bodies (parked objects left out), for rendering."""
-        snap = self.world.snapshot()
-        hidden = {b.name for b in self._balls if not b.present}
-        return replace(snap, bodies=tuple(b for b in snap.bodies if b.name not in hidden))
+        """The present bodies, for rendering."""
+        return self.world.snapshot()
 
     def robot_state(self) -> RobotState | None:
         """The true robot, or None."""

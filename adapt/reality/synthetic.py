@@ -12,7 +12,8 @@ frame ``i`` then
    mount at the *true* robot pose, which slips) moved by the drawn offset
    (:mod:`adapt.reality.camera`);
 3. renders the true scene (the texture tiles scaled by
-   ``appearance.texture_scale``) with the imagination's renderer, draws the
+   ``appearance.texture_scale``, their pattern moved by ``texture_phase``,
+   :mod:`adapt.reality.surfaces`) with the imagination's renderer, draws the
    spin markers, and applies the appearance
    (:class:`~adapt.reality.appearance.Look`);
 4. records the truth of the frame (:class:`~adapt.reality.truth.FrameTruth`)
@@ -47,7 +48,6 @@ Examples
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import replace
 from types import MappingProxyType
 from typing import Iterator, Sequence
@@ -62,6 +62,7 @@ from adapt.imagination.scene import RobotSpec, SceneSpec
 from adapt.reality.appearance import Look, draw_spin_marker
 from adapt.reality.camera import draw_offset, nominal_camera, offset_camera
 from adapt.reality.physics import RealWorld, true_scene
+from adapt.reality.surfaces import shift_textures
 from adapt.reality.truth import (
     DEFAULT_HISTORY,
     FrameTruth,
@@ -70,7 +71,6 @@ from adapt.reality.truth import (
     RecordedTruth,
     TrueParameters,
 )
-from adapt.reality.warning import RealityWarning
 from adapt.scenario import Mount, Scenario, SyntheticReality
 from adapt.seeds import Streams
 
@@ -171,6 +171,9 @@ class SyntheticSource:
         Reality's physics.
     look : Look
         The appearance applied to each render.
+    renderer : Renderer
+        The renderer of the true scene through the current true camera (its
+        backdrop holds the texture phase).
     """
 
     def __init__(self, scenario: Scenario, *, streams: Streams,
@@ -203,12 +206,11 @@ class SyntheticSource:
         self._length = int(scenario.run.frames)
         self.look = Look(reality.appearance, scenario.camera.size)
         self.render_scene = render_scene(scene, reality.appearance.texture_scale)
-        self._renderer: Renderer | None = None
+        cam = self.camera()
+        self.renderer = Renderer(self.render_scene, cam)
         if reality.appearance.texture_phase != (0.0, 0.0):
-            warnings.warn(
-                f"{reality.appearance.source.location}: reality.appearance.texture_phase is not "
-                "applied yet (it needs the renderer's per-surface appearances); the real "
-                "textures start where the model's do", RealityWarning, stacklevel=2)
+            shift_textures(self.renderer, reality.appearance.texture_phase,
+                           centre=(float(cam.position[0]), float(cam.position[1])))
         self._started = False
         self._closed = False
 
@@ -266,10 +268,11 @@ class SyntheticSource:
                                f"{self.world.time:.4f} s)")
         self.world.run_until(t)
         cam = self.camera()
-        r = self._renderer
-        if r is None or not (np.array_equal(r.camera.rotation, cam.rotation)
-                             and np.array_equal(r.camera.position, cam.position)):
-            r = self._renderer = Renderer(self.render_scene, cam)
+        r = self.renderer
+        if not (np.array_equal(r.camera.rotation, cam.rotation)
+                and np.array_equal(r.camera.position, cam.position)):
+            # The same backdrop (textures, phases): only the new pose's background is drawn.
+            r = self.renderer = r.with_camera(cam)
         state = self.world.state()
         out = r.render(state)
         image = out.image

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from adapt.figures.strips import Panel, write_strip
 from adapt.files import atomic_path
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -132,10 +133,6 @@ class Paths:
                 store[name] = store[name][::2]
 
 
-def _rgb(img: NDArray[Any]) -> NDArray[Any]:
-    return img[..., ::-1] if img.ndim == 3 else img
-
-
 def _save(fig: Any, path: Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_path(path, suffix=".png") as tmp:
@@ -143,77 +140,24 @@ def _save(fig: Any, path: Path) -> Path:
     return path
 
 
-def _strip(rows: list[tuple[str, list[tuple[str, NDArray[Any] | None]]]], title: str,
-           path: Path, overlay: dict[int, Snapshot] | None = None) -> Path:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    ncols = max(len(r[1]) for r in rows)
-    fig, axes = plt.subplots(len(rows), ncols, figsize=(2.6 * ncols, 2.2 * len(rows) + 0.4),
-                             squeeze=False)
-    for i, (label, panels) in enumerate(rows):
-        for j in range(ncols):
-            ax = axes[i][j]
-            ax.set_xticks([])
-            ax.set_yticks([])
-            if j >= len(panels):
-                ax.axis("off")
-                continue
-            name, img = panels[j]
-            if img is None:
-                ax.text(0.5, 0.5, "n/a", ha="center", va="center", transform=ax.transAxes)
-            elif img.ndim == 2:
-                ax.imshow(img, cmap="gray", vmin=0, vmax=max(float(img.max()), 1e-6))
-            else:
-                ax.imshow(_rgb(img))
-            if i == 0:
-                ax.set_title(name, fontsize=9)
-            if j == 0:
-                ax.set_ylabel(label, fontsize=9)
-    if overlay:
-        for i, snap in overlay.items():
-            for j in range(ncols):
-                for box in snap.unexpected:
-                    x, y, w, h = box
-                    axes[i][j].add_patch(_rect(x, y, w, h, "red"))
-                for _, box in snap.monitored:
-                    x, y, w, h = box
-                    axes[i][j].add_patch(_rect(x, y, w, h, "cyan"))
-    fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    out = _save(fig, path)
-    plt.close(fig)
-    return out
-
-
-def _rect(x: float, y: float, w: float, h: float, color: str) -> Any:
-    from matplotlib.patches import Rectangle
-
-    return Rectangle((x - 0.5, y - 0.5), w, h, fill=False, edgecolor=color, linewidth=1.0)
-
-
-def _sync_rows(snaps: list[Snapshot]) -> list[tuple[str, list[tuple[str, NDArray[Any] | None]]]]:
+def _sync_rows(snaps: list[Snapshot]) -> list[list[Panel]]:
     rows = []
     for s in snaps:
-        syn = s.synthetic
-        if syn is not None and s.corners is not None and len(s.corners):
-            syn = _with_corners(syn, s.corners)
         err = "no alignment" if math.isnan(s.pixel_error) else f"{s.pixel_error:.2f} px"
-        rows.append((f"t={s.time:.2f} s\n{err}",
-                     [("real", s.real), ("synthetic + corners", syn), ("warped synthetic", s.warped),
-                      ("MMD mask", s.mask), ("MMD image", s.difference)]))
+        head = f"t={s.time:.2f} s ({err})"
+        corners = [] if s.corners is None or not len(s.corners) else [(s.corners, "yellow")]
+        rows.append([Panel(f"{head}\nreal", s.real),
+                     Panel("synthetic + matched corners", s.synthetic, points=corners),
+                     Panel("warped synthetic", s.warped), Panel("MMD mask", s.mask),
+                     Panel("MMD image", s.difference)])
     return rows
 
 
-def _with_corners(img: NDArray[np.uint8], corners: NDArray[np.float64]) -> NDArray[np.uint8]:
-    import cv2
-
-    out = img.copy()
-    for x, y in corners[:300]:
-        cv2.circle(out, (int(round(x)), int(round(y))), 2, (0, 255, 255), -1, cv2.LINE_AA)
-    return out
+def _boxed(label: str, image: NDArray[Any] | None, snap: Snapshot) -> Panel:
+    boxes = [(b, "red") for b in snap.unexpected] + [(b, "cyan") for _, b in snap.monitored]
+    if image is not None and image.shape[:2] != snap.real.shape[:2]:
+        boxes = []  # an MMD image at a reduced working resolution: no boxes in input pixels
+    return Panel(label, image, boxes=boxes)
 
 
 def write_figures(runner: "Runner", folder: Path) -> dict[str, Path]:
@@ -227,19 +171,21 @@ def write_figures(runner: "Runner", folder: Path) -> dict[str, Path]:
         first = kept[0]
         synced = next((s for s in kept if s.pixel_error <= 0.5), kept[-1])
         chosen = [first] if synced is first else [first, synced]
-        out["sync"] = _strip(_sync_rows(chosen), "Scene Background synchronisation "
-                             "(paper Fig. 4)", folder / "sync.png")
+        out["sync"] = write_strip(folder / "sync.png", _sync_rows(chosen),
+                                  title="Scene Background synchronisation (paper Fig. 4)")
     if snaps.spawns:
         at = snaps.spawns[0]
         chosen = [s for s in kept if s.index in (at - 0, at + 5, at + 15)] or [kept[-1]]
         before = [s for s in kept if s.index < at]
         if before:
             chosen = [before[-1], *chosen]
-        rows = [(f"t={s.time:.2f} s", [("real", s.real), ("synthetic", s.synthetic),
-                                      ("MMD image", s.difference)]) for s in chosen]
-        out["unexpected"] = _strip(rows, "Unexpected object: found, then monitored by a "
-                                   "spawned schema (paper Fig. 5)", folder / "unexpected.png",
-                                   overlay={i: s for i, s in enumerate(chosen)})
+        rows = [[_boxed(f"t={s.time:.2f} s\nreal", s.real, s),
+                 Panel("synthetic", s.synthetic), _boxed("MMD image", s.difference, s)]
+                for s in chosen]
+        out["unexpected"] = write_strip(
+            folder / "unexpected.png", rows,
+            title="Unexpected object: found (red), then monitored by a spawned schema (cyan) "
+                  "(paper Fig. 5)")
     if runner.series.time:
         out["camera"] = _camera_plot(runner, folder / "camera.png")
         out["floor"] = _floor_plot(runner, folder / "floor.png")

@@ -52,6 +52,8 @@ def side_by_side(real: NDArray[np.uint8], synthetic: NDArray[np.uint8] | None,
         right = np.zeros_like(left)
     else:
         d = np.clip(difference * 2.0, 0, 255).astype(np.uint8)
+        if d.shape[:2] != (h, w):  # MMD works at a bounded resolution
+            d = cv2.resize(d, (w, h), interpolation=cv2.INTER_NEAREST)
         right = cv2.cvtColor(d, cv2.COLOR_GRAY2BGR)
     colors: dict[str, tuple[int, int, int]] = {}
     for name, box in monitored:

@@ -145,7 +145,8 @@ class Runner:
         self.network = SchemaNetwork(
             self.mirror, registry=registry, settings=scenario.schemas,
             models={m.name: m for m in scenario.objects}, goals=scenario.goals,
-            actuator=getattr(source, "robot", None))
+            actuator=getattr(source, "robot", None), predict=scenario.predict,
+            rng=self.streams.generator("ensemble"), frame_interval=1.0 / self.fps)
         self.truth = getattr(source, "truth", None)
         self.evaluation = Evaluation(scenario, self.truth)
         self.events: dict[str, int] = {}

@@ -34,7 +34,8 @@ from adapt.vision.camera_correction import correct_pose, correct_rotation
 from adapt.vision.homography import corner_error
 from adapt.vision.matching import PreparedImage, prepare
 from adapt.vision.mmd import MMDResult, mmd
-from adapt.vision.regions import find_regions
+from adapt.vision.regions import find_regions, to_input
+from adapt.vision.scale import image_scale
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Frame
@@ -86,6 +87,7 @@ class SceneBackground(Schema):
         self._prepared_for: tuple[int, int] | None = None
         self._background: PreparedImage | None = None
         self._warped_labels: NDArray[np.uint16] | None = None
+        self._label_of: dict[str, int] = {}
 
     # -- perception ---------------------------------------------------------------------
 
@@ -105,6 +107,7 @@ class SceneBackground(Schema):
         mirror = self.network.mirror
         rendered = mirror.render()
         self.synthetic, self.labels = rendered.image, rendered.labels
+        self._label_of = {name: label for label, name in rendered.names.items()}
         self._warped_labels = None
         synthetic = self._prepared_synthetic(rendered.image)
         res = mmd(frame.image, synthetic)
@@ -154,8 +157,11 @@ class SceneBackground(Schema):
         if not res.aligned:
             tracks = self.tracker.update([], frame.index)
             return []
-        found = find_regions(res.difference, threshold=self.parameters["threshold"],
-                             min_area=int(self.parameters["min_area"]))
+        scale = image_scale(res.difference.shape)
+        found = to_input(find_regions(res.difference, threshold=self.parameters["threshold"],
+                                      min_area=max(1, int(round(self.parameters["min_area"]
+                                                               * scale * scale)))),
+                         res.frame)
         tracks = self.tracker.update(found, frame.index)
         monitored = self.network.monitored_boxes(exclude=self.name)
         h_inv = np.linalg.inv(res.homography)  # type: ignore[arg-type]
@@ -171,6 +177,17 @@ class SceneBackground(Schema):
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
                                     owner, floor, size))
         return out
+
+    def label_of(self, name: str) -> int | None:
+        """The label id of a moving object in this frame's render (None when not drawn)."""
+        return self._label_of.get(name)
+
+    def labels_except(self, name: str) -> list[int]:
+        """Label ids of the moving balls drawn this frame, but ``name``'s."""
+        from adapt.imagination import LABEL_BALL, LABEL_ROBOT
+
+        return [lab for n, lab in self._label_of.items()
+                if n != name and LABEL_BALL <= lab < LABEL_ROBOT]
 
     def imagined_mask(self, label: int) -> NDArray[np.bool_] | None:
         """Pixels of the real frame where the imagination shows object ``label``
@@ -330,7 +347,8 @@ SCENE_BACKGROUND = SchemaSpec(
                   "correct the position too, from the floor's homography"),
         Parameter("threshold", float, 30.0, "MMD difference that counts", unit="grey levels",
                   low=0.0, high=255.0, low_open=True),
-        Parameter("min_area", int, 40, "smallest region reported", unit="px", low=1),
+        Parameter("min_area", int, 40, "smallest region reported, at 640x480 (scaled with the "
+                  "image's area)", unit="px", low=1),
     ),
     singleton=True,
 )

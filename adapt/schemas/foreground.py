@@ -30,15 +30,18 @@ imagination (paper section 4.4, Figure 6):
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Mapping
 
 import cv2
 import numpy as np
 
-from adapt.imagination import LABEL_BALL, Ball
+from adapt.imagination import Ball
 from adapt.kalman import ConstantVelocityKF
 from adapt.schemas.base import BBox, Schema, Status
+from adapt.schemas.estimator import PARAMETERS, ParameterEstimator
 from adapt.schemas.links import Structure
+from adapt.schemas.predictor import Prediction, Predictor
 from adapt.schemas.silhouette import fit_ball
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 
@@ -88,6 +91,15 @@ class ForegroundObject(Schema):
         self._window: BBox | None = None
         self._hooked = False
         self._radii: list[float] = []
+        self.model = model
+        self.estimator: ParameterEstimator | None = None
+        self.prediction: Prediction | None = None
+        self.bounces_seen = 0
+        settings = network.predict
+        self.predictor = Predictor(settings.horizons, members=settings.ensemble,
+                                   catch_radius=self._catch_radius(), seed=network.rng)
+        if self.ball is not None:
+            self._start_estimator()
         if self.region > 0 and network.background is not None:
             track = network.background.tracker.get(self.region)
             if track is not None:
@@ -95,6 +107,31 @@ class ForegroundObject(Schema):
                 network.background.assign(self.region, name)
 
     # -- helpers ---------------------------------------------------------------------------
+
+    def _catch_radius(self) -> float:
+        """The confidence's scale: how close the robot must come (twice the radius without one)."""
+        from adapt.imagination.predict import intercept_reach
+
+        robot = self.network.mirror.scene.robot
+        ball = self.ball if self.ball is not None else Ball(self.body, radius=0.1)
+        return intercept_reach(ball, robot) if robot is not None else 2.0 * ball.radius
+
+    def _start_estimator(self) -> None:
+        assert self.ball is not None
+        ranges: dict[str, tuple[float, float]] = {}
+        if self.model is not None:
+            for name in PARAMETERS:
+                r = self.model.range(name)
+                ranges[name] = (r.low, r.high)
+        else:  # an object nobody described: anything plausible
+            ranges = {"restitution": (0.2, 0.95), "friction": (0.0, 1.0),
+                      "rolling_resistance": (0.0, 0.2)}
+        nominal = {name: float(getattr(self.ball, name)) for name in PARAMETERS}
+        self.estimator = ParameterEstimator(ranges, nominal=nominal,
+                                            scene=self.network.mirror.scene,
+                                            gravity=self.network.mirror.scene.gravity,
+                                            radius=self.ball.radius)
+        self.predictor.catch_radius = self._catch_radius()
 
     @property
     def body(self) -> str:
@@ -105,15 +142,6 @@ class ForegroundObject(Schema):
     def in_imagination(self) -> bool:
         """True when the imagination has the body."""
         return self.network.mirror.has_body(self.body)
-
-    def _label(self) -> int | None:
-        names = [b.name for b in self.network.mirror.scene.balls]
-        return LABEL_BALL + names.index(self.body) if self.body in names else None
-
-    def _other_labels(self, own: int | None) -> list[int]:
-        """Labels of the other imagined balls (their pixels are not this object)."""
-        n = len(self.network.mirror.scene.balls)
-        return [LABEL_BALL + i for i in range(n) if LABEL_BALL + i != own]
 
     def _radius(self) -> float:
         return self.ball.radius if self.ball is not None else 0.1
@@ -169,18 +197,74 @@ class ForegroundObject(Schema):
                 self.status = Status.WAITING
             elif self.misses > int(self.parameters["lost_after"]):
                 self.status = Status.LOST
-            return
-        self.last = obs
-        self.sightings += 1
-        self.misses = 0
-        self.status = Status.RUNNING
-        self.kf.step(frame.time, obs.position)
-        if (not self.in_imagination and self.ball is not None
-                and self.sightings >= int(self.parameters["confirm"])):
-            self._create_body(frame)
-        if not self._hooked and self.in_imagination:
-            self.network.mirror.add_hook(self.before_step)
-            self._hooked = True
+        else:
+            self.last = obs
+            self.sightings += 1
+            self.misses = 0
+            self.status = Status.RUNNING
+            self.kf.step(frame.time, obs.position)
+            if self.ball is not None and self.estimator is None:
+                self._start_estimator()
+            if self.estimator is not None:
+                self._learn(frame.time, obs.position)
+            self.predictor.residuals.observe(frame.time, obs.position,
+                                             0.5 * self.network.frame_interval)
+            if (not self.in_imagination and self.ball is not None
+                    and self.sightings >= int(self.parameters["confirm"])):
+                self._create_body(frame)
+            if not self._hooked and self.in_imagination:
+                self.network.mirror.add_hook(self.before_step)
+                self._hooked = True
+        if self.parameters["predict"] and frame.index % self.network.predict.every == 0:
+            self.prediction = self._predict()
+
+    def _learn(self, time: float, position: tuple[float, float]) -> None:
+        """Bounces and rolling: update the estimates, restart the filter after a bounce, and
+        give the imagined ball the estimated parameters."""
+        assert self.estimator is not None
+        bounce = self.estimator.observe(time, position)
+        if bounce is not None:
+            self.bounces_seen += 1
+            after = self.estimator.last_after
+            if after is not None:
+                t0, p0, v0 = after
+                p = p0 + v0 * (time - t0)
+                self.kf.reset(time, p, v0, self.estimator.noise, 0.1)
+            self.network.note(self, "bounce", {
+                "t": round(bounce.time, 4), "surface": bounce.surface,
+                "position": [round(v, 4) for v in bounce.position],
+                "restitution": None if bounce.restitution is None else round(bounce.restitution, 4),
+                "friction": None if bounce.friction is None else round(bounce.friction, 4)})
+        if self.parameters["adapt"] and self.in_imagination and self.ball is not None:
+            changes = {}
+            for name, est in self.estimator.estimates().items():
+                value = min(max(est.mean, 0.0), 1.0) if name == "restitution" else max(est.mean, 0.0)
+                if abs(value - float(getattr(self.ball, name))) > (0.002 if name ==
+                                                                    "rolling_resistance" else 0.01):
+                    changes[name] = value
+            if changes:
+                self.ball = replace(self.ball, **changes)
+                self.network.mirror.replace_ball(self.ball)
+
+    def estimates(self) -> dict[str, tuple[float, float]]:
+        """``(mean, std)`` of each estimated parameter (the model's values before any)."""
+        if self.estimator is None:
+            return {}
+        return {name: (e.mean, e.std) for name, e in self.estimator.estimates().items()}
+
+    def _predict(self) -> Prediction | None:
+        """Roll the imagination forward from the object's state (filtered while seen; the
+        imagined body's while it is not)."""
+        mirror = self.network.mirror
+        if not self.in_imagination:
+            return None
+        if self.kf.initialised and self.misses == 0:
+            position, velocity, vstd = self.kf.position, self.kf.velocity, self.kf.velocity_sigma
+        else:
+            position, velocity = mirror.world.position(self.body), mirror.world.velocity(self.body)
+            vstd = max(self.kf.velocity_sigma, 0.2)
+        return self.predictor.predict(mirror.world, self.body, position, velocity,
+                                      self.estimates(), velocity_std=vstd)
 
     def _observe(self, frame: "Frame") -> Observation | None:
         bg = self.network.background
@@ -199,8 +283,7 @@ class ForegroundObject(Schema):
         if d is None:
             return None
         diff = d > bg.parameters["threshold"]
-        own = self._label()
-        for other in self._other_labels(own):
+        for other in bg.labels_except(self.body):
             imagined = bg.imagined_mask(other)
             if imagined is not None:
                 diff &= ~imagined[y0:y1, x0:x1]
@@ -224,6 +307,8 @@ class ForegroundObject(Schema):
         bx, by, bw, bh, area = (int(v) for v in stats[best])
         mask = labels[by:by + bh, bx:bx + bw] == best
         bbox = (bx + x0, by + y0, bw, bh)
+        if bbox[0] == 0 or bbox[1] == 0 or bbox[0] + bw >= w:
+            return None  # cut by the image's edge: its outline would mislead the fit
         fit = fit_ball(mask, (bx + x0, by + y0), self.network.mirror.camera,
                        radius=None if self.ball is None else self.ball.radius,
                        to_camera=bg.pixels_to_synthetic)
@@ -322,6 +407,50 @@ class ForegroundObject(Schema):
         if imagined is not None and est:
             error = round(math.dist(imagined, self.kf.position), 4)
         node.set("error", error)
+        node.set("bounces-seen", self.bounces_seen)
+        self._write_estimates(node)
+        self._write_prediction(node)
+
+    def _write_estimates(self, node: Structure) -> None:
+        if self.estimator is None:
+            node.keep_children("parameters", [])
+            return
+        p = node.child("parameters", 0)
+        consistent = True
+        for name, e in self.estimator.estimates().items():
+            key = name.replace("_", "-")
+            p.set(key, round(e.mean, 4))
+            p.set(f"{key}-std", round(e.std, 4))
+            p.set(f"{key}-observations", e.count)
+            consistent = consistent and e.surprise <= 3.0
+        node.set("consistent", consistent)
+
+    def _write_prediction(self, node: Structure) -> None:
+        pred = self.prediction
+        if pred is None:
+            node.set("confidence", None)
+            node.keep_children("prediction", [])
+            node.keep_children("contact", [])
+            return
+        for h in pred.horizons:
+            c = node.child("prediction", h.horizon)
+            c.set("horizon", h.horizon)
+            c.set("x", round(h.position[0], 4))
+            c.set("y", round(h.position[1], 4))
+            c.set("spread", round(h.spread, 4))
+            c.set("confidence", round(h.confidence, 3))
+            c.set("bounce", h.bounce)
+        node.keep_children("prediction", [h.horizon for h in pred.horizons])
+        node.set("confidence", round(pred.horizons[-1].confidence, 3))
+        upcoming = [c for c in pred.contacts if c.time > pred.time][:3]
+        for i, contact in enumerate(upcoming):
+            c = node.child("contact", i)
+            c.set("time", round(contact.time, 4))
+            c.set("in", round(contact.time - pred.time, 4))
+            c.set("x", round(contact.position[0], 4))
+            c.set("y", round(contact.position[1], 4))
+            c.set("surface", contact.surface)
+        node.keep_children("contact", list(range(len(upcoming))))
 
     def stop(self) -> None:
         if self._hooked:
@@ -370,5 +499,8 @@ FOREGROUND_OBJECT = SchemaSpec(
                   low=0.0, low_open=True),
         Parameter("gate", float, 6.0, "innovation (sigmas) beyond which the filter restarts "
                   "from the last two sightings (a bounce)", low=0.0, low_open=True),
+        Parameter("adapt", bool, True, "estimate restitution, friction and rolling resistance "
+                  "online and give them to the imagined body"),
+        Parameter("predict", bool, True, "predict at the scenario's horizons (predict section)"),
     ),
 )

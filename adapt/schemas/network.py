@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Mapping, Sequence
 
 import networkx as nx
+import numpy as np
 
 from adapt.engine import InputWriter, OutputView
 from adapt.engine.symbols import Identifier
@@ -42,7 +43,7 @@ from adapt.schemas.spec import ParameterError, SchemaKind, SchemaSpec
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Actuator, Frame
     from adapt.mirror import Mirror
-    from adapt.scenario import Goal, ObjectModel, SchemaSettings
+    from adapt.scenario import Goal, ObjectModel, PredictSettings, SchemaSettings
     from adapt.schemas.background import SceneBackground
 
 __all__ = ["SchemaNetwork", "SchemaEvent", "check_settings"]
@@ -118,13 +119,27 @@ class SchemaNetwork:
         Written on the input-link.
     actuator : Actuator or None
         The real robot, for motor schemas.
+    predict : PredictSettings, optional
+        Horizons, cadence and ensemble size of object schemas' predictions.
+    rng : Generator, optional
+        The prediction ensembles' random stream.
+    frame_interval : float
+        Seconds between frames.
     """
 
     def __init__(self, mirror: "Mirror", *, registry: Registry = REGISTRY,
                  settings: Sequence["SchemaSettings"] = (),
                  models: Mapping[str, "ObjectModel"] | None = None,
-                 goals: Sequence["Goal"] = (), actuator: "Actuator | None" = None) -> None:
+                 goals: Sequence["Goal"] = (), actuator: "Actuator | None" = None,
+                 predict: "PredictSettings | None" = None,
+                 rng: np.random.Generator | None = None, frame_interval: float = 1.0 / 30.0
+                 ) -> None:
+        from adapt.scenario import PredictSettings
+
         self.mirror = mirror
+        self.predict = predict if predict is not None else PredictSettings()
+        self.rng = rng if rng is not None else np.random.default_rng(0)
+        self.frame_interval = frame_interval
         self.registry = registry
         self.settings = check_settings(settings, registry)
         self.models = dict(models or {})

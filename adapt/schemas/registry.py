@@ -1,7 +1,7 @@
 """Schema types registered by name, like Soar SVS's filter and command tables.
 
 :data:`REGISTRY` holds the built-in types (``scene-background``,
-``foreground-object``, ``drive``); :meth:`Registry.register` adds a user's
+``foreground-object``, ``drive``, ``intercept``); :meth:`Registry.register` adds a user's
 own.  ``adapt schemas list [--json]`` prints them with their ports and
 parameters.
 
@@ -13,7 +13,7 @@ True
 >>> REGISTRY.get("scene-backgrund")
 Traceback (most recent call last):
 ...
-adapt.errors.SchemaError: unknown schema type 'scene-backgrund' (did you mean 'scene-background'?); expected one of drive, foreground-object, scene-background
+adapt.errors.SchemaError: unknown schema type 'scene-backgrund' (did you mean 'scene-background'?); expected one of drive, foreground-object, intercept, scene-background
 """
 
 from __future__ import annotations
@@ -73,9 +73,10 @@ def _builtin() -> Registry:
     from adapt.schemas.background import SCENE_BACKGROUND
     from adapt.schemas.drive import DRIVE
     from adapt.schemas.foreground import FOREGROUND_OBJECT
+    from adapt.schemas.intercept import INTERCEPT
 
     reg = Registry()
-    for spec in (SCENE_BACKGROUND, FOREGROUND_OBJECT, DRIVE):
+    for spec in (SCENE_BACKGROUND, FOREGROUND_OBJECT, DRIVE, INTERCEPT):
         reg.register(spec)
     return reg
 

@@ -8,6 +8,7 @@ import pytest
 
 from adapt.imagination import LABEL_BALL, LABEL_FLOOR, LABEL_OBSTACLE, LABEL_ROBOT, LABEL_WALL, Renderer
 from adapt.reality.appearance import MARKER_DARKNESS, Look, draw_spin_marker, lighting_gain
+from adapt.reality.surfaces import phased_image, shift_textures
 from adapt.scenario import Appearance
 
 from .conftest import scenario, source
@@ -172,3 +173,38 @@ def test_the_texture_scale_changes_the_surfaces_but_not_the_sky_or_the_ball() ->
     diff = np.abs(real.astype(int) - model.image.astype(int)).sum(axis=2)
     assert diff[floor].mean() > 10
     assert diff[sky].max() == 0 and diff[ball].max() == 0
+
+
+# -- texture phase --------------------------------------------------------------------------
+
+def test_a_texture_phase_moves_the_pattern_by_that_many_metres() -> None:
+    sc = scenario()
+    r = Renderer(sc.scene, sc.camera)
+    wall = next(s for s in r.surfaces if s.name == "north")
+    extent = wall.extent
+    base = phased_image(wall, (0.0, 0.0), extent)
+    ppm = base.shape[1] / (extent[2] - extent[0])
+    shift = 12 / ppm                              # twelve pixels of the surface image
+    moved = phased_image(wall, (shift, 0.0), extent)
+    # Sampling at s + shift: the image is the unshifted one moved left by 12 pixels.
+    assert np.abs(moved[:, :-12].astype(int) - base[:, 12:]).mean() < 1.0
+    assert np.abs(moved.astype(int) - base).mean() > 10
+    # One period of the mirrored tile (two tiles) brings the pattern back.
+    again = phased_image(wall, (2 * wall.tile, 0.0), extent)
+    assert np.abs(again.astype(int) - base).mean() < 0.5
+
+
+def test_a_real_surface_with_a_phase_looks_otherwise_like_the_model() -> None:
+    sc = scenario("  appearance: {noise: 0, blur: 0, texture_phase: [0.3, 0.17]}\n")
+    real = next(iter(source(sc))).image
+    model = Renderer(sc.scene, sc.camera).render()
+    zero = Renderer(sc.scene, sc.camera)
+    shift_textures(zero, (0.0, 0.0), centre=(0.0, -1.0))
+    unshifted = zero.render().image
+    diff = np.abs(real.astype(int) - model.image.astype(int)).sum(axis=2)
+    same = np.abs(unshifted.astype(int) - model.image.astype(int)).sum(axis=2)
+    for label in (LABEL_FLOOR, LABEL_WALL):
+        part = model.labels == label
+        assert diff[part].mean() > 2.5 * same[part].mean() and diff[part].mean() > 8
+    untextured = (model.labels == 0) | (model.labels == LABEL_OBSTACLE)
+    assert diff[untextured].max() == 0
