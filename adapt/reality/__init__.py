@@ -20,8 +20,12 @@ Modules, one noun each:
   by a mounting error);
 * :mod:`~adapt.reality.appearance` - how the camera image differs from a
   render (tint, lighting, contrast, colour, blur, noise, spin markers);
+* :mod:`~adapt.reality.surfaces` - the real surfaces' texture phase;
 * :mod:`~adapt.reality.video` - a video file or an image sequence;
-* :mod:`~adapt.reality.truth` - ground-truth records and the CSV reader.
+* :mod:`~adapt.reality.truth` - ground-truth records and the CSV reader;
+* :mod:`~adapt.reality.record` - a synthetic reality written out as an image
+  sequence with its truth (how the bundled video scenario was made);
+* :mod:`~adapt.reality.warning` - :class:`RealityWarning`.
 
 This package imports the imagination, the scenario records, ``adapt.frames``
 and ``adapt.seeds``; it never imports the engine or vision, and nothing on
