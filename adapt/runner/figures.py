@@ -167,7 +167,8 @@ def write_figures(runner: "Runner", folder: Path) -> dict[str, Path]:
     kept = sorted(snaps.kept.values(), key=lambda s: s.index)
     if snaps.last is not None and (not kept or kept[-1].index != snaps.last.index):
         kept.append(snaps.last)
-    if kept and any(s.synthetic is not None for s in kept):
+    kept = [s for s in kept if s.synthetic is not None and s.difference is not None]
+    if kept:
         first = kept[0]
         synced = next((s for s in kept if s.pixel_error <= 0.5), kept[-1])
         chosen = [first] if synced is first else [first, synced]

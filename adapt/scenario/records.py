@@ -462,7 +462,7 @@ class PredictSettings:
 
     horizons: tuple[float, ...] = (0.5, 1.0)
     every: int = 1
-    ensemble: int = 16
+    ensemble: int = 8
     source: Source = UNKNOWN
 
 

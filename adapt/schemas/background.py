@@ -58,6 +58,7 @@ class RegionReport:
     owner: str | None
     floor: tuple[float, float] | None
     size: float | None
+    imagined: str | None = None
 
     def as_json(self) -> dict[str, Any]:
         """JSON form (trace and report)."""
@@ -66,7 +67,8 @@ class RegionReport:
                 "area": self.area, "age": self.age, "expected": self.expected,
                 "owner": self.owner,
                 "floor": None if self.floor is None else [round(v, 4) for v in self.floor],
-                "size": None if self.size is None else round(self.size, 4)}
+                "size": None if self.size is None else round(self.size, 4),
+                "imagined": self.imagined}
 
 
 class SceneBackground(Schema):
@@ -175,8 +177,27 @@ class SceneBackground(Schema):
             floor, size = _floor_of(t.region.bbox, h_inv, camera)
             r = t.region
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
-                                    owner, floor, size))
+                                    owner, floor, size, self._imagined_in(r)))
         return out
+
+    def _imagined_in(self, region: Any) -> str | None:
+        """The imagined moving object that covers the most of ``region`` (at least a tenth
+        of it), or None: the imagination's label image says which difference belongs to
+        which imagined object."""
+        from adapt.imagination import LABEL_BALL, LABEL_ROBOT
+
+        balls = {lab: n for n, lab in self._label_of.items() if LABEL_BALL <= lab < LABEL_ROBOT}
+        warped = self.warped_labels() if balls else None
+        if warped is None:
+            return None
+        x, y, w, h = region.bbox
+        patch = warped[y:y + h, x:x + w][region.silhouette[:h, :w]]
+        best, count = None, 0
+        for label, name in balls.items():
+            c = int(np.count_nonzero(patch == label))
+            if c > count:
+                best, count = name, c
+        return best if count >= 0.1 * max(region.area, 1) else None
 
     def label_of(self, name: str) -> int | None:
         """The label id of a moving object in this frame's render (None when not drawn)."""
@@ -189,9 +210,9 @@ class SceneBackground(Schema):
         return [lab for n, lab in self._label_of.items()
                 if n != name and LABEL_BALL <= lab < LABEL_ROBOT]
 
-    def imagined_mask(self, label: int) -> NDArray[np.bool_] | None:
-        """Pixels of the real frame where the imagination shows object ``label``
-        (the synthetic label image warped by ``H_e``), or None without alignment."""
+    def warped_labels(self) -> NDArray[np.uint16] | None:
+        """The synthetic label image warped into the real frame by ``H_e`` (nearest
+        neighbour; computed once per frame), or None without alignment."""
         if self.result is None or not self.result.aligned or self.labels is None:
             return None
         if self._warped_labels is None:
@@ -199,7 +220,13 @@ class SceneBackground(Schema):
             self._warped_labels = cv2.warpPerspective(
                 self.labels.astype(np.uint16), self.result.homography, (w, h),
                 flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-        return self._warped_labels == label
+        return self._warped_labels
+
+    def imagined_mask(self, label: int) -> NDArray[np.bool_] | None:
+        """Pixels of the real frame where the imagination shows object ``label``, or None
+        without alignment."""
+        warped = self.warped_labels()
+        return None if warped is None else warped == label
 
     def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[np.float32] | None:
         """How much the real image differs from the imagination's *background* (no moving
@@ -281,6 +308,7 @@ class SceneBackground(Schema):
             c.set("floor-x", None if r.floor is None else round(r.floor[0], 4))
             c.set("floor-y", None if r.floor is None else round(r.floor[1], 4))
             c.set("size", None if r.size is None else round(r.size, 4))
+            c.set("imagined", r.imagined)
             c.set("age", r.age)
         node.keep_children("region", [r.id for r in self.regions])
 

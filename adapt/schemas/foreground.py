@@ -361,6 +361,8 @@ class ForegroundObject(Schema):
     # -- the input-link and the image ------------------------------------------------------------
 
     def monitored_box(self) -> BBox | None:
+        """The object's sighting and its imagined body, with room for their contact shadows
+        (a box half as wide again on each side, and as much again below)."""
         boxes = []
         if self.last is not None and self.misses <= int(self.parameters["lost_after"]):
             boxes.append(self.last.bbox)
@@ -376,7 +378,8 @@ class ForegroundObject(Schema):
         y0 = min(b[1] for b in boxes)
         x1 = max(b[0] + b[2] for b in boxes)
         y1 = max(b[1] + b[3] for b in boxes)
-        return (x0, y0, x1 - x0, y1 - y0)
+        mx, my = (x1 - x0) // 2, (y1 - y0) // 2
+        return (x0 - mx, y0 - my // 2, (x1 - x0) + 2 * mx, (y1 - y0) + my // 2 + 2 * my)
 
     def observed(self) -> tuple[float, float] | None:
         """The filtered floor position when the object is seen in this frame."""
@@ -493,9 +496,9 @@ FOREGROUND_OBJECT = SchemaSpec(
                   low=1),
         Parameter("lost_after", int, 5, "frames without a sighting before it is lost", low=0),
         Parameter("min_area", int, 12, "smallest blob taken for the object", unit="px", low=1),
-        Parameter("process_noise", float, 4.0, "Kalman white-acceleration density",
+        Parameter("process_noise", float, 0.3, "Kalman white-acceleration density",
                   unit="m^2/s^3", low=0.0, low_open=True),
-        Parameter("measurement_noise", float, 0.01, "Kalman position noise", unit="m",
+        Parameter("measurement_noise", float, 0.005, "Kalman position noise", unit="m",
                   low=0.0, low_open=True),
         Parameter("gate", float, 6.0, "innovation (sigmas) beyond which the filter restarts "
                   "from the last two sightings (a bounce)", low=0.0, low_open=True),

@@ -44,7 +44,11 @@ from adapt.imagination import World
 from adapt.imagination.predict import Trajectory, ensemble, rollout
 from adapt.imagination.world import BodyState, Contact
 
-__all__ = ["HorizonPrediction", "Prediction", "Predictor", "Residuals", "confidence"]
+__all__ = ["HorizonPrediction", "Prediction", "Predictor", "Residuals", "confidence",
+           "REST_SPEED"]
+
+#: Below this speed (m/s) an object is at rest: its prediction needs no rollout.
+REST_SPEED = 0.02
 
 
 def confidence(sigma: float, catch_radius: float) -> float:
@@ -176,8 +180,10 @@ class Predictor:
         ``estimates`` maps ball parameters (``restitution``, ``friction``,
         ``rolling_resistance``) to ``(mean, std)``; ``velocity_std`` is the
         velocity estimate's standard deviation (m/s), drawn into the ensemble
-        as speed and heading.
+        as speed and heading when the speed is more than twice it.
         """
+        if math.hypot(velocity[0], velocity[1]) < REST_SPEED:
+            return self._at_rest(world, body, position, estimates)
         state = world.snapshot()
         bodies = tuple(
             BodyState(b.name, (float(position[0]), float(position[1])),
@@ -214,7 +220,9 @@ class Predictor:
                     if hi > lo:
                         ranges[key] = (lo, hi)
             speed = math.hypot(velocity[0], velocity[1])
-            if velocity_std > 0 and speed > 1e-6:
+            # the ensemble turns and scales the velocity: that describes its uncertainty
+            # only when the speed is well above it (a ball at rest stays at rest)
+            if velocity_std > 0 and speed > 2.0 * velocity_std:
                 half = math.sqrt(3.0) * velocity_std
                 ranges["speed_scale"] = (max(0.0, 1.0 - half / speed), 1.0 + half / speed)
                 turn = math.degrees(min(math.pi / 2, math.atan2(velocity_std, speed)))
@@ -241,3 +249,18 @@ class Predictor:
         params = {k: float(getattr(nominal_ball, k)) for k in ("restitution", "friction",
                                                                 "rolling_resistance")}
         return Prediction(t0, body, tuple(out), contacts, path, params)
+
+    def _at_rest(self, world: World, body: str, position: Sequence[float],
+                 estimates: Mapping[str, tuple[float, float]]) -> Prediction:
+        """An object at rest stays where it is (unless something hits it): no rollout."""
+        t0 = world.time
+        p = (float(position[0]), float(position[1]))
+        times = np.array([t0, t0 + self.plan])
+        path = Trajectory(body, times, np.array([p, p]), np.zeros((2, 2)), ())
+        out = []
+        for h in self.horizons:
+            resid = self.residuals.rms(h)
+            out.append(HorizonPrediction(h, p, 0.0, resid, confidence(resid, self.catch_radius),
+                                         False))
+            self.residuals.expect(h, t0 + h, p)
+        return Prediction(t0, body, tuple(out), (), path, {k: v[0] for k, v in estimates.items()})
