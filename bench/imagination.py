@@ -1,4 +1,4 @@
-"""Imagination benchmarks on the bundled bouncing-ball scene (figures, not tests).
+"""Imagination benchmarks on the bundled room scene (figures, not tests).
 
 Run ``python bench/imagination.py``.  Every figure is the median of several
 runs; the box is shared, so expect up to ~1.5x noise.  Targets (issue 4):
@@ -47,7 +47,7 @@ def line(name: str, value: str, ratio: float, better: str) -> None:
 
 
 def main() -> int:
-    sc = load_scenario(ROOT / "scenarios" / "bouncing-ball.yaml")
+    sc = load_scenario(ROOT / "scenarios" / "room.yaml")
     scene = sc.scene
     print(f"bundled scene: {len(scene.balls)} ball, {len(scene.walls)} walls, "
           f"{len(scene.obstacles)} obstacles, robot={scene.robot is not None}")

@@ -176,7 +176,7 @@ def scale() -> None:
     from adapt.scenario import load_scenario
 
     print("the same scene at several resolutions (bundled scenario, ball only in the real view)")
-    sc = load_scenario(ROOT / "scenarios" / "bouncing-ball.yaml")
+    sc = load_scenario(ROOT / "scenarios" / "room.yaml")
     world = World(sc.scene, seed=sc.seed)
     world.run(1.5)
     state = world.snapshot()

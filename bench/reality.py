@@ -1,6 +1,6 @@
 """Cost of one synthetic-reality frame at 640x480 (figures, not tests).
 
-Run ``python bench/reality.py`` (about a minute).  The scene is the bundled bouncing-ball room
+Run ``python bench/reality.py`` (about a minute).  The scene is the bundled room (`scenarios/room.yaml`)
 with a reality section that turns every effect on (drag, spin, a thrown
 object of reality only, a camera offset, tint, gradient, contrast, colour
 shift, blur, noise, texture scale and phase, spin markers).  Opening the
@@ -52,7 +52,7 @@ OPENING: list[float] = []
 
 
 def scenario(robot_camera: bool):  # type: ignore[no-untyped-def]
-    text = (ROOT / "scenarios" / "bouncing-ball.yaml").read_text()
+    text = (ROOT / "scenarios" / "room.yaml").read_text()
     if robot_camera:
         text = text.replace("  position: [0.0, -0.6, 0.6]\n  look_at: [0.0, 3.0, 0.3]\n",
                             "  position: [0.1, 0.0, 0.6]\n  look_at: [2.0, 0.0, 0.3]\n"

@@ -163,6 +163,7 @@ def _boxed(label: str, image: NDArray[Any] | None, snap: Snapshot) -> Panel:
 def write_figures(runner: "Runner", folder: Path) -> dict[str, Path]:
     """Write the run's figures; returns name -> path of each file written."""
     out: dict[str, Path] = {}
+    folder.mkdir(parents=True, exist_ok=True)
     snaps = runner.snapshots
     kept = sorted(snaps.kept.values(), key=lambda s: s.index)
     if snaps.last is not None and (not kept or kept[-1].index != snaps.last.index):

@@ -326,8 +326,10 @@ class ForegroundObject(Schema):
         if len(self._radii) < int(self.parameters["confirm"]):
             return
         x, y, w, h = bbox
-        patch = frame.image[y:y + h, x:x + w][mask[:h, :w]]
-        bgr = patch.reshape(-1, 3).mean(axis=0) if len(patch) else np.array(UNKNOWN_COLOR, float)
+        patch = frame.image[y:y + h, x:x + w][mask[:h, :w]].reshape(-1, 3)
+        # the lit side's colour: shading darkens most of a sphere, the highlight whitens a spot
+        bgr = (np.percentile(patch, 75, axis=0) if len(patch)
+               else np.array(UNKNOWN_COLOR, float))
         self.ball = Ball(self.body, radius=float(np.median(self._radii)),
                          color=(int(bgr[2]), int(bgr[1]), int(bgr[0])))
 

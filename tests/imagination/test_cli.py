@@ -13,7 +13,7 @@ from adapt.cli import main
 from adapt.imagination import LABEL_BALL, Renderer, World
 from adapt.scenario import Scenario
 
-BUNDLED = Path(__file__).resolve().parents[2] / "scenarios" / "bouncing-ball.yaml"
+BUNDLED = Path(__file__).resolve().parents[2] / "scenarios" / "room.yaml"
 
 
 def test_render_writes_the_frame_and_labels(tmp_path: Path, bundled: Scenario,

@@ -161,7 +161,7 @@ def test_an_object_of_reality_only_is_drawn_independently_of_the_others() -> Non
 # -- reality is not the imagination --------------------------------------------------------
 
 def test_reality_diverges_from_the_imagination_from_the_same_start() -> None:
-    sc = bundled("bouncing-ball.yaml")
+    sc = bundled("room.yaml")
     ball = sc.scene.balls[0]
     model = World(sc.scene)
     real = source(sc).world
@@ -175,7 +175,7 @@ def test_reality_diverges_from_the_imagination_from_the_same_start() -> None:
 
 
 def test_without_drag_and_spin_and_at_the_models_step_reality_is_the_model() -> None:
-    path = bundled("bouncing-ball.yaml").path
+    path = bundled("room.yaml").path
     assert path is not None
     exact = loads_scenario(path.read_text() + "reality:\n  dt: 0.004166666666666667\n"
                            "  objects: [{name: ball, drag: 0, spin: 0}]\n")

@@ -9,7 +9,7 @@ import pytest
 from adapt.scenario import Scenario, load_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
-BUNDLED = ROOT / "scenarios" / "bouncing-ball.yaml"
+BUNDLED = ROOT / "scenarios" / "room.yaml"
 
 
 @pytest.fixture(scope="session")

@@ -39,7 +39,7 @@ def test_bundled_scenario(bundled: Scenario) -> None:
     assert isinstance(bundled.camera, Camera) and bundled.seed == 7
     assert (len(scene.balls), len(scene.walls), len(scene.obstacles)) == (1, 4, 3)
     assert scene.robot is not None and scene.walls[0].texture == "builtin:brick"
-    assert bundled.path is not None and bundled.path.name == "bouncing-ball.yaml"
+    assert bundled.path is not None and bundled.path.name == "room.yaml"
 
 
 def test_wall_height_error_names_file_line_col_and_key_path(tmp_path: Path) -> None:

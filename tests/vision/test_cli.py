@@ -17,7 +17,7 @@ from adapt.vision.homography import corner_error
 from . import scenes
 
 ROOT = Path(__file__).resolve().parents[2]
-SCENARIO = ROOT / "scenarios" / "bouncing-ball.yaml"
+SCENARIO = ROOT / "scenarios" / "room.yaml"
 
 
 @pytest.fixture(scope="module")

@@ -30,7 +30,7 @@ from adapt.vision.scale import MAX_WORK_PIXELS_LIMIT, WorkingFrame, image_scale,
 
 from . import scenes
 
-SCENARIO = Path(__file__).resolve().parents[2] / "scenarios" / "bouncing-ball.yaml"
+SCENARIO = Path(__file__).resolve().parents[2] / "scenarios" / "room.yaml"
 
 
 def scaled_camera(cam: Camera, k: float) -> Camera:
