@@ -39,6 +39,8 @@ __all__ = [
     "RealityError",
     "GroundTruthError",
     "RunError",
+    "SweepError",
+    "SweepSpecError",
 ]
 
 
@@ -150,3 +152,14 @@ class GroundTruthError(RealityError, LocatedError):
 class RunError(AdaptError):
     """The scenario runner cannot start or go on (an output folder that cannot
     be written, a reality whose frames do not fit the camera)."""
+
+
+class SweepError(AdaptError):
+    """A sweep cannot start or go on (no Dask installed, a scheduler that cannot be
+    reached, workers that cannot see the scenario, an output folder that holds runs
+    of another version of the scenario)."""
+
+
+class SweepSpecError(SweepError, LocatedError):
+    """A ``--seeds`` or ``--set`` argument of a sweep that cannot be read; the
+    message points at the column of the argument (``--set:1:31:``)."""

@@ -14,6 +14,7 @@ status  name                        meaning
 6       ``RULE_ERROR``              ``rules run``: a run-time error in a rule's actions
 7       ``NO_ALIGNMENT``            ``mmd`` / ``sync``: the images could not be aligned
 8       ``NOT_CONVERGED``           ``sync``: ``--max-iter`` renders without reaching ``--tolerance``
+9       ``RUNS_FAILED``             ``sweep``: finished, but some runs failed or were lost
 130     ``INTERRUPTED``             stopped by Ctrl-C (SIGINT); what ran is reported
 ======  ==========================  ==================================================
 """
@@ -37,4 +38,5 @@ class Exit(IntEnum):
     RULE_ERROR = 6
     NO_ALIGNMENT = 7
     NOT_CONVERGED = 8
+    RUNS_FAILED = 9
     INTERRUPTED = 130
