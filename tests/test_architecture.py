@@ -131,6 +131,10 @@ ALLOWED = {
     # reality: never the engine or vision (it is what perception looks at, not a perceiver)
     "reality": ("adapt.reality", "adapt.imagination", "adapt.scenario", "adapt.geometry",
                 "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds"),
+    # sweep: runs the runner; checks a grid with the scenario reader, the schema registry's
+    # check_settings and the rule parser before running it
+    "sweep": ("adapt.sweep", "adapt.runner", "adapt.scenario", "adapt.schemas",
+              "adapt.engine.parse", "adapt.engine.functions", "adapt.errors", "adapt.files"),
 }
 
 
@@ -140,7 +144,7 @@ def test_layers_import_only_what_is_below_them(layer: str) -> None:
     paths = [target] if target.is_file() else modules_in(layer)
     for path in paths:
         for name in imports_of(path):
-            if name.split(".")[0] != "adapt":
+            if name.split(".")[0] != "adapt" or name == "adapt":  # the version only
                 continue
             assert name.startswith(ALLOWED[layer]), f"{layer}: {path.name} imports {name}"
 
@@ -171,7 +175,30 @@ def test_only_the_runner_and_the_cli_open_the_reality() -> None:
             continue
         for name in imports_of(path):
             assert not name.startswith("adapt.reality"), f"{path} imports {name}"
+            if parts[0] == "sweep":  # a sweep runs whole runs: the runner, never the reality
+                continue
             assert not name.startswith("adapt.runner"), f"{path} imports {name}"
+
+
+def test_only_the_cli_imports_the_sweep() -> None:
+    for path in PACKAGE.rglob("*.py"):
+        parts = path.relative_to(PACKAGE).parts
+        if parts[0] in ("sweep", "cli"):
+            continue
+        for name in imports_of(path):
+            assert not name.startswith("adapt.sweep"), f"{path} imports {name}"
+
+
+def test_the_sweep_imports_dask_only_inside_functions() -> None:
+    # `import adapt.sweep` works without the optional extra; the command says how to install it
+    for path in modules_in("sweep"):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in tree.body:
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                names = [a.name for a in node.names] if isinstance(node, ast.Import) else [
+                    node.module or ""]
+                assert not any(n.split(".")[0] in ("dask", "distributed") for n in names), (
+                    f"sweep/{path.name} imports Dask at module level")
 
 
 def test_relative_imports_are_resolved() -> None:

@@ -125,7 +125,7 @@ def connect(workers: int | None = None, scheduler: str | None = None,
         if scheduler is None:
             n = workers or default_workers()
             cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=level)
+                                   dashboard_address="127.0.0.1:0", silence_logs=level)
             client = Client(cluster)
             description = f"an embedded local cluster of {n} worker process{'es' * (n != 1)}"
         else:

@@ -13,7 +13,8 @@ A record (one line of ``runs.jsonl``)::
 
     {"key": "seed7-3f9a0c21b4e8", "seed": 7, "set": {"world.objects.ball.restitution": 0.7},
      "status": "ok", "error": null, "metrics": {"caught": true, ...},
-     "summary": {...}, "fingerprint": "...", "worker": {"host": "...", "pid": 4242},
+     "summary": {...}, "fingerprint": "...",
+     "worker": {"host": "...", "pid": 4242, "adapt": "0.1.0"},
      "started": "2026-11-22T10:00:00+00:00", "task_s": 2.31, "outputs": null}
 """
 
@@ -90,12 +91,13 @@ def run_task(spec: RunSpec) -> dict[str, Any] | None:
     >>> r["status"], r["error"]
     ('failed', 'ScenarioError: /nonexistent.yaml:1:1: no such scenario file')
     """
+    import adapt
     from adapt.runner import Runner
     from adapt.scenario import load_scenario
 
     started = datetime.now(timezone.utc).isoformat(timespec="seconds")
     t0 = time.perf_counter()
-    where = {"host": socket.gethostname(), "pid": os.getpid()}
+    where = {"host": socket.gethostname(), "pid": os.getpid(), "adapt": adapt.__version__}
     try:
         sc = load_scenario(spec.scenario, overrides=list(spec.overrides))
         out = None if spec.out is None else Path(spec.out)

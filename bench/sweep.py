@@ -1,0 +1,111 @@
+"""Speed-up of a sweep from 1 to 2 Dask workers, and its cost per task (figures, not tests).
+
+Run ``python bench/sweep.py`` (about four minutes; ``--quick``: one round of 8 runs).  The
+runs are ``scenarios/unexpected-object.yaml`` (640x480, the Fig. 5 scene: a ball of reality
+only rolls in and a schema is spawned for it) for ``--frames`` frames each, seeds 1..N.
+Three ways of running the same N runs are timed, interleaved over ``--rounds`` rounds, and
+their medians compared:
+
+``loop``
+    a plain loop in this process: ``run_task(spec)`` for every run, nothing else (the same
+    function a worker runs, with OpenCV on one thread as in a worker);
+``1 worker``, ``2 workers``
+    ``run_sweep`` on an embedded local cluster of 1 or 2 worker processes: submitting,
+    running, sending every record back, appending it to ``runs.jsonl`` and writing
+    ``sweep.json`` and ``runs.csv`` (no figures).
+
+Every process is warmed up first (one run each), so the figures are of the steady state;
+starting the cluster and the first run in a fresh worker (imports, textures) are printed
+apart.  Printed: the speed-up 2 workers / 1 worker (target >= 1.7x on 2 cores) and the
+overhead per task of 1 worker against the loop, ``(T_1worker - T_loop) / N``, in
+milliseconds and as a share of a run (target <= 5 %).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+import cv2  # noqa: E402
+
+from adapt.sweep.cluster import connect  # noqa: E402
+from adapt.sweep.plan import make_plan  # noqa: E402
+from adapt.sweep.session import run_sweep  # noqa: E402
+from adapt.sweep.task import run_task  # noqa: E402
+
+SCENARIO = ROOT / "scenarios" / "unexpected-object.yaml"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--runs", type=int, default=16, help="runs per measurement (default 16)")
+    ap.add_argument("--frames", type=int, default=30, help="frames per run (default 30)")
+    ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds (default 3)")
+    ap.add_argument("--quick", action="store_true", help="8 runs, 1 round")
+    args = ap.parse_args()
+    if args.quick:
+        args.runs, args.rounds = 8, 1
+    plan = make_plan(SCENARIO, seeds=f"1-{args.runs}", max_frames=args.frames)
+    warm = make_plan(SCENARIO, seeds="1000-1001", max_frames=args.frames).runs
+    cv2.setNumThreads(1)  # as in a worker: one core per run
+    print(f"{args.runs} runs of {SCENARIO.name}, {args.frames} frames each; "
+          f"{args.rounds} round(s), medians")
+
+    t0 = time.perf_counter()
+    run_task(warm[0])
+    print(f"first run in this process (imports, textures): {time.perf_counter() - t0:.2f} s")
+
+    times: dict[str, list[float]] = {"loop": [], "1 worker": [], "2 workers": []}
+    clusters = {}
+    stack = []
+    for n in (1, 2):
+        t0 = time.perf_counter()
+        cm = connect(workers=n)
+        conn = cm.__enter__()
+        stack.append(cm)
+        started = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        conn.client.gather(conn.client.map(run_task, warm[:n], pure=False))
+        print(f"{n} worker(s): cluster started in {started:.2f} s, first run per worker "
+              f"{time.perf_counter() - t0:.2f} s")
+        clusters[n] = conn
+    try:
+        for r in range(args.rounds):
+            t0 = time.perf_counter()
+            for spec in plan.runs:
+                run_task(spec)
+            times["loop"].append(time.perf_counter() - t0)
+            for n, name in ((1, "1 worker"), (2, "2 workers")):
+                with tempfile.TemporaryDirectory() as d:
+                    t0 = time.perf_counter()
+                    out = run_sweep(plan, d, client=clusters[n].client, plots=False)
+                    times[name].append(time.perf_counter() - t0)
+                    assert out.ok == args.runs, (out.ok, out.failed, out.lost)
+            print(f"round {r + 1}: " + ", ".join(f"{k} {v[-1]:.2f} s" for k, v in times.items()))
+    finally:
+        for cm in reversed(stack):
+            cm.__exit__(None, None, None)
+    med = {k: statistics.median(v) for k, v in times.items()}
+    per_run = med["loop"] / args.runs
+    overhead = (med["1 worker"] - med["loop"]) / args.runs
+    print()
+    print(f"{'':12s} {'median s':>9s} {'s per run':>10s}")
+    for k, v in med.items():
+        print(f"{k:12s} {v:9.2f} {v / args.runs:10.3f}")
+    print()
+    print(f"speed-up 1 -> 2 workers: {med['1 worker'] / med['2 workers']:.2f}x "
+          "(target >= 1.7x)")
+    print(f"overhead per task, 1 worker vs loop: {1000 * overhead:+.1f} ms = "
+          f"{100 * overhead / per_run:+.1f} % of a run (target <= 5 %)")
+    print(f"2 workers vs loop: {med['loop'] / med['2 workers']:.2f}x")
+
+
+if __name__ == "__main__":
+    main()
