@@ -146,7 +146,7 @@ def _print_outcome(o: Any, out: Path) -> None:
               "while writing it); that run was run again")
     state = "interrupted" if o.interrupted else "done"
     print(f"{state}: {o.ok} ok, {o.failed} failed, {o.lost} lost, {o.remaining} to go "
-          f"({o.ran} run now{f' on {o.where}' if o.where else ''}, {o.skipped} already in "
+          f"({o.ran} ran now{f' on {o.where}' if o.where else ''}, {o.skipped} already in "
           f"{out / 'runs.jsonl'})")
     if o.workers_left:
         print(f"{o.workers_left} worker(s) left the cluster while it ran (died or were "

@@ -141,10 +141,10 @@ def test_a_killed_worker_loses_no_run_and_counts_none_twice(room: Path, two_work
         busy = {w: ks for w, ks in client.processing().items() if ks}
         if not busy:
             return
-        worker, keys = next(iter(busy.items()))
+        worker = next(iter(busy))
         pid = client.run(os.getpid, workers=[worker])[worker]
         os.kill(pid, signal.SIGKILL)
-        killed.update(pid=pid, keys=[k.split("-", 3)[3] for k in keys])
+        killed.update(pid=pid)
 
     out = run_sweep(plan, tmp_path, client=client, on_progress=kill_one, plots=False)
     assert killed, "no worker was busy to kill"
@@ -153,9 +153,8 @@ def test_a_killed_worker_loses_no_run_and_counts_none_twice(room: Path, two_work
     assert set(keys) == {r.key for r in plan.runs} and max(keys.values()) == 1
     assert all(r["status"] == "ok" for r in recs)
     assert (out.ok, out.remaining, out.lost) == (10, 0, 0) and out.workers_left >= 1
-    # the runs the dead worker held were run again by a live one
-    again = {r["key"]: r["worker"]["pid"] for r in recs}
-    assert all(again[k] != killed["pid"] for k in killed["keys"])
+    # (a run the dead worker held was run again by a live one, unless it finished just before
+    # the kill: which of the two happened is a race, so it is not asserted)
     client.wait_for_workers(2, timeout=60)  # the nanny restarts it for the next tests
 
 
