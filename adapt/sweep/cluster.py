@@ -14,7 +14,8 @@ Dask (``dask[distributed]``) is an optional dependency (``pip install
   or the path of its scheduler file (``--scheduler-file`` of ``dask
   scheduler``, as dask-jobqueue and ``dask-mpi`` write it).
 
-Every worker gets a small setup (a worker plugin, so restarted and
+The embedded cluster starts its workers without Dask's default
+``MALLOC_TRIM_THRESHOLD_`` (see :data:`NO_TRIM`).  Every worker gets a small setup (a worker plugin, so restarted and
 late-joining workers get it too): OpenCV uses one thread per task, so N
 single-threaded workers use N cores and no more; and the workers of an
 embedded cluster ignore Ctrl-C, which is the client's to handle (it cancels
@@ -32,7 +33,13 @@ from typing import Any, Iterator
 
 from adapt.errors import SweepError
 
-__all__ = ["require_dask", "connect", "Connection", "default_workers", "INSTALL"]
+__all__ = ["require_dask", "connect", "Connection", "default_workers", "INSTALL", "NO_TRIM"]
+
+#: Dask's setting that starts workers with ``MALLOC_TRIM_THRESHOLD_=65536``.  Any explicit trim
+#: threshold turns glibc's dynamic mmap threshold off, so every image buffer of a run (a 640x480
+#: frame is 0.9 MB) is mapped and faulted in afresh: runs were 1.7-2x slower (bench/sweep.py).
+#: The embedded cluster leaves it unset; docs/sweeps.md says how to do so on a cluster.
+NO_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
 
 #: How to install the optional dependency.
 INSTALL = "pip install 'adapt[sweep]'  (or: pip install 'dask[distributed]')"
@@ -123,9 +130,12 @@ def connect(workers: int | None = None, scheduler: str | None = None,
     cluster = None
     try:
         if scheduler is None:
+            import dask
+
             n = workers or default_workers()
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   dashboard_address="127.0.0.1:0", silence_logs=level)
+            with dask.config.set({NO_TRIM: None}):  # the nannies read it once, at start
+                cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                       dashboard_address="127.0.0.1:0", silence_logs=level)
             client = Client(cluster)
             description = f"an embedded local cluster of {n} worker process{'es' * (n != 1)}"
         else:

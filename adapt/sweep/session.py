@@ -154,8 +154,11 @@ def run_sweep(plan: Plan, out: str | Path, *, workers: int | None = None,
             with _connected(client, workers, scheduler) as conn:
                 where = conn.description
                 status(f"running {len(todo)} of {len(plan.runs)} runs on {where}")
-                _probe(conn, plan, status)
-                interrupted, left = _run(conn, todo, state)
+                try:
+                    _probe(conn, plan, status)
+                    interrupted, left = _run(conn, todo, state)
+                except KeyboardInterrupt:  # while waiting for workers
+                    interrupted = True
                 with _no_interrupt():
                     outcome = _finish(plan, folder, log, state, interrupted, where, left, plots)
             return outcome
@@ -170,19 +173,27 @@ class _State:
         self.plan = plan
         self.log = log
         self.skipped = skipped
+        keys = {r.key for r in plan.runs}
+        self.status = {k: str(r.get("status")) for k, r in latest(log.records).items()
+                       if k in keys}
         self.ran = 0
         self.on_progress = on_progress
         self.started = time.perf_counter()
         self.workers = 0
         self.workers_left = 0
 
+    def append(self, record: dict[str, Any]) -> None:
+        """Record a run that came back."""
+        with _no_interrupt():  # a record is written whole or not at all
+            self.log.append(record)
+        self.status[record["key"]] = str(record.get("status"))
+        self.ran += 1
+
     def counts(self) -> dict[str, int]:
-        have = latest(self.log.records)
         out = {"ok": 0, "failed": 0, "lost": 0}
-        for spec in self.plan.runs:
-            r = have.get(spec.key)
-            if r is not None and r.get("status") in out:
-                out[r["status"]] += 1
+        for status in self.status.values():
+            if status in out:
+                out[status] += 1
         out["remaining"] = len(self.plan.runs) - out["ok"] - out["failed"] - out["lost"]
         return out
 
@@ -224,6 +235,11 @@ def _probe(conn: Any, plan: Plan, status: Callable[[str], None]) -> None:
         raise SweepError(f"{len(blind)} worker(s) cannot see the scenario {plan.scenario} "
                          f"(first: {blind[0]}); the scenario and its files must be at the same "
                          "path on every worker (a shared file system)")
+    trimmed = sorted(addr for addr, info in found.items() if info.get("malloc_trim"))
+    if trimmed:
+        status(f"warning: {len(trimmed)} worker(s) run with MALLOC_TRIM_THRESHOLD_ set (Dask's "
+               "default for workers it starts), which makes runs up to 2x slower; see "
+               "docs/sweeps.md, 'On a cluster'")
     versions = sorted({info["adapt"] for info in found.values()} - {adapt.__version__})
     if versions:
         status(f"warning: some workers run adapt {', '.join(versions)}, this is "
@@ -255,9 +271,7 @@ def _run(conn: Any, todo: list[RunSpec], state: _State) -> tuple[bool, int]:
                 if record is None or spec.key in recorded:
                     continue
                 recorded.add(spec.key)
-                with _no_interrupt():  # a record is written whole or not at all
-                    state.log.append(record)
-                state.ran += 1
+                state.append(record)
             now = time.perf_counter()
             if batch or now - last > 0.25:
                 current = conn.workers()

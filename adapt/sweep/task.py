@@ -122,7 +122,8 @@ def _tail(text: str, lines: int = 25) -> str:
 
 
 def probe(scenario: str) -> dict[str, Any]:
-    """What a worker has: adapt's version and whether it sees the scenario file.
+    """What a worker has: adapt's version, whether it sees the scenario file, and its
+    ``MALLOC_TRIM_THRESHOLD_`` (set, it slows runs down: :data:`adapt.sweep.cluster.NO_TRIM`).
 
     Examples
     --------
@@ -132,4 +133,5 @@ def probe(scenario: str) -> dict[str, Any]:
     import adapt
 
     return {"adapt": adapt.__version__, "scenario": os.path.isfile(scenario),
-            "host": socket.gethostname(), "pid": os.getpid()}
+            "host": socket.gethostname(), "pid": os.getpid(),
+            "malloc_trim": os.environ.get("MALLOC_TRIM_THRESHOLD_")}

@@ -121,9 +121,13 @@ def test_a_failing_run_is_recorded_and_the_sweep_goes_on(two_workers: Any, tmp_p
     doc = json.loads((tmp_path / "sweep.json").read_text())
     assert doc["errors"][0]["runs"] == 3
     assert [c["failed"] for c in doc["cells"]] == [0, 3]
-    # resuming leaves failed runs alone unless asked
+    # resuming (the same command) leaves failed runs alone unless asked
+    assert main(["sweep", str(VIDEO), "--seeds", "1-3", "--set", "camera.width=320,640",
+                 "--max-frames", "2", "--out", str(tmp_path), "--json"]) == 9  # no cluster
+    done = json.loads(capsys.readouterr().out)
+    assert done["runs"]["ran_now"] == 0 and done["runs"]["failed"] == 3
+    assert done["outputs"]["sweep"] == str(tmp_path / "sweep.json")
     plan = make_plan(VIDEO, seeds="1-3", sets=["camera.width=320,640"], max_frames=2)
-    assert run_sweep(plan, tmp_path, client=two_workers.client, plots=False).ran == 0
     retried = run_sweep(plan, tmp_path, client=two_workers.client, plots=False,
                         retry_failed=True)
     assert (retried.ran, retried.failed) == (3, 3)
@@ -221,3 +225,16 @@ def test_without_dask_the_command_says_how_to_install_it(room: Path, tmp_path: P
     monkeypatch.setitem(sys.modules, "distributed", None)
     assert main(["sweep", str(room), "--out", str(tmp_path / "x")]) == 1
     assert "pip install 'adapt[sweep]'" in capsys.readouterr().err
+
+
+def test_kept_outputs_go_into_a_folder_per_run(room: Path, two_workers: Any,
+                                               tmp_path: Path) -> None:
+    plan = make_plan(room, seeds="1-2", sets=["outputs.video=false", "outputs.figures=false"],
+                     max_frames=2, out=tmp_path, keep_outputs=True)
+    run_sweep(plan, tmp_path, client=two_workers.client, plots=False)
+    for rec in lines(tmp_path):
+        folder = tmp_path / "runs" / rec["key"]
+        assert rec["outputs"] == str(folder)
+        report = json.loads((folder / "report.json").read_text())
+        assert report["seed"] == rec["seed"] and report["summary"]["frames"] == 2
+        assert (folder / "trace.jsonl").exists() and not (folder / "mmd.mp4").exists()
