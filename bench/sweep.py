@@ -16,6 +16,11 @@ their medians compared:
     running, sending every record back, appending it to ``runs.jsonl`` and writing
     ``sweep.json`` and ``runs.csv`` (no figures).
 
+Besides wall time, the CPU time every process spends is counted (this process, which holds the
+client and the embedded scheduler, plus the worker processes, through psutil): on a shared
+machine CPU time is far less disturbed by other jobs than wall time, so the overhead per task is
+also given as CPU, ``(CPU_1worker - CPU_loop) / N``.
+
 Every process is warmed up first (one run each), so the figures are of the steady state;
 starting the cluster and the first run in a fresh worker (imports, textures) are printed
 apart.  Printed: the speed-up 2 workers / 1 worker (target >= 1.7x on 2 cores) and the
@@ -37,6 +42,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import cv2  # noqa: E402
+import psutil  # noqa: E402  (installed with dask[distributed])
 
 from adapt.sweep.cluster import connect  # noqa: E402
 from adapt.sweep.plan import make_plan  # noqa: E402
@@ -66,6 +72,7 @@ def main() -> None:
     print(f"first run in this process (imports, textures): {time.perf_counter() - t0:.2f} s")
 
     times: dict[str, list[float]] = {"loop": [], "1 worker": [], "2 workers": []}
+    cpu: dict[str, list[float]] = {k: [] for k in times}
     clusters = {}
     stack = []
     for n in (1, 2):
@@ -79,17 +86,24 @@ def main() -> None:
         print(f"{n} worker(s): cluster started in {started:.2f} s, first run per worker "
               f"{time.perf_counter() - t0:.2f} s")
         clusters[n] = conn
+    me = psutil.Process()
     try:
         for r in range(args.rounds):
+            c0 = _cpu([me])
             t0 = time.perf_counter()
             for spec in plan.runs:
                 run_task(spec)
             times["loop"].append(time.perf_counter() - t0)
+            cpu["loop"].append(_cpu([me]) - c0)
             for n, name in ((1, "1 worker"), (2, "2 workers")):
+                client = clusters[n].client
+                procs = [me] + [psutil.Process(p) for p in client.run(os.getpid).values()]
                 with tempfile.TemporaryDirectory() as d:
+                    c0 = _cpu(procs)
                     t0 = time.perf_counter()
-                    out = run_sweep(plan, d, client=clusters[n].client, plots=False)
+                    out = run_sweep(plan, d, client=client, plots=False)
                     times[name].append(time.perf_counter() - t0)
+                    cpu[name].append(_cpu(procs) - c0)
                     assert out.ok == args.runs, (out.ok, out.failed, out.lost)
             print(f"round {r + 1}: " + ", ".join(f"{k} {v[-1]:.2f} s" for k, v in times.items())
                   + f"; speed-up {times['1 worker'][-1] / times['2 workers'][-1]:.2f}x, "
@@ -114,8 +128,23 @@ def main() -> None:
     print(f"1 worker / loop: median of the rounds {statistics.median(ratios):.3f} "
           f"(best {min(ratios):.3f})")
     print(f"overhead per task, 1 worker vs loop: {1000 * overhead:+.1f} ms = "
-          f"{100 * overhead / per_run:+.1f} % of a run (target <= 5 %)")
+          f"{100 * overhead / per_run:+.1f} % of a run (wall time; target <= 5 %)")
+    cmed = {k: statistics.median(v) for k, v in cpu.items()}
+    cpu_over = (cmed["1 worker"] - cmed["loop"]) / args.runs
+    print("CPU s per run (all processes): " + ", ".join(
+        f"{k} {v / args.runs:.3f}" for k, v in cmed.items()))
+    print(f"overhead per task, 1 worker vs loop, CPU: {1000 * cpu_over:+.1f} ms = "
+          f"{100 * cpu_over / (cmed['loop'] / args.runs):+.1f} % of a run's CPU")
     print(f"2 workers vs loop: {med['loop'] / med['2 workers']:.2f}x; load average {_load()}")
+
+
+def _cpu(procs: list[psutil.Process]) -> float:
+    """User + system CPU seconds of ``procs`` so far."""
+    total = 0.0
+    for p in procs:
+        t = p.cpu_times()
+        total += t.user + t.system
+    return total
 
 
 def _load() -> str:

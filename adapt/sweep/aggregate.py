@@ -145,24 +145,25 @@ def _same(a: Any, b: Any) -> bool:
 
 
 def csv_text(records: Sequence[Mapping[str, Any]], axes: Sequence[Axis]) -> str:
-    """``runs.csv``: one row per run (key, seed, each swept key, status, error, task time,
-    each metric); flags as ``true``/``false``, lists as JSON, missing values empty.
+    """``runs.csv``: one row per run (key, seed, each swept key, status, error, the task's wall
+    and CPU time, each metric); flags as ``true``/``false``, lists as JSON, missing values empty.
 
     >>> print(csv_text([{"key": "k", "seed": 1, "set": {}, "status": "ok",
     ...                  "metrics": {"caught": True, "wall_s": 2.0}}], []), end="")
-    key,seed,status,error,task_s,caught,wall_s
-    k,1,ok,,,true,2.0
+    key,seed,status,error,task_s,cpu_s,caught,wall_s
+    k,1,ok,,,,true,2.0
     """
     names = metric_names(records)
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["key", "seed", *[a.path for a in axes], "status", "error", "task_s", *names])
+    w.writerow(["key", "seed", *[a.path for a in axes], "status", "error", "task_s", "cpu_s",
+                *names])
     for r in records:
         cell = r.get("set") or {}
         m = r.get("metrics") or {}
         w.writerow([r["key"], r.get("seed"), *[_cell(cell.get(a.path)) for a in axes],
                     r.get("status"), r.get("error") or "", _cell(r.get("task_s")),
-                    *[_cell(m.get(n)) for n in names]])
+                    _cell(r.get("cpu_s")), *[_cell(m.get(n)) for n in names]])
     return buf.getvalue()
 
 

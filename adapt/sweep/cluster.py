@@ -41,6 +41,17 @@ __all__ = ["require_dask", "connect", "Connection", "default_workers", "INSTALL"
 #: The embedded cluster leaves it unset; docs/sweeps.md says how to do so on a cluster.
 NO_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
 
+#: Dask settings of the embedded cluster: no trim threshold (above); no statistical profiler
+#: sampling the running task's stack every 10 ms; memory checked every second rather than ten
+#: times a second (a run holds a few hundred MB at most); event-loop health checks every 500 ms
+#: rather than 20 ms and system samples every 2 s (they feed warnings and a dashboard the sweep
+#: does not serve).  Idle, the cluster's processes then use about 7 ms of CPU a second instead of
+#: 40 (docs/performance.md, "Sweeps").
+EMBEDDED = {NO_TRIM: None, "distributed.worker.profile.enabled": False,
+            "distributed.worker.memory.monitor-interval": "1s",
+            "distributed.admin.tick.interval": "500ms",
+            "distributed.admin.system-monitor.interval": "2s"}
+
 #: How to install the optional dependency.
 INSTALL = "pip install 'adapt[sweep]'  (or: pip install 'dask[distributed]')"
 
@@ -133,7 +144,7 @@ def connect(workers: int | None = None, scheduler: str | None = None,
             import dask
 
             n = workers or default_workers()
-            with dask.config.set({NO_TRIM: None}):  # the nannies read it once, at start
+            with dask.config.set(EMBEDDED):  # the nannies and workers read it once, at start
                 cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                        dashboard_address="127.0.0.1:0", silence_logs=level)
             client = Client(cluster)

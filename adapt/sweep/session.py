@@ -261,7 +261,7 @@ def _run(conn: Any, todo: list[RunSpec], state: _State) -> tuple[bool, int]:
     recorded: set[str] = set()
     del futures
     try:
-        last = 0.0
+        last = asked = time.perf_counter()
         while not pending.is_empty():
             batch = pending.next_batch(block=False)
             for fut in batch:
@@ -273,15 +273,17 @@ def _run(conn: Any, todo: list[RunSpec], state: _State) -> tuple[bool, int]:
                 recorded.add(spec.key)
                 state.append(record)
             now = time.perf_counter()
-            if batch or now - last > 0.25:
+            if now - asked > 2.0:  # a round trip to the scheduler: not at every run
                 current = conn.workers()
                 seen |= current
                 state.workers = len(current)
                 state.workers_left = len(seen - current)
+                asked = now
+            if batch or now - last > 0.5:
                 state.report()
                 last = now
             if not batch:
-                time.sleep(0.05)
+                time.sleep(0.1)
     except KeyboardInterrupt:
         with _no_interrupt():
             left = list(pending.futures)

@@ -15,7 +15,10 @@ A record (one line of ``runs.jsonl``)::
      "status": "ok", "error": null, "metrics": {"caught": true, ...},
      "summary": {...}, "fingerprint": "...",
      "worker": {"host": "...", "pid": 4242, "adapt": "0.1.0"},
-     "started": "2026-11-22T10:00:00+00:00", "task_s": 2.31, "outputs": null}
+     "started": "2026-11-22T10:00:00+00:00", "task_s": 2.31, "cpu_s": 2.2, "outputs": null}
+
+``task_s`` is the run's wall time in the worker, ``cpu_s`` the CPU time of the thread that ran
+it (less than ``task_s`` when other jobs share the machine's cores).
 """
 
 from __future__ import annotations
@@ -97,6 +100,7 @@ def run_task(spec: RunSpec) -> dict[str, Any] | None:
 
     started = datetime.now(timezone.utc).isoformat(timespec="seconds")
     t0 = time.perf_counter()
+    c0 = time.thread_time()
     where = {"host": socket.gethostname(), "pid": os.getpid(), "adapt": adapt.__version__}
     try:
         sc = load_scenario(spec.scenario, overrides=list(spec.overrides))
@@ -106,14 +110,14 @@ def run_task(spec: RunSpec) -> dict[str, Any] | None:
         return spec.record(status="failed", error=f"{type(exc).__name__}: {exc}",
                            traceback=_tail(traceback.format_exc()), worker=where,
                            started=started, task_s=round(time.perf_counter() - t0, 3),
-                           outputs=spec.out)
+                           cpu_s=round(time.thread_time() - c0, 3), outputs=spec.out)
     if result.interrupted:
         return None
     summary = result.summary
     return spec.record(status="ok" if result.error is None else "failed", error=result.error,
                        metrics=metrics_of(summary), summary=summary, worker=where,
                        started=started, task_s=round(time.perf_counter() - t0, 3),
-                       outputs=spec.out)
+                       cpu_s=round(time.thread_time() - c0, 3), outputs=spec.out)
 
 
 def _tail(text: str, lines: int = 25) -> str:

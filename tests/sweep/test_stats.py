@@ -123,9 +123,9 @@ def test_csv_has_one_row_per_run_and_the_swept_keys() -> None:
                      {"key": "b", "seed": 1, "set": {ax.path: 2}, "status": "failed",
                       "error": "RunError: x, y", "metrics": {}}], [ax])
     lines = text.splitlines()
-    assert lines[0] == "key,seed,reality.camera_offset_deg,status,error,task_s,caught"
-    assert lines[1] == 'a,1,"[1, 0, 0]",ok,,,true'
-    assert lines[2] == 'b,1,2,failed,"RunError: x, y",,'
+    assert lines[0] == "key,seed,reality.camera_offset_deg,status,error,task_s,cpu_s,caught"
+    assert lines[1] == 'a,1,"[1, 0, 0]",ok,,,,true'
+    assert lines[2] == 'b,1,2,failed,"RunError: x, y",,,'
 
 
 def test_timings_are_not_part_of_a_runs_result() -> None:
