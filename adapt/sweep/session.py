@@ -284,6 +284,8 @@ def _run(conn: Any, todo: list[RunSpec], state: _State) -> tuple[bool, int]:
                 last = now
             if not batch:
                 time.sleep(0.1)
+        current = conn.workers()  # the last word on who left
+        state.workers_left = len((seen | current) - current)
     except KeyboardInterrupt:
         with _no_interrupt():
             left = list(pending.futures)

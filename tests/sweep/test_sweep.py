@@ -136,7 +136,7 @@ def test_a_failing_run_is_recorded_and_the_sweep_goes_on(two_workers: Any, tmp_p
 def test_a_killed_worker_loses_no_run_and_counts_none_twice(room: Path, two_workers: Any,
                                                             tmp_path: Path) -> None:
     client = two_workers.client
-    plan = make_plan(room, seeds="1-10", max_frames=20)
+    plan = make_plan(room, seeds="1-8", max_frames=16)
     killed: dict[str, Any] = {}
 
     def kill_one(p: Progress) -> None:
@@ -156,7 +156,7 @@ def test_a_killed_worker_loses_no_run_and_counts_none_twice(room: Path, two_work
     keys = Counter(r["key"] for r in recs)
     assert set(keys) == {r.key for r in plan.runs} and max(keys.values()) == 1
     assert all(r["status"] == "ok" for r in recs)
-    assert (out.ok, out.remaining, out.lost) == (10, 0, 0) and out.workers_left >= 1
+    assert (out.ok, out.remaining, out.lost) == (8, 0, 0) and out.workers_left >= 1
     # (a run the dead worker held was run again by a live one, unless it finished just before
     # the kill: which of the two happened is a race, so it is not asserted)
     client.wait_for_workers(2, timeout=60)  # the nanny restarts it for the next tests
