@@ -90,6 +90,7 @@ class SceneBackground(Schema):
         self._background: PreparedImage | None = None
         self._warped_labels: NDArray[np.uint16] | None = None
         self._label_of: dict[str, int] = {}
+        self._robot_box: BBox | None = None
 
     # -- perception ---------------------------------------------------------------------
 
@@ -110,6 +111,8 @@ class SceneBackground(Schema):
         rendered = mirror.render()
         self.synthetic, self.labels = rendered.image, rendered.labels
         self._label_of = {name: label for label, name in rendered.names.items()}
+        robot = mirror.scene.robot
+        self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
         self._warped_labels = None
         synthetic = self._prepared_synthetic(rendered.image)
         res = mmd(frame.image, synthetic)
@@ -166,6 +169,9 @@ class SceneBackground(Schema):
                          res.frame)
         tracks = self.tracker.update(found, frame.index)
         monitored = self.network.monitored_boxes(exclude=self.name)
+        own = self._own_robot(res)
+        if own is not None:
+            monitored.append(own)
         h_inv = np.linalg.inv(res.homography)  # type: ignore[arg-type]
         out = []
         for t in tracks:
@@ -179,6 +185,21 @@ class SceneBackground(Schema):
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
                                     owner, floor, size, self._imagined_in(r)))
         return out
+
+    def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:
+        """The robot's own body in the real frame: the robot knows where it is, so a
+        difference there (its odometry slipped) is not an unexpected object."""
+        robot = self.network.mirror.scene.robot
+        if robot is None or self._robot_box is None or res.homography is None:
+            return None
+        x, y, w, h = self._robot_box
+        corners = np.array([[x, y, 1.0], [x + w, y, 1.0], [x, y + h, 1.0], [x + w, y + h, 1.0]])
+        p = corners @ res.homography.T
+        p = p[:, :2] / p[:, 2:]
+        x0, y0 = p.min(axis=0)
+        x1, y1 = p.max(axis=0)
+        m = 0.25 * max(x1 - x0, y1 - y0)
+        return robot.name, (int(x0 - m), int(y0 - m), int(x1 - x0 + 2 * m), int(y1 - y0 + 2 * m))
 
     def _imagined_in(self, region: Any) -> str | None:
         """The imagined moving object that covers the most of ``region`` (at least a tenth
