@@ -53,6 +53,8 @@ __all__ = ["ForegroundObject", "FOREGROUND_OBJECT", "Observation"]
 
 #: Colour of an object the scenario does not declare until its own is measured (BGR).
 UNKNOWN_COLOR = (128, 128, 128)
+#: A sighting whose fitted radius is off the object's by more than this fraction is refused.
+RADIUS_TOLERANCE = 0.25
 
 
 class Observation:
@@ -309,11 +311,22 @@ class ForegroundObject(Schema):
         bbox = (bx + x0, by + y0, bw, bh)
         if bbox[0] == 0 or bbox[1] == 0 or bbox[0] + bw >= w:
             return None  # cut by the image's edge: its outline would mislead the fit
-        fit = fit_ball(mask, (bx + x0, by + y0), self.network.mirror.camera,
-                       radius=None if self.ball is None else self.ball.radius,
-                       to_camera=bg.pixels_to_synthetic)
-        if fit is None:
+        cam = self.network.mirror.camera
+        free = fit_ball(mask, (bx + x0, by + y0), cam, radius=None,
+                        to_camera=bg.pixels_to_synthetic)
+        if free is None:
             return None
+        if self.ball is None:
+            fit = free
+        else:
+            # a blob of the wrong size is not the ball (cut by the image's bottom, merged
+            # with something else, a fragment): do not let it move the estimate
+            if abs(free.radius - self.ball.radius) > RADIUS_TOLERANCE * self.ball.radius:
+                return None
+            fit = fit_ball(mask, (bx + x0, by + y0), cam, radius=self.ball.radius,
+                           to_camera=bg.pixels_to_synthetic)
+            if fit is None:
+                return None
         if self.ball is None:
             self._measure_unknown(frame, fit.radius, mask, bbox)
         centre = (float(cents[best][0] + x0), float(cents[best][1] + y0))

@@ -30,7 +30,10 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.schemas.foreground import ForegroundObject
     from adapt.schemas.network import SchemaNetwork
 
-__all__ = ["Intercept", "INTERCEPT", "Plan"]
+__all__ = ["Intercept", "INTERCEPT", "Plan", "CATCH_SLACK"]
+
+#: Touching is at exactly the reach; this much more (metres) counts as caught too.
+CATCH_SLACK = 0.02
 
 
 @dataclass(frozen=True, slots=True)
@@ -116,12 +119,20 @@ class Intercept(Drive):
         node.set("after-bounce", None if p is None else p.after_bounce)
         shift = self.plan_shift()
         node.set("plan-shift", None if shift is None else round(shift, 4))
-        seen = None if obj is None else obj.observed()
+        d = self.object_distance()
+        node.set("object-distance", None if d is None else round(d, 4))
+        node.set("caught", None if d is None or obj is None or obj.ball is None
+                 else d <= intercept_reach(obj.ball, self.robot) + CATCH_SLACK)
+
+    def object_distance(self) -> float | None:
+        """How far the robot is from the object: the sighting when there is one this frame,
+        else the imagined body (a ball at the robot's feet is below its camera's view)."""
+        obj = self.watched()
         pose = self.network.mirror.robot_pose()
-        if seen is not None and pose is not None:
-            node.set("object-distance", round(math.dist(seen, pose[0]), 4))
-        else:
-            node.set("object-distance", None)
+        if obj is None or pose is None:
+            return None
+        where = obj.observed() or obj.imagined()
+        return None if where is None else math.dist(where, pose[0])
 
     def summary(self) -> dict[str, Any]:
         out = super().summary()

@@ -2,7 +2,9 @@
 
 From the synchronised imagination, :class:`Predictor` forks a world whose
 ball starts where it is observed, moving as it is estimated to move, with
-the current parameter estimates, and rolls it out (the *nominal*
+the current parameter estimates, and without the robot (the object's own
+path is what an intercept is planned on; the robot is the rules' to move),
+and rolls it out (the *nominal*
 prediction: positions at the horizons, the contacts on the way -- time,
 place, surface -- and a dense trajectory for planning an intercept).  An
 ensemble of forks with parameters drawn from the estimates' uncertainty and
@@ -185,12 +187,14 @@ class Predictor:
         if math.hypot(velocity[0], velocity[1]) < REST_SPEED:
             return self._at_rest(world, body, position, estimates)
         state = world.snapshot()
+        scene = world.scene
+        robot = scene.robot.name if scene.robot is not None else None
+        # the object's own path: the robot, which the rules move, is left out of the fork
         bodies = tuple(
             BodyState(b.name, (float(position[0]), float(position[1])),
                       (float(velocity[0]), float(velocity[1])), b.angle, 0.0)
-            if b.name == body else b for b in state.bodies)
-        start = replace(state, bodies=bodies)
-        scene = world.scene
+            if b.name == body else b for b in state.bodies if b.name != robot)
+        start = replace(state, bodies=bodies, command=(0.0, 0.0, 0.0))
         ball = next(b for b in scene.balls if b.name == body)
         changes = {}
         for key, (mean, _) in estimates.items():
@@ -199,8 +203,9 @@ class Predictor:
             elif key in ("friction", "rolling_resistance"):
                 changes[key] = max(mean, 0.0)
         nominal_ball = replace(ball, **changes)
-        nominal_scene = replace(scene, balls=tuple(nominal_ball if b.name == body else b
-                                                   for b in scene.balls))
+        nominal_scene = replace(scene, robot=None,
+                                balls=tuple(nominal_ball if b.name == body else b
+                                            for b in scene.balls))
         fork = world.fork(start, scene=nominal_scene)
         steps_per = max(1, int(round((1.0 / 60.0) / fork.dt)))
         n = int(round(self.plan / fork.dt))
