@@ -501,10 +501,23 @@ class Runner:
             "stage_share": {k: round(v / total, 4) if total > 0 else 0.0
                             for k, v in self.stage_s.items()},
             "mmd_ms_median": round(float(np.median(self.mmd_ms)), 3) if self.mmd_ms else None,
+            "rollouts": self._rollouts(),
             "writes": "".join(self.writes[-20:]),
         }
         out.update(self.evaluation.summary())
         return out
+
+    def _rollouts(self) -> dict[str, Any]:
+        """How fast the object schemas' predictions ran: seconds of imagination rolled out
+        per wall-clock second (times real time)."""
+        sim = wall = 0.0
+        for s in self.network.ordered():
+            pred = getattr(s, "predictor", None)
+            if pred is not None:
+                sim += pred.simulated_s
+                wall += pred.wall_s
+        return {"simulated_s": round(sim, 3), "wall_s": round(wall, 4),
+                "times_real_time": round(sim / wall, 1) if wall > 0 else None}
 
     def _finish(self, report: ReportWriter | None, video: VideoSink | None, wall: float,
                 interrupted: bool, error: str | None, paths: dict[str, Path]) -> RunResult:

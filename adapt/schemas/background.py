@@ -249,10 +249,10 @@ class SceneBackground(Schema):
         warped = self.warped_labels()
         return None if warped is None else warped == label
 
-    def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[np.float32] | None:
+    def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[np.uint8] | None:
         """How much the real image differs from the imagination's *background* (no moving
-        objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels, with the
-        frame's gain and bias; None without alignment.
+        objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels (the largest
+        over the channels), with the frame's gain and bias; None without alignment.
 
         This is the difference an object schema looks for its object in: the object
         wherever it really is, whatever the imagination shows of it.  The MMD mask is not
@@ -266,10 +266,20 @@ class SceneBackground(Schema):
         shift = np.array([[1.0, 0.0, -x], [0.0, 1.0, -y], [0.0, 0.0, 1.0]])
         bg = self.network.mirror.background.image
         warped = cv2.warpPerspective(bg, shift @ res.homography, (w, h), flags=cv2.INTER_LINEAR,
-                                     borderMode=cv2.BORDER_REPLICATE).astype(np.float32)
-        adjusted = warped * res.gain.astype(np.float32) + res.bias.astype(np.float32)
-        diff = np.abs(real[y:y + h, x:x + w].astype(np.float32) - adjusted)
-        return diff.max(axis=2) if diff.ndim == 3 else diff
+                                     borderMode=cv2.BORDER_REPLICATE)
+        part = np.ascontiguousarray(real[y:y + h, x:x + w])
+        if warped.ndim == 3:
+            c = warped.shape[2]
+            m = np.zeros((c, c + 1))
+            m[np.arange(c), np.arange(c)] = res.gain
+            m[:, -1] = res.bias
+            diff = cv2.absdiff(part, cv2.transform(warped, m))
+            out = diff[:, :, 0]
+            for k in range(1, c):
+                out = cv2.max(out, diff[:, :, k])
+            return out
+        adjusted = cv2.convertScaleAbs(warped, alpha=float(res.gain[0]), beta=float(res.bias[0]))
+        return cv2.absdiff(part, adjusted)
 
     def to_real(self, pixel: tuple[float, float]) -> tuple[float, float]:
         """A synthetic pixel in the real frame (through ``H_e``; unchanged without it)."""

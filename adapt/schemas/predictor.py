@@ -36,6 +36,7 @@ Examples
 from __future__ import annotations
 
 import math
+import time
 from collections import deque
 from dataclasses import dataclass, replace
 from typing import Mapping, Sequence
@@ -173,6 +174,9 @@ class Predictor:
         self.plan = max(plan, self.horizons[-1])
         self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
         self.residuals = Residuals(self.horizons)
+        #: Seconds of imagination rolled out, and the wall-clock seconds it took.
+        self.simulated_s = 0.0
+        self.wall_s = 0.0
 
     def predict(self, world: World, body: str, position: Sequence[float],
                 velocity: Sequence[float], estimates: Mapping[str, tuple[float, float]],
@@ -186,6 +190,14 @@ class Predictor:
         """
         if math.hypot(velocity[0], velocity[1]) < REST_SPEED:
             return self._at_rest(world, body, position, estimates)
+        started = time.perf_counter()
+        out = self._predict(world, body, position, velocity, estimates, velocity_std)
+        self.wall_s += time.perf_counter() - started
+        return out
+
+    def _predict(self, world: World, body: str, position: Sequence[float],
+                 velocity: Sequence[float], estimates: Mapping[str, tuple[float, float]],
+                 velocity_std: float) -> Prediction:
         state = world.snapshot()
         scene = world.scene
         robot = scene.robot.name if scene.robot is not None else None
@@ -211,6 +223,7 @@ class Predictor:
         n = int(round(self.plan / fork.dt))
         times = [k * fork.dt for k in range(0, n + 1, steps_per)]
         path = rollout(fork, self.plan, times=times, body=body)
+        self.simulated_s += self.plan
         spread = [0.0] * len(self.horizons)
         if self.members > 0:
             ranges = {}
@@ -236,6 +249,7 @@ class Predictor:
                 ens = ensemble(fork, self.horizons[-1], ranges, n=self.members,
                                times=list(self.horizons), body=body, seed=self.rng,
                                percentiles=())
+                self.simulated_s += self.members * self.horizons[-1]
                 for i, h in enumerate(self.horizons):
                     nominal = np.array(path.position_at(fork.time + h))
                     d = ens.samples[:, i, :] - nominal[None, :]
