@@ -500,6 +500,7 @@ class Runner:
             "stage_ms": {k: round(1000.0 * v / n, 3) for k, v in self.stage_s.items()},
             "stage_share": {k: round(v / total, 4) if total > 0 else 0.0
                             for k, v in self.stage_s.items()},
+            "schema_ms": {k: round(1000.0 * v / n, 3) for k, v in sorted(self.network.seconds.items())},
             "mmd_ms_median": round(float(np.median(self.mmd_ms)), 3) if self.mmd_ms else None,
             "rollouts": self._rollouts(),
             "writes": "".join(self.writes[-20:]),

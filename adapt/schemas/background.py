@@ -98,12 +98,14 @@ class SceneBackground(Schema):
         """The synthetic frame with the corners of the current background (computed once
         per camera pose and scene)."""
         mirror = self.network.mirror
-        key = (id(mirror.renderer), mirror.camera_changes)
+        pixels = int(self.parameters["mmd_pixels"])
+        key = (id(mirror.renderer), mirror.camera_changes, pixels)
         if self._prepared_for != key or self._background is None:
-            self._background = prepare(mirror.background.image)
+            self._background = prepare(mirror.background.image, max_pixels=pixels)
             self._prepared_for = key
-        grey = prepare(image, corners=False).grey
-        return dataclasses.replace(self._background, image=image, grey=grey)
+        frame = prepare(image, corners=False, max_pixels=pixels)
+        # the frame's own images (its moving objects drawn), the background's corners
+        return dataclasses.replace(frame, corners=self._background.corners)
 
     def perceive(self, frame: "Frame") -> None:
         started = time.perf_counter()
@@ -115,7 +117,7 @@ class SceneBackground(Schema):
         self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
         self._warped_labels = None
         synthetic = self._prepared_synthetic(rendered.image)
-        res = mmd(frame.image, synthetic)
+        res = mmd(frame.image, synthetic, max_pixels=int(self.parameters["mmd_pixels"]))
         self.result = res
         camera = mirror.camera
         self.correction_deg = 0.0
@@ -408,6 +410,9 @@ SCENE_BACKGROUND = SchemaSpec(
                   low=0.0, high=255.0, low_open=True),
         Parameter("min_area", int, 40, "smallest region reported, at 640x480 (scaled with the "
                   "image's area)", unit="px", low=1),
+        Parameter("mmd_pixels", int, 640 * 480, "largest image the MMD works on (a larger "
+                  "frame is reduced first; fewer pixels: faster, a coarser H_e)", unit="px",
+                  low=32 * 32),
     ),
     singleton=True,
 )
