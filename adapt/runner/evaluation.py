@@ -46,7 +46,8 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from adapt.geometry import Camera, rotation_log
-from adapt.imagination.predict import intercept_reach, time_to_reach
+from adapt.imagination.predict import Trajectory, intercept_reach
+from adapt.imagination.reach import meet
 from adapt.scenario import Scenario
 
 __all__ = ["Evaluation", "Sample", "camera_error", "COMMIT_CONFIDENCE", "BOUNCE_TURN_DEG"]
@@ -294,17 +295,23 @@ class Evaluation:
                 self.baseline_caught = time
 
     def reachable(self) -> bool | None:
-        """Could a robot with the scenario's limits have reached the object at all?"""
+        """Could a robot with the scenario's limits have reached the object at all?
+
+        From where the robot stood when the object first appeared, at rest,
+        knowing the object's whole true path: is there a point of it the robot
+        could drive to straight, in time, and stand at (room for its body clear
+        of walls and obstacles)?  (:func:`adapt.imagination.reach.meet` on the
+        true path.)
+        """
         robot = self.scenario.scene.robot
-        if self._appeared is None or robot is None or self.reach is None:
+        if self._appeared is None or robot is None or self.reach is None or not self._path:
             return None
-        t0, (rx, ry) = self._appeared
-        for t, x, y in self._path:
-            need = time_to_reach(max(0.0, math.hypot(x - rx, y - ry) - self.reach),
-                                 robot.max_speed, robot.max_accel)
-            if need <= t - t0:
-                return True
-        return False
+        t0, start = self._appeared
+        path = np.array(self._path)
+        true_path = Trajectory(self.target or "", path[:, 0], path[:, 1:3],
+                               np.zeros((len(path), 2)), ())
+        return meet(true_path, self.scenario.scene, robot, start, reach=self.reach,
+                    start=t0) is not None
 
     # -- the end ---------------------------------------------------------------------------
 

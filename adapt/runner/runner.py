@@ -438,6 +438,7 @@ class Runner:
         }
         if bg is not None:
             record["mmd"] = {"aligned": bg.result is not None and bg.result.aligned,
+                             "trusted": bg.trusted,
                              "pixel_error": None if math.isnan(bg.pixel_error)
                              else round(bg.pixel_error, 4),
                              "inliers": 0 if bg.result is None else bg.result.n_inliers,

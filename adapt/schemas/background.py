@@ -59,6 +59,7 @@ class RegionReport:
     floor: tuple[float, float] | None
     size: float | None
     imagined: str | None = None
+    at_edge: bool = False
 
     def as_json(self) -> dict[str, Any]:
         """JSON form (trace and report)."""
@@ -68,7 +69,7 @@ class RegionReport:
                 "owner": self.owner,
                 "floor": None if self.floor is None else [round(v, 4) for v in self.floor],
                 "size": None if self.size is None else round(self.size, 4),
-                "imagined": self.imagined}
+                "imagined": self.imagined, "at_edge": self.at_edge}
 
 
 class SceneBackground(Schema):
@@ -91,6 +92,10 @@ class SceneBackground(Schema):
         self._warped_labels: NDArray[np.uint16] | None = None
         self._label_of: dict[str, int] = {}
         self._robot_box: BBox | None = None
+        #: The frame's alignment can be believed (aligned, and not a sudden false jump).
+        self.trusted = False
+        self._settled = 1e9   # a smoothed pixel error of the trusted frames
+        self._glitches = 0
 
     # -- perception ---------------------------------------------------------------------
 
@@ -121,16 +126,30 @@ class SceneBackground(Schema):
         self.result = res
         camera = mirror.camera
         self.correction_deg = 0.0
+        self.trusted = False
         if not res.aligned:
             self.status = Status.LOST
             self.message = res.alignment.reason
             self.pixel_error = math.nan
         else:
-            self.status = Status.RUNNING
-            self.message = ""
             h = res.homography
             assert h is not None
-            self.pixel_error = corner_error(h, np.eye(3), frame.image.shape)
+            error = corner_error(h, np.eye(3), frame.image.shape)
+            if self._implausible(error, frame):
+                self.status = Status.LOST
+                self.message = (f"H_e moves the image by {error:.1f} px after {self._settled:.1f} "
+                                "px: a false alignment, ignored")
+                self._glitches += 1
+                self.pixel_error = error
+                self.regions = self._regions(frame, None, camera)
+                self.ms = (time.perf_counter() - started) * 1000.0
+                return
+            self._glitches = 0
+            self.trusted = True
+            self.status = Status.RUNNING
+            self.message = ""
+            self.pixel_error = error
+            self._settled = error if self._settled >= 1e9 else 0.8 * self._settled + 0.2 * error
             if self.parameters["correct"] and self.pixel_error > self.parameters["tolerance"]:
                 new = self._corrected(camera, res)
                 if new is not None:
@@ -139,6 +158,15 @@ class SceneBackground(Schema):
                     mirror.set_camera(new)
         self.regions = self._regions(frame, res, camera)
         self.ms = (time.perf_counter() - started) * 1000.0
+
+    def _implausible(self, error: float, frame: "Frame") -> bool:
+        """A sudden large jump of a camera that was synchronised is a false alignment
+        (repetitive texture filling the view, a fast turn) more often than a real move: it is
+        ignored for up to ``glitches`` frames in a row, then believed."""
+        scale = image_scale(frame.image.shape)
+        jump = float(self.parameters["max_jump"]) * scale
+        return (self._settled < 2.0 * scale and error > jump
+                and self._glitches < int(self.parameters["glitches"]))
 
     def _corrected(self, camera: "Camera", res: MMDResult) -> "Camera | None":
         h = res.homography
@@ -160,8 +188,9 @@ class SceneBackground(Schema):
         except VisionError:
             return None
 
-    def _regions(self, frame: "Frame", res: MMDResult, camera: "Camera") -> list[RegionReport]:
-        if not res.aligned:
+    def _regions(self, frame: "Frame", res: MMDResult | None, camera: "Camera"
+                 ) -> list[RegionReport]:
+        if res is None or not res.aligned:
             tracks = self.tracker.update([], frame.index)
             return []
         scale = image_scale(res.difference.shape)
@@ -184,8 +213,10 @@ class SceneBackground(Schema):
                 owner = _overlapping(t, monitored)
             floor, size = _floor_of(t.region.bbox, h_inv, camera)
             r = t.region
+            x, y, w, h = r.bbox
+            edge = x <= 0 or y <= 0 or x + w >= frame.image.shape[1] or y + h >= frame.image.shape[0]
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
-                                    owner, floor, size, self._imagined_in(r)))
+                                    owner, floor, size, self._imagined_in(r), edge))
         return out
 
     def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:
@@ -342,6 +373,7 @@ class SceneBackground(Schema):
             c.set("floor-y", None if r.floor is None else round(r.floor[1], 4))
             c.set("size", None if r.size is None else round(r.size, 4))
             c.set("imagined", r.imagined)
+            c.set("at-edge", r.at_edge)
             c.set("age", r.age)
         node.keep_children("region", [r.id for r in self.regions])
 
@@ -410,6 +442,11 @@ SCENE_BACKGROUND = SchemaSpec(
                   low=0.0, high=255.0, low_open=True),
         Parameter("min_area", int, 40, "smallest region reported, at 640x480 (scaled with the "
                   "image's area)", unit="px", low=1),
+        Parameter("max_jump", float, 12.0, "once synchronised, a pixel error above this (at "
+                  "640x480, scaled) is a false alignment, ignored", unit="px", low=0.0,
+                  low_open=True),
+        Parameter("glitches", int, 5, "frames in a row a false alignment is ignored before it "
+                  "is believed", low=0),
         Parameter("mmd_pixels", int, 640 * 480, "largest image the MMD works on (a larger "
                   "frame is reduced first; fewer pixels: faster, a coarser H_e)", unit="px",
                   low=32 * 32),

@@ -55,6 +55,9 @@ __all__ = ["ForegroundObject", "FOREGROUND_OBJECT", "Observation"]
 UNKNOWN_COLOR = (128, 128, 128)
 #: A sighting whose fitted radius is off the object's by more than this fraction is refused.
 RADIUS_TOLERANCE = 0.25
+#: An object is created in the imagination only once its estimated speed is below this (m/s):
+#: faster is a filter started on bad sightings.
+MAX_SPEED = 20.0
 
 
 class Observation:
@@ -270,7 +273,7 @@ class ForegroundObject(Schema):
 
     def _observe(self, frame: "Frame") -> Observation | None:
         bg = self.network.background
-        if bg is None or bg.result is None or not bg.result.aligned:
+        if bg is None or not bg.trusted:
             return None
         where = self._predicted(frame)
         if where is None:

@@ -52,6 +52,8 @@ __all__ = ["HorizonPrediction", "Prediction", "Predictor", "Residuals", "confide
 
 #: Below this speed (m/s) an object is at rest: its prediction needs no rollout.
 REST_SPEED = 0.02
+#: How far ahead the path of an object at rest reaches (seconds): far enough to drive to it.
+REST_PLAN = 60.0
 
 
 def confidence(sigma: float, catch_radius: float) -> float:
@@ -274,7 +276,8 @@ class Predictor:
         """An object at rest stays where it is (unless something hits it): no rollout."""
         t0 = world.time
         p = (float(position[0]), float(position[1]))
-        times = np.array([t0, t0 + self.plan])
+        # it will still be there: plan over a long time, not only the usual horizon
+        times = np.array([t0, t0 + max(self.plan, REST_PLAN)])
         path = Trajectory(body, times, np.array([p, p]), np.zeros((2, 2)), ())
         out = []
         for h in self.horizons:
