@@ -48,8 +48,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from adapt.engine.conditions import exists
 from adapt.engine.instantiation import SUPPORT_I, SUPPORT_O, Instantiation
-from adapt.engine.naive import _exists
 from adapt.engine.preferences import Preference
 from adapt.engine.production import (
     Condition,
@@ -99,28 +99,10 @@ class Justification(Instantiation):
                 f"{len(self.negations)} negated)")
 
 
-class _WMView:
-    """Working memory as the brute-force matcher's negation check reads it."""
-
-    __slots__ = ("wm",)
-
-    def __init__(self, wm: object) -> None:
-        self.wm = wm
-
-    @property
-    def wmes(self) -> list[WME]:
-        return list(self.wm)  # type: ignore[call-overload]
-
-    def candidates(self, cond: Condition, bindings: dict) -> list[WME]:
-        if cond.id in bindings:
-            return self.wm.of(bindings[cond.id])  # type: ignore[attr-defined]
-        return self.wmes
-
-
 class ResultMaker:
     """Finds results, builds their justifications, keeps the GDS up to date."""
 
-    __slots__ = ("kernel", "grounds_index", "negated_index", "ncc_justs", "_view")
+    __slots__ = ("kernel", "grounds_index", "negated_index", "ncc_justs")
 
     def __init__(self, kernel: Kernel) -> None:
         self.kernel = kernel
@@ -130,7 +112,6 @@ class ResultMaker:
         self.negated_index: dict[object, list[Justification]] = {}
         #: justifications with a conjunctive negation (checked on every change)
         self.ncc_justs: list[Justification] = []
-        self._view = _WMView(kernel.wm)
 
     def level(self, ident: object) -> int:
         """The goal level an identifier belongs to (0 when unknown)."""
@@ -344,9 +325,9 @@ class ResultMaker:
 
     def _violated(self, just: Justification) -> bool:
         """Whether one of the justification's negations has a match now."""
-        view = self._view
+        wm = self.kernel.wm
         for element, bindings in just.negations:
-            if _exists(element, view, bindings):  # type: ignore[arg-type]
+            if exists(element, wm, bindings):
                 return True
         return False
 

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from adapt.engine.naive import NaiveMatcher, relation_holds
+from adapt.engine.conditions import relation_holds
+from adapt.engine.naive import NaiveMatcher
 from adapt.engine.symbols import Float, Identifier
 from adapt.engine.wme import WME
 from adapt.errors import EngineError

@@ -22,7 +22,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Hashable, Iterable, Union
 
-from adapt.engine.rete.alpha import AlphaMemory, holds
+from adapt.engine.conditions import RELATIONS
+from adapt.engine.rete.alpha import AlphaMemory
 from adapt.engine.rete.token import BetaNode, Token
 from adapt.engine.wme import WME
 
@@ -115,7 +116,7 @@ class TwoInputNode(BetaNode):
         for relation, al, af, bl, bf in self.tests:
             a = wme[af] if al < 0 else wmes[al][af]
             b = wme[bf] if bl < 0 else wmes[bl][bf]
-            if not holds(relation, a, b):
+            if not RELATIONS[relation](a, b):
                 return False
         return True
 
