@@ -49,13 +49,9 @@ from __future__ import annotations
 from adapt.engine.instantiation import Instantiation
 from adapt.engine.preferences import Preference
 from adapt.engine.symbols import Identifier, Symbol
+from adapt.engine.vocabulary import NO_CHANGE, ImpasseAttribute, ImpasseType, Support
 
-__all__ = ["Goal", "SlotPreference", "top_state_wmes", "substate_wmes", "item_wmes",
-           "NO_CHANGE", "IMPASSE_KINDS"]
-
-NO_CHANGE = "no-change"
-#: Impasse types as Soar names them (``^impasse`` values).
-IMPASSE_KINDS = ("tie", "conflict", "constraint-failure", NO_CHANGE)
+__all__ = ["Goal", "SlotPreference", "top_state_wmes", "substate_wmes", "item_wmes"]
 
 Triple = tuple[Symbol, Symbol, Symbol]
 
@@ -120,8 +116,8 @@ class Goal:
         self.level = level
         self.superstate = superstate
         self.lower: Goal | None = None
-        self.impasse: str | None = None
-        self.attribute: str | None = None
+        self.impasse: ImpasseType | None = None
+        self.attribute: ImpasseAttribute | None = None
         self.items: tuple[Symbol, ...] = ()
         self.non_numeric: tuple[Symbol, ...] = ()
         self.prefs: list[SlotPreference] = []
@@ -134,7 +130,7 @@ class Goal:
         self.gds: set[int] = set()
         self.arch: list[tuple] = []
         self.ungrounded: list[tuple[tuple, Instantiation]] = []
-        self.saved_firing: str | None = None
+        self.saved_firing: Support | None = None
 
     def i_activity(self) -> bool:
         """i-assertions or retractions are pending here."""

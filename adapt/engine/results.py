@@ -49,8 +49,8 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from adapt.engine.conditions import exists
-from adapt.engine.instantiation import SUPPORT_I, SUPPORT_O, Instantiation
-from adapt.engine.preferences import Preference
+from adapt.engine.events import Event
+from adapt.engine.instantiation import Instantiation
 from adapt.engine.production import (
     Condition,
     ConditionElement,
@@ -59,7 +59,9 @@ from adapt.engine.production import (
     Variable,
     equality_variable,
 )
+from adapt.engine.support import MadePreference
 from adapt.engine.symbols import Identifier, level_of
+from adapt.engine.vocabulary import Support
 from adapt.engine.wme import WME
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -95,7 +97,7 @@ class Justification(Instantiation):
 
     def __repr__(self) -> str:
         tags = [w.timetag for w in self.wmes]
-        return (f"Justification({self.support}, level {self.goal.level}, {tags}, "
+        return (f"Justification({self.support.value}, level {self.goal.level}, {tags}, "
                 f"{len(self.negations)} negated)")
 
 
@@ -158,32 +160,17 @@ class ResultMaker:
                 goal = g
         if goal is None:
             goal = _goal_at(k, target)
-        support = SUPPORT_I
+        support = Support.I
         for w in grounds:
             if w.id is goal.id and w.attr == "operator" and not w.acceptable:
-                support = SUPPORT_O
+                support = Support.O
                 break
         just = Justification(goal, support, tuple(grounds), negations)
         for p in results:
             self._promote(p, target)
-        k.emit("result", (inst, just, results))
-        for p in results:
-            kind, ident, attr, value, ref, _ = p
-            if attr == "operator" and ident in k.goals:
-                k._add_slot_pref(k.goals[ident], Preference(kind, value, ref), just)
-                continue
-            if kind is not _ACCEPTABLE:
-                if kind is PreferenceKind.REJECT and support == SUPPORT_O:
-                    k._o_reject(p)
-                continue
-            key = (ident, attr, value, False)
-            if support == SUPPORT_O:
-                k.osup[key] = just
-            else:
-                k.isup.setdefault(key, []).append(just)
-                just.i_wmes.append(key)
-            k.wm.add(ident, attr, value)
-        if just.slot_prefs and support == SUPPORT_O:
+        k.events.emit(Event.RESULT, (inst, just, results))
+        k.preferences.assert_preferences(just, results, support is Support.O)
+        if just.slot_prefs and support is Support.O:
             # o-supported operator-slot preferences stay, as in Soar, until
             # their goal goes
             goal.instantiations[id(just)] = just
@@ -200,7 +187,7 @@ class ResultMaker:
             if negations and self._violated(just):
                 # a negation already has a match (the instantiation behind it
                 # is waiting to retract): the justification does not hold
-                k._schedule_retraction(just)
+                k.schedule_retraction(just)
 
     def _surely_ungrounded(self, inst: Instantiation) -> bool:
         """Whether a complete backtrace of ``inst`` meets no superstate WME.
@@ -228,18 +215,18 @@ class ResultMaker:
                     if attr == "item":  # stands for the superstate's (S ^operator O +)
                         return False
                     if attr == "operator" and not w.acceptable:
-                        creators = list(k.isup.get((w.id, attr, w.value, True), ()))
+                        creators = list(k.preferences.isup.get((w.id, attr, w.value, True), ()))
                         if not creators:
                             return False
                     else:
                         key = w.key
                         if key in g.arch:
                             continue
-                        creators = list(k.isup.get(key, ()))
+                        creators = list(k.preferences.isup.get(key, ()))
                 else:
                     key = w.key
-                    creators = list(k.isup.get(key, ()))
-                o = k.osup.get(w.key)
+                    creators = list(k.preferences.isup.get(key, ()))
+                o = k.preferences.osup.get(w.key)
                 if o is not None:
                     creators.append(o)
                 if not creators:
@@ -265,29 +252,14 @@ class ResultMaker:
         target = min(self.level(p[1]) for p in results)
         for p in results:
             self._promote(p, target)
-        k.emit("result", (inst, None, results))
-        for p in results:
-            kind, ident, attr, value, ref, o = p
-            if attr == "operator" and ident in k.goals:
-                k._add_slot_pref(k.goals[ident], Preference(kind, value, ref), inst)
-            elif kind is _ACCEPTABLE:
-                key = (ident, attr, value, False)
-                if o:
-                    k.osup[key] = inst
-                    goal.ungrounded.append((key, inst))
-                else:
-                    k.isup.setdefault(key, []).append(inst)
-                    inst.i_wmes.append(key)
-                if key not in k.irej:
-                    k.wm.add(ident, attr, value)
-            elif kind is PreferenceKind.REJECT:
-                if o:
-                    k._o_reject(p)
-                else:
-                    key = (ident, attr, value, False)
-                    k.irej.setdefault(key, []).append(inst)
-                    inst.i_wmes.append(key)
-                    k.wm.remove(ident, attr, value)
+        k.events.emit(Event.RESULT, (inst, None, results))
+        o_supported = inst.support is Support.O
+        k.preferences.assert_preferences(inst, results, o_supported)
+        if o_supported:
+            goals = k.goals
+            goal.ungrounded.extend(
+                ((p[1], p[2], p[3], False), inst) for p in results
+                if p[0] is _ACCEPTABLE and not (p[2] == "operator" and p[1] in goals))
         if inst.i_wmes or inst.slot_prefs:
             goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
 
@@ -315,13 +287,13 @@ class ResultMaker:
                             hit.append(j)
             for j in hit:
                 if self._violated(j):
-                    self.kernel._schedule_retraction(j)
+                    self.kernel.schedule_retraction(j)
         if self.ncc_justs and (added or removed):
             live = [j for j in self.ncc_justs if not j.retracted]
             self.ncc_justs = live
             for j in live:
                 if self._violated(j):
-                    self.kernel._schedule_retraction(j)
+                    self.kernel.schedule_retraction(j)
 
     def _violated(self, just: Justification) -> bool:
         """Whether one of the justification's negations has a match now."""
@@ -371,8 +343,8 @@ class ResultMaker:
                         if acc is not None:
                             grounds[acc.timetag] = acc
                     continue
-                creators: list[Instantiation] = list(k.isup.get(key, ()))
-                o = k.osup.get(key)
+                creators: list[Instantiation] = list(k.preferences.isup.get(key, ()))
+                o = k.preferences.osup.get(key)
                 if o is not None:
                     if stop_at_o:
                         continue

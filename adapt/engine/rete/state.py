@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Union
 
-from adapt.engine.matcher import Match, MatchKey
+from adapt.engine.matcher import FlatKey, Match, MatchKey
 from adapt.engine.production import Production
 from adapt.engine.wme import WME
 
@@ -24,8 +24,6 @@ if TYPE_CHECKING:
 
 __all__ = ["NetworkState", "Pending", "FlatKey", "make_match"]
 
-#: ``(production name, timetag, timetag, ...)``
-FlatKey = tuple[Union[str, int], ...]
 #: A pending match change: the matched WMEs, in the production's order.
 Pending = tuple[WME, ...]
 
