@@ -331,11 +331,13 @@ class Rete:
     ) -> TwoInputNode:
         am = self._alpha_memory(key, alpha_tests)
         sig = (cls, am, token_fields, wme_fields, tests)
-        for child in parent.children:
-            if isinstance(child, TwoInputNode) and child.signature() == sig:
-                return child
+        shared = parent.shared.get(sig)
+        if shared is not None:
+            assert isinstance(shared, TwoInputNode)
+            return shared
         node = cls(self.state, parent, am, token_fields, wme_fields, tests)
         parent.children.append(node)
+        parent.shared[sig] = node
         am.add_successor(node)
         node.fill_right()
         for token in parent.emitted():
@@ -343,15 +345,18 @@ class Rete:
         return node
 
     def _ncc(self, parent: BetaNode, bottom: BetaNode, depth: int) -> NccNode:
-        for child in parent.children:
-            if isinstance(child, NccNode) and child.signature() == (NccNode, bottom, depth):
-                return child
+        sig = (NccNode, bottom, depth)
+        shared = parent.shared.get(sig)
+        if shared is not None:
+            assert isinstance(shared, NccNode)
+            return shared
         partner = NccPartner(bottom, depth)
         bottom.children.append(partner)
         for token in bottom.emitted():
             partner.left_add(token)
         node = NccNode(self.state, parent, partner)
         parent.children.append(node)
+        parent.shared[sig] = node
         for token in parent.emitted():
             node.left_add(token)
         return node
@@ -365,6 +370,8 @@ class Rete:
                 unlink(token)
                 delete_token(token)
             parent.children.remove(node)  # type: ignore[arg-type]
+            if isinstance(node, (TwoInputNode, NccNode)):
+                del parent.shared[node.signature()]
             if isinstance(node, TwoInputNode):
                 am = node.alpha
                 am.remove_successor(node)

@@ -104,12 +104,16 @@ class BetaNode:
     #: 2 call :meth:`drop`
     kind = 0
 
-    __slots__ = ("state", "parent", "children")
+    __slots__ = ("state", "parent", "children", "shared")
 
     def __init__(self, state: NetworkState, parent: BetaNode | None) -> None:
         self.state = state
         self.parent = parent
         self.children: list[Successor] = []
+        #: the children that productions may share, by their signature: a
+        #: new production finds a node to share in one lookup (a scan of
+        #: ``children`` made loading quadratic)
+        self.shared: dict[tuple[object, ...], BetaNode] = {}
 
     def drop(self, token: Token) -> None:
         """Forget ``token``, one of this node's own tokens, which is being
