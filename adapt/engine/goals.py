@@ -47,9 +47,12 @@ non-numeric-count 1
 from __future__ import annotations
 
 from adapt.engine.instantiation import Instantiation
+from adapt.engine.matcher import FlatKey
+from adapt.engine.memory import WmeKey
 from adapt.engine.preferences import Preference
 from adapt.engine.symbols import Identifier, Symbol
 from adapt.engine.vocabulary import NO_CHANGE, ImpasseAttribute, ImpasseType, Support
+from adapt.engine.wme import WME
 
 __all__ = ["Goal", "SlotPreference", "top_state_wmes", "substate_wmes", "item_wmes"]
 
@@ -123,13 +126,13 @@ class Goal:
         self.prefs: list[SlotPreference] = []
         self.operator: Identifier | None = None
         self.changed = False
-        self.pending_i: dict[tuple, tuple] = {}
-        self.pending_o: dict[tuple, tuple] = {}
+        self.pending_i: dict[FlatKey, tuple[WME, ...]] = {}
+        self.pending_o: dict[FlatKey, tuple[WME, ...]] = {}
         self.retractions: dict[object, Instantiation] = {}
         self.instantiations: dict[object, Instantiation] = {}
         self.gds: set[int] = set()
-        self.arch: list[tuple] = []
-        self.ungrounded: list[tuple[tuple, Instantiation]] = []
+        self.arch: list[WmeKey] = []
+        self.ungrounded: list[tuple[WmeKey, Instantiation]] = []
         self.saved_firing: Support | None = None
 
     def i_activity(self) -> bool:

@@ -49,7 +49,7 @@ from adapt.engine.production import (
     Test,
     Variable,
 )
-from adapt.engine.symbols import Identifier, Symbol
+from adapt.engine.symbols import Symbol
 from adapt.engine.vocabulary import Support
 from adapt.engine.wme import WME
 

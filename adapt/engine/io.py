@@ -29,6 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Callable
 
+from adapt.engine.memory import WmeKey
 from adapt.engine.symbols import Identifier, Symbol, to_symbol
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
@@ -145,9 +146,9 @@ def _symbol(value: object, what: str) -> Symbol:
 
 
 def _identifier(value: object) -> Identifier:
-    if type(value) is not Identifier:
+    if not isinstance(value, Identifier):
         raise EngineError(f"input-link WMEs need an identifier as their id, got {value!r}")
-    return value  # type: ignore[return-value]
+    return value
 
 
 @dataclass(frozen=True)
@@ -189,7 +190,7 @@ class IoLinks:
         self.output_callbacks: list[Callable[[OutputView], None]] = []
         self._decisions = decisions
         self._writer = InputWriter(self)
-        self._last: dict[tuple, WME] = {}
+        self._last: dict[WmeKey, WME] = {}
 
     def run_input(self) -> None:
         """Call the input callbacks with a writer that works only now."""

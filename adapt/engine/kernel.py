@@ -147,7 +147,7 @@ class Kernel:
             if removed:
                 if forget:
                     for w in removed:
-                        forget.pop(w[:4], None)  # type: ignore[arg-type]
+                        forget.pop(w[:4], None)
                 gds = self.gds_index
                 just = self.results.grounds_index
                 if gds or just:  # only with substates
@@ -208,7 +208,7 @@ class Kernel:
                         goal = g
                 if goal is None:
                     goal = top
-            info = rules[key[0]]  # type: ignore[index]
+            info = rules[key[0]]
             support = info.static_support
             if support is None:
                 support = info.support_of(wmes, goal.id)
@@ -260,7 +260,7 @@ class Kernel:
         made: list[tuple[Instantiation, list[MadePreference]]] = []
         for key, wmes in matches.items():
             del pending_goal[key]
-            rule = rules[key[0]]  # type: ignore[index]
+            rule = rules[key[0]]
             if kind is _I:
                 support = rule.static_support
                 if support is None:
@@ -274,7 +274,7 @@ class Kernel:
         # o-rejects first, then everything else (Soar's assert_new_preferences)
         # (every match fired in an IE cycle is i-supported or unsupported)
         if kind is _O:
-            for inst, prefs in made:
+            for _, prefs in made:
                 for p in prefs:
                     if p[0] is _REJECT and p[5]:
                         o_reject(p)
@@ -295,12 +295,15 @@ class Kernel:
         if self._on_fire:
             bindings = rule.production.bindings(wmes)
             if new is not None:
-                for var, ident in zip(rule.new_variables, new):
-                    bindings[var] = ident
+                for var, made_id in zip(rule.new_variables, new):
+                    bindings[var] = made_id
             inst.bindings = bindings
             self.events.emit(Event.FIRE, inst)
         prefs: list[MadePreference] = []
         o_support = support is _O
+        ident: Symbol | None
+        attr: Symbol | None
+        value: Symbol | None
         value_of = self._rhs_value
         for step in rule.plan:
             if step[0]:
@@ -328,7 +331,7 @@ class Kernel:
                 if ident is None or attr is None or value is None:
                     continue
                 if type(ident) is not Identifier:
-                    self.context.error(  # type: ignore[attr-defined]
+                    self.context.error(
                         f"RHS makes a preference for a non-identifier ({format_symbol(ident)})")
                     continue
                 ref = None if rsrc is None else value_of(rsrc, wmes, new)
@@ -342,14 +345,14 @@ class Kernel:
         """The value of a compiled RHS value (see :attr:`RuleInfo.plan`)."""
         tag = src[0]
         if tag == SRC_WME:
-            return wmes[src[1]][src[2]]  # type: ignore[misc, no-any-return]
+            return wmes[src[1]][src[2]]
         if tag == SRC_CONST:
-            return src[1]  # type: ignore[return-value]
+            return src[1]  # type: ignore[no-any-return]
         if tag == SRC_NEW:
             assert new is not None
-            return new[src[1]]  # type: ignore[index]
+            return new[src[1]]
         args: list[Symbol] = []
-        for arg in src[2]:  # type: ignore[misc]
+        for arg in src[2]:
             tag = arg[0]
             if tag == SRC_WME:
                 v = wmes[arg[1]][arg[2]]
@@ -360,7 +363,7 @@ class Kernel:
                 if v is None:
                     return None
             args.append(v)
-        return self.functions.call(src[1], args, self.context)  # type: ignore[arg-type]
+        return self.functions.call(src[1], args, self.context)
 
     def _assert(self, inst: Instantiation, prefs: list[MadePreference]) -> None:
         """Assert a firing's preferences: its results (in a substate) through

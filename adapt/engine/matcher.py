@@ -28,7 +28,7 @@ brute-force :class:`adapt.engine.naive.NaiveMatcher` is the reference.
 
 from __future__ import annotations
 
-from typing import Iterable, Protocol, Union, runtime_checkable
+from typing import Any, Iterable, Protocol, runtime_checkable
 
 from adapt.engine.production import Production, Variable
 from adapt.engine.symbols import Symbol
@@ -39,7 +39,7 @@ __all__ = ["Match", "Matcher", "RawMatcher", "MatchKey", "FlatKey", "MatchChange
 #: ``(production name, timetags of the matched WMEs)``: a match's identity.
 MatchKey = tuple[str, tuple[int, ...]]
 #: A match's identity as one flat tuple: ``(production name, timetag, ...)``.
-FlatKey = tuple[Union[str, int], ...]
+FlatKey = tuple[Any, ...]
 #: Match-set changes as the kernel files them: ``(added, removed)``, each a dict
 #: ``flat key -> matched WMEs`` (condition order), in the order they happened.
 MatchChanges = tuple[dict[FlatKey, tuple[WME, ...]], dict[FlatKey, tuple[WME, ...]]]

@@ -526,8 +526,9 @@ class _Parser:
         """First condition a state, every condition linked, relational variables bound."""
         if not conditions or not _is_state_test(conditions[0]):
             at: _Located = arrow
-            if conditions and conditions[0].location is not None:
-                at = conditions[0].location  # type: ignore[assignment]
+            first = conditions[0].location if conditions else None
+            if first is not None:
+                at = first
             raise self.semantic(
                 "the first condition must test a state: '(state <s> ...)'", at
             )
@@ -548,10 +549,10 @@ class _Parser:
         changed = True
         while changed:
             changed = False
-            for c in list(pending):
-                if c.id in reach:
-                    reach |= condition_equality_variables(c)
-                    pending.remove(c)
+            for p in list(pending):
+                if p.id in reach:
+                    reach |= condition_equality_variables(p)
+                    pending.remove(p)
                     changed = True
         for c in elements:
             if isinstance(c, ConjunctiveNegation):

@@ -441,10 +441,10 @@ def should_keep(preferences: Iterable[Preference], current: Symbol) -> bool:
     True
     """
     result = _Slot(preferences).run()
-    if type(result) is SlotDecision:
+    if isinstance(result, SlotDecision):
         sel = result.selected
         return result.outcome == "select" and sel is not None and _same(sel, current)
-    for c in result:  # type: ignore[union-attr]
+    for c in result:
         if _same(c, current):
             return True
     return False

@@ -53,6 +53,7 @@ __all__ = [
     "DisjunctionTest",
     "ConjunctiveTest",
     "Test",
+    "SimpleTest",
     "Condition",
     "ConjunctiveNegation",
     "ConditionElement",
@@ -122,6 +123,8 @@ class ConjunctiveTest:
 
 
 Test = Union[EqualityTest, RelationalTest, DisjunctionTest, ConjunctiveTest]
+#: A test that is not a conjunction.
+SimpleTest = Union[EqualityTest, RelationalTest, DisjunctionTest]
 
 
 @dataclass(frozen=True, slots=True)
@@ -249,7 +252,7 @@ def variables_in_test(test: Test | None) -> list[Variable]:
     return out
 
 
-def simple_tests(test: Test | None) -> list[Test]:
+def simple_tests(test: Test | None) -> list[SimpleTest]:
     """The test's parts with conjunctive tests flattened (``None`` gives ``[]``).
 
     Examples

@@ -48,7 +48,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from adapt.engine.conditions import exists
+from adapt.engine.conditions import Bindings, exists
 from adapt.engine.events import Event
 from adapt.engine.instantiation import Instantiation
 from adapt.engine.production import (
@@ -75,7 +75,7 @@ _ACCEPTABLE = PreferenceKind.ACCEPTABLE
 
 #: A negated condition (or conjunctive negation) of a justification, with the
 #: bindings of the instantiation it came from.
-Negation = tuple[ConditionElement, dict]
+Negation = tuple[ConditionElement, Bindings]
 
 
 class Justification(Instantiation):
@@ -90,7 +90,7 @@ class Justification(Instantiation):
 
     __slots__ = ("negations",)
 
-    def __init__(self, goal: Goal, support: str, wmes: tuple,
+    def __init__(self, goal: Goal, support: Support, wmes: tuple[WME, ...],
                  negations: tuple[Negation, ...]) -> None:
         super().__init__(None, None, goal, support, wmes)
         self.negations = negations
@@ -119,10 +119,11 @@ class ResultMaker:
         """The goal level an identifier belongs to (0 when unknown)."""
         return level_of(ident)
 
-    def split(self, inst: Instantiation, prefs: list[tuple]) -> set[tuple] | None:
+    def split(self, inst: Instantiation,
+              prefs: list[MadePreference]) -> set[MadePreference] | None:
         """The preferences of ``inst`` that are results (``None`` when none)."""
         level = inst.goal.level
-        results: set[tuple] = set()
+        results: set[MadePreference] = set()
         linked: set[Identifier] = set()
         changed = True
         while changed:
@@ -142,7 +143,7 @@ class ResultMaker:
             return None
         return results
 
-    def make(self, inst: Instantiation, results: list[tuple]) -> None:
+    def make(self, inst: Instantiation, results: list[MadePreference]) -> None:
         """Assert the results of ``inst`` with a justification's support."""
         k = self.kernel
         negated: list[Negation] = []
@@ -237,7 +238,7 @@ class ResultMaker:
                         stack.append(c)
         return True
 
-    def _ungrounded(self, inst: Instantiation, results: list[tuple]) -> None:
+    def _ungrounded(self, inst: Instantiation, results: list[MadePreference]) -> None:
         """Results whose justification would have no grounds stay the firing's own.
 
         Soar builds no justification then ("no conditions"): the results keep
@@ -355,7 +356,7 @@ class ResultMaker:
                         stack.append(c)
         return sorted(grounds.values(), key=lambda w: w.timetag)
 
-    def _promote(self, p: tuple, level: int) -> None:
+    def _promote(self, p: MadePreference, level: int) -> None:
         """Move an identifier a result links upwards (and its structure) to ``level``."""
         value = p[3]
         if type(value) is not Identifier:
@@ -424,7 +425,7 @@ def _connected(grounds: list[WME], negated: list[Negation]) -> tuple[Negation, .
     return tuple(out)
 
 
-def _term_marked(term: object, bindings: dict, marked: set[object]) -> bool:
+def _term_marked(term: object, bindings: Bindings, marked: set[object]) -> bool:
     if isinstance(term, Variable):
         if term in bindings:
             return bindings[term] in marked
@@ -432,7 +433,7 @@ def _term_marked(term: object, bindings: dict, marked: set[object]) -> bool:
     return term in marked
 
 
-def _in_tc(element: ConditionElement, bindings: dict, marked: set[object]) -> bool:
+def _in_tc(element: ConditionElement, bindings: Bindings, marked: set[object]) -> bool:
     if isinstance(element, Condition):
         return _term_marked(element.id, bindings, marked)
     local = set(marked)

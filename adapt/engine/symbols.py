@@ -143,7 +143,7 @@ def format_symbol(value: Symbol) -> str:
 
 def level_of(value: object) -> int:
     """The goal level of an identifier (:attr:`Identifier.level`); 0 for anything else."""
-    return value.level if type(value) is Identifier else 0  # type: ignore[attr-defined]
+    return value.level if isinstance(value, Identifier) else 0
 
 
 def symbol_sort_key(value: Symbol) -> tuple[int, object, object]:

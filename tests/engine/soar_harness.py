@@ -87,8 +87,9 @@ def _failed(path: Path, reason: str, error: str) -> Report:
 
 
 def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
-    import soar_sml  # only ever imported in the child
     import xml.etree.ElementTree as ET
+
+    import soar_sml  # only ever imported in the child
 
     kernel = soar_sml.Kernel.CreateKernelInCurrentThread(True, soar_sml.Kernel.kSuppressListener)
     agent = kernel.CreateAgent("harness")

@@ -9,6 +9,7 @@ from adapt.engine.naive import NaiveMatcher
 from adapt.engine.symbols import Float, Identifier
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
+
 from strategies import EXAMPLES, S1, cond, make_wmes, prod, rel
 
 

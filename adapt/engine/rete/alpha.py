@@ -26,7 +26,6 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Callable
 
 from adapt.engine.conditions import RELATIONS, relation_holds
-from adapt.engine.symbols import Float
 from adapt.engine.wme import WME
 
 if TYPE_CHECKING:
@@ -59,7 +58,7 @@ def holds(relation: str, a: object, b: object) -> bool:
 def passes(tests: tuple[AlphaTest, ...], wme: WME) -> bool:
     """Whether ``wme`` passes every alpha test."""
     for relation, field, is_constant, operand in tests:
-        other = operand if is_constant else wme[operand]  # type: ignore[index]
+        other = operand if is_constant else wme[operand]  # type: ignore[call-overload]
         if not holds(relation, wme[field], other):
             return False
     return True
@@ -73,7 +72,7 @@ def compile_tests(tests: tuple[AlphaTest, ...]) -> Callable[[WME], bool] | None:
 
     Examples
     --------
-    >>> from adapt.engine.symbols import Identifier
+    >>> from adapt.engine.symbols import Float, Identifier
     >>> check = compile_tests((("<", 2, True, 10),))
     >>> s1 = Identifier("S", 1)
     >>> [check(WME(s1, "count", v, False, 1)) for v in (3, 12, "x", Float(2.5))]

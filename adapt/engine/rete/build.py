@@ -36,20 +36,20 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Sequence
 
+from adapt.engine.conditions import evaluation_order
 from adapt.engine.production import (
     FIELD_ATTR,
     FIELD_ID,
     FIELD_VALUE,
     Condition,
     ConditionElement,
-    ConjunctiveNegation,
     DisjunctionTest,
     EqualityTest,
+    Term,
     Variable,
     condition_equality_variables,
     simple_tests,
 )
-from adapt.engine.conditions import evaluation_order
 from adapt.engine.rete.alpha import ANY, AlphaKey, AlphaTest
 from adapt.engine.rete.join import JoinTest
 
@@ -85,7 +85,7 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> Condition
     token_fields: list[Site] = []
     wme_fields: list[int] = []
     tests: list[JoinTest] = []
-    relations: list[tuple[str, int, object]] = []
+    relations: list[tuple[str, int, Term]] = []
     for field, test in ((FIELD_ID, EqualityTest(cond.id)), (FIELD_ATTR, cond.attr),
                         (FIELD_VALUE, cond.value)):
         for t in simple_tests(test):

@@ -146,9 +146,10 @@ class Rete:
     def remove_wme(self, wme: WME) -> None:
         """Remove a WME (a timetag not present is ignored)."""
         timetag = wme[4]
-        wme = self._wmes.pop(timetag, None)  # type: ignore[assignment]
-        if wme is None:
+        known = self._wmes.pop(timetag, None)
+        if known is None:
             return
+        wme = known
         state = self.state
         state.epoch += 1
         memories = self._wme_alphas.pop(timetag, None)
@@ -167,7 +168,7 @@ class Rete:
                     key = tuple([wme[field] for field in node.wme_fields])
                 right = node.right
                 bucket = right[key]
-                if type(bucket) is dict:
+                if isinstance(bucket, dict):
                     del bucket[timetag]
                     if not bucket:
                         del right[key]
@@ -175,23 +176,24 @@ class Rete:
                     del right[key]
         tokens = state.tokens_by_wme.pop(timetag, None)
         if tokens is not None:
-            if type(tokens) is dict:
+            if isinstance(tokens, dict):
                 for token in tokens:
                     if not token.dead:
                         unlink(token)
                         delete_token(token)
             else:
                 # unlink, inlined (a join token always has a parent).
-                parent = tokens.parent  # type: ignore[union-attr]
+                parent = tokens.parent
+                assert parent is not None
                 siblings = parent.children
                 if siblings is tokens:
                     parent.children = None
-                elif type(siblings) is dict:
+                elif isinstance(siblings, dict):
                     siblings.pop(tokens, None)
-                delete_token(tokens)  # type: ignore[arg-type]
+                delete_token(tokens)
         for am in memories:
             for negative in am.negatives:
-                negative.unblock(wme)  # type: ignore[attr-defined]
+                negative.unblock(wme)
 
     # -- match set ------------------------------------------------------------
 

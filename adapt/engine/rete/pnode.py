@@ -129,14 +129,14 @@ class ProductionNode:
 
     def matches(self) -> list[Match]:
         """The current matches (the parent's emitted tokens)."""
-        out = []
+        out: list[Match] = []
         for token in self.parent.emitted():
-            key = self.flat_key(token)
-            out.append(make_match(self.production, self.wmes_of(token), (self.name, key[1:])))
+            wmes = self.wmes_of(token)
+            out.append(make_match(self.production, wmes, (self.name, tuple(w[4] for w in wmes))))
         return out
 
 
 def _reorderer(order: tuple[int, ...]) -> Callable[[tuple[WME, ...]], tuple[WME, ...]]:
     if len(order) == 1:
         return lambda wmes: (wmes[order[0]],)
-    return itemgetter(*order)  # type: ignore[return-value]
+    return itemgetter(*order)

@@ -95,18 +95,18 @@ class NetworkState:
     def _matches(self, pending: dict[FlatKey, Pending]) -> list[Match]:
         pnodes = self.pnodes
         orphans = self.orphans
-        out = []
+        out: list[Match] = []
         append = out.append
         for key, wmes in pending.items():
             name = key[0]
             production = orphans.get(key) if orphans else None
             if production is None:
-                production = pnodes[name].production  # type: ignore[index]
+                production = pnodes[name].production
             # make_match, inlined.
             match: Match = _new(Match)
             match.production = production
             match.wmes = wmes
-            match.key = match_key = (name, key[1:])  # type: ignore[assignment]
+            match.key = match_key = (name, key[1:])
             match._hash = hash(match_key)
             append(match)
         return out

@@ -51,7 +51,7 @@ class Token:
             siblings = parent.children
             if siblings is None:
                 parent.children = self
-            elif type(siblings) is dict:
+            elif isinstance(siblings, dict):
                 siblings[self] = None
             else:
                 parent.children = {siblings: None, self: None}
@@ -65,9 +65,9 @@ def children_of(token: Token) -> Iterable[Token]:
     below = token.children
     if below is None:
         return ()
-    if type(below) is dict:
+    if isinstance(below, dict):
         return below
-    return (below,)  # type: ignore[return-value]
+    return (below,)
 
 
 def unlink(token: Token) -> None:
@@ -77,7 +77,7 @@ def unlink(token: Token) -> None:
         siblings = parent.children
         if siblings is token:
             parent.children = None
-        elif type(siblings) is dict:
+        elif isinstance(siblings, dict):
             siblings.pop(token, None)
 
 
@@ -160,11 +160,11 @@ def retract(token: Token) -> None:
     below = token.children
     if below is not None:
         token.children = None
-        if type(below) is dict:
+        if isinstance(below, dict):
             for t in below:
                 delete_token(t)
         else:
-            delete_token(below)  # type: ignore[arg-type]
+            delete_token(below)
 
 
 def delete_token(token: Token) -> None:
@@ -178,11 +178,11 @@ def delete_token(token: Token) -> None:
     below = token.children
     if below is not None:
         token.children = None
-        if type(below) is dict:
+        if isinstance(below, dict):
             for t in below:
                 delete_token(t)
         else:
-            delete_token(below)  # type: ignore[arg-type]
+            delete_token(below)
     kind = node.kind
     if kind == 1:
         # JoinNode.drop, inlined.
@@ -191,7 +191,7 @@ def delete_token(token: Token) -> None:
         registry = registries.get(timetag)
         if registry is token:
             del registries[timetag]
-        elif type(registry) is dict:
+        elif isinstance(registry, dict):
             registry.pop(token, None)
             if not registry:
                 del registries[timetag]
