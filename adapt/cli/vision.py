@@ -195,7 +195,7 @@ def _run_sync(args: argparse.Namespace) -> int:
     if real.ndim == 2:
         import cv2
 
-        real = cv2.cvtColor(real, cv2.COLOR_GRAY2BGR)
+        real = cv2.cvtColor(real, cv2.COLOR_GRAY2BGR)  # type: ignore[assignment]
     out = _out_dir(args.out)
     renderer = Renderer(scenario.scene, cam)
 

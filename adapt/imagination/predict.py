@@ -369,7 +369,7 @@ def _member(
                                                          "rolling_resistance", "mass")}
     member_scene = scene
     if changes:
-        new_ball = replace(ball, **changes)
+        new_ball = replace(ball, **changes)  # type: ignore[arg-type]
         member_scene = replace(
             scene, balls=tuple(new_ball if b.name == name else b for b in scene.balls)
         )

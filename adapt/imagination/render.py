@@ -329,7 +329,7 @@ class Renderer:
         robot = self.scene.robot
         if robot is not None and robot.name in poses:
             self._draw_robot(robot, poses[robot.name], image, labels, depth)
-        for i, ball in enumerate(self.scene.balls):
+        for ball in self.scene.balls:
             pose = poses.get(ball.name)
             if pose is not None:
                 self._draw_shadow(ball, pose.position, image, bg_labels)

@@ -151,7 +151,7 @@ def _standardise(grey: NDArray[np.uint8]) -> NDArray[np.uint8]:
     if sd < 1e-6:
         return np.full_like(grey, 128)
     a = GREY_STD / sd
-    return cv2.convertScaleAbs(grey, alpha=a, beta=128.0 - a * m)
+    return cv2.convertScaleAbs(grey, alpha=a, beta=128.0 - a * m)  # type: ignore[return-value]
 
 
 def prepare(
@@ -206,7 +206,7 @@ def track(
         return _empty("lk", 0)
     p0 = ps.reshape(-1, 1, 2)
     win = (LK_WINDOW, LK_WINDOW)
-    p1, st1, _ = cv2.calcOpticalFlowPyrLK(
+    p1, st1, _ = cv2.calcOpticalFlowPyrLK(  # type: ignore[call-overload]
         s.grey, r.grey, p0, None, winSize=win, maxLevel=LK_LEVELS, criteria=_LK_CRITERIA
     )
     ok = st1.ravel() == 1
@@ -255,7 +255,7 @@ def match_descriptors(
         if isinstance(synthetic, PreparedImage)
         else to_grey(check_image(synthetic, "synthetic"))
     )
-    sift = cv2.SIFT_create(nfeatures=n_features)
+    sift = cv2.SIFT_create(nfeatures=n_features)  # type: ignore[attr-defined]
     ks, ds = sift.detectAndCompute(sg, None)
     kr, dr = sift.detectAndCompute(rg, None)
     if ds is None or dr is None or len(ks) < 2 or len(kr) < 2:

@@ -226,7 +226,7 @@ def mmd(
     q = matches.quality[alignment.inliers]
     mask = (exact_mask if exact else fast_mask)(pts, q, (hh, ww), sigma=sigma)
     explained = known & (mask >= EXPLAINED)
-    gain, bias = _fit_gain(real8, warped, explained if np.count_nonzero(explained) > 0 else known)
+    gain, bias = _fit_gain(real8, warped, explained if np.count_nonzero(explained) > 0 else known)  # type: ignore[arg-type]
     if channels == 1:
         adjusted = cv2.convertScaleAbs(warped, alpha=float(gain[0]), beta=float(bias[0]))
         diff = cv2.absdiff(real8, adjusted)
@@ -243,4 +243,4 @@ def mmd(
     difference *= 1.0 - mask
     difference[~known] = 0.0
     warped[~known] = 0
-    return MMDResult(alignment, matches, warped, mask, known, difference, gain, bias)
+    return MMDResult(alignment, matches, warped, mask, known, difference, gain, bias)  # type: ignore[arg-type]
