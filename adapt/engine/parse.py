@@ -177,6 +177,12 @@ def _binders_first(conds: list[ConditionElement]) -> tuple[ConditionElement, ...
     return tuple(conds[k] for k in placed)
 
 
+#: Deepest nesting of ``{ }`` (conjunctive negations) and of function calls
+#: in one production: a limit, so that the (possibly compiled) recursive
+#: parser and matcher never run out of stack.
+MAX_NESTING = 200
+
+
 class _Parser:
     def __init__(self, text: str, file: str, table: FunctionTable) -> None:
         self.text = text
@@ -186,6 +192,8 @@ class _Parser:
         self._stream = iter_tokens(text, file)
         self.toks: list[Token] = []
         self.i = 0
+        #: nesting of ``{`` and of function calls (bounded by MAX_NESTING)
+        self.depth = 0
         self._reset_production()
 
     def _reset_production(self) -> None:
@@ -361,6 +369,7 @@ class _Parser:
             return self.parse_condition()
         if tok.kind == "{":
             self.advance()
+            self.enter(tok)
             out: list[ConditionElement] = []
             while self.peek().kind != "}":
                 if self.peek().kind not in ("(", "-", "{"):
@@ -369,6 +378,7 @@ class _Parser:
                     )
                 out.extend(self.parse_cond())
             self.advance()
+            self.depth -= 1
             if not out:
                 raise self.syntax("empty '{ }': a conjunction needs at least one condition", tok)
             return out
@@ -627,11 +637,21 @@ class _Parser:
             raise self.semantic(problem, name_tok)
         return FunctionCall(name, tuple(args), location=self.loc(opening))
 
+    def enter(self, tok: Token) -> None:
+        """One more level of ``{`` or of a nested function call."""
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise self.syntax(f"rule text is nested too deeply (more than {MAX_NESTING} levels)",
+                              tok)
+
     def parse_rhs_value(self, role: str) -> RhsValue:
         tok = self.peek()
         if tok.kind == "(":
             self.advance()
-            return self.parse_call(tok, as_action=False)
+            self.enter(tok)
+            call = self.parse_call(tok, as_action=False)
+            self.depth -= 1
+            return call
         if tok.kind == "variable":
             self.advance()
             var = Variable(str(tok.value))
