@@ -219,13 +219,27 @@ class Agent:
         RuleError
             At the first error; nothing from ``text`` is loaded then.
         """
-        return self._load(parse_rules(text, file=file, functions=self.functions))
+        saved_gc = _raise_gc_threshold(self.gc_threshold)
+        try:
+            return self._load(parse_rules(text, file=file, functions=self.functions))
+        finally:
+            if saved_gc is not None:
+                gc.set_threshold(*saved_gc)
 
     def load_file(self, path: str | os.PathLike[str]) -> RuleFile:
-        """Load a rule file (see :meth:`load_text`)."""
-        rules = load_rule_file(path, functions=self.functions)
-        self.files.append(os.fspath(path))
-        return self._load(rules)
+        """Load a rule file (see :meth:`load_text`).
+
+        Loading follows the garbage-collection policy of :meth:`run` (see
+        ``gc_threshold``): a large rule base is many long-lived objects.
+        """
+        saved_gc = _raise_gc_threshold(self.gc_threshold)
+        try:
+            rules = load_rule_file(path, functions=self.functions)
+            self.files.append(os.fspath(path))
+            return self._load(rules)
+        finally:
+            if saved_gc is not None:
+                gc.set_threshold(*saved_gc)
 
     def _load(self, rules: RuleFile) -> RuleFile:
         self.warnings.extend(rules.warnings)

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 from typing import Union
 
 from adapt.engine.functions import FunctionTable, default_functions
-from adapt.engine.lexer import CONSTANT_KINDS, Token, iter_tokens
+from adapt.engine.lexer import CONSTANT_KINDS, Token, token_batches
 from adapt.engine.production import (
     Action,
     CallAction,
@@ -189,7 +189,7 @@ class _Parser:
         self.file = file
         self.table = table
         self.lines = text.splitlines()
-        self._stream = iter_tokens(text, file)
+        self._batches = token_batches(text, file)
         self.toks: list[Token] = []
         self.i = 0
         #: nesting of ``{`` and of function calls (bounded by MAX_NESTING)
@@ -197,16 +197,27 @@ class _Parser:
         self._reset_production()
 
     def _reset_production(self) -> None:
+        if self.i:  # the tokens read so far are done with
+            del self.toks[:self.i]
+            self.i = 0
         self.hidden = 0
         self.rel_tokens: dict[tuple[str, int, int], Token] = {}
         self.rhs_uses: list[tuple[str, Variable, Token]] = []
 
     # ------------------------------------------------------------ helpers
     def peek(self, k: int = 0) -> Token:
+        j = self.i + k
         toks = self.toks
-        while len(toks) <= self.i + k and (not toks or toks[-1].kind != "eof"):
-            toks.append(next(self._stream))
-        return toks[min(self.i + k, len(toks) - 1)]
+        if j < len(toks):
+            return toks[j]
+        return self._pull(j)
+
+    def _pull(self, j: int) -> Token:
+        """Read tokens until the ``j``-th (or the end of the text)."""
+        toks = self.toks
+        while len(toks) <= j and (not toks or toks[-1].kind != "eof"):
+            toks.extend(next(self._batches))
+        return toks[min(j, len(toks) - 1)]
 
     def advance(self) -> Token:
         tok = self.peek()
