@@ -54,10 +54,13 @@ class Match:
 
     __slots__ = ("production", "wmes", "key", "_hash")
 
-    def __init__(self, production: Production, wmes: tuple[WME, ...]) -> None:
+    def __init__(self, production: Production, wmes: tuple[WME, ...],
+                 key: MatchKey | None = None) -> None:
         self.production = production
         self.wmes = wmes
-        self.key: MatchKey = (production.name, tuple(w.timetag for w in wmes))
+        #: ``(name, timetags)``; a caller that has it passes it (it must be exactly that)
+        self.key: MatchKey = key if key is not None else (
+            production.name, tuple(w.timetag for w in wmes))
         self._hash = hash(self.key)
 
     def __hash__(self) -> int:

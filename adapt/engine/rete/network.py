@@ -120,21 +120,7 @@ class Rete:
             return
         wmes[timetag] = wme
         self.state.epoch += 1
-        # _alphas_of, inlined for the usual shapes.
-        both, attr_only, value_only, neither = self._shapes
-        if value_only or neither:
-            memories = self._alphas_of(wme)
-        else:
-            alpha = self._alpha
-            memories = alpha.get((wme[1], ANY, wme[3]), ()) if attr_only else ()
-            if both:
-                found = alpha.get((wme[1], wme[2], wme[3]))
-                if found:
-                    memories = memories + found if memories else found
-            for am in memories:
-                if am.check is not None:
-                    memories = tuple([m for m in memories if m.check is None or m.check(wme)])
-                    break
+        memories = self._alphas_of(wme)
         if not memories:
             return
         self._wme_alphas[timetag] = memories
@@ -158,22 +144,7 @@ class Rete:
         for am in memories:
             del am.items[timetag]
             for node in am.successors:
-                # Inlined TwoInputNode.right_remove.
-                n = node._n
-                if n == 1:
-                    key: object = wme[node._wfield]
-                elif n == 0:
-                    key = None
-                else:
-                    key = tuple([wme[field] for field in node.wme_fields])
-                right = node.right
-                bucket = right[key]
-                if isinstance(bucket, dict):
-                    del bucket[timetag]
-                    if not bucket:
-                        del right[key]
-                else:
-                    del right[key]
+                node.right_remove(wme)
         tokens = state.tokens_by_wme.pop(timetag, None)
         if tokens is not None:
             if isinstance(tokens, dict):
@@ -182,14 +153,7 @@ class Rete:
                         unlink(token)
                         delete_token(token)
             else:
-                # unlink, inlined (a join token always has a parent).
-                parent = tokens.parent
-                assert parent is not None
-                siblings = parent.children
-                if siblings is tokens:
-                    parent.children = None
-                elif isinstance(siblings, dict):
-                    siblings.pop(tokens, None)
+                unlink(tokens)
                 delete_token(tokens)
         for am in memories:
             for negative in am.negatives:

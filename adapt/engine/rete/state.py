@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Union
 
-from adapt.engine.matcher import FlatKey, Match, MatchKey
+from adapt.engine.matcher import FlatKey, Match
 from adapt.engine.production import Production
 from adapt.engine.wme import WME
 
@@ -22,23 +22,11 @@ if TYPE_CHECKING:
     from adapt.engine.rete.pnode import ProductionNode
     from adapt.engine.rete.token import Token
 
-__all__ = ["NetworkState", "Pending", "FlatKey", "make_match"]
+__all__ = ["NetworkState", "Pending", "FlatKey"]
 
 #: A pending match change: the matched WMEs, in the production's order.
 Pending = tuple[WME, ...]
 
-_new = object.__new__
-
-
-def make_match(production: Production, wmes: tuple[WME, ...], key: MatchKey) -> Match:
-    """``Match(production, wmes)`` without recomputing ``key`` (which must be
-    ``(production.name, timetags of wmes)``)."""
-    match: Match = _new(Match)
-    match.production = production
-    match.wmes = wmes
-    match.key = key
-    match._hash = hash(key)
-    return match
 
 
 class NetworkState:
@@ -102,13 +90,7 @@ class NetworkState:
             production = orphans.get(key) if orphans else None
             if production is None:
                 production = pnodes[name].production
-            # make_match, inlined.
-            match: Match = _new(Match)
-            match.production = production
-            match.wmes = wmes
-            match.key = match_key = (name, key[1:])
-            match._hash = hash(match_key)
-            append(match)
+            append(Match(production, wmes, (name, key[1:])))
         return out
 
     def take_raw(self) -> tuple[dict[FlatKey, Pending], dict[FlatKey, Pending]]:

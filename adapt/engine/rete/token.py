@@ -99,9 +99,8 @@ class BetaNode:
     (``left_add``) and hear of their retraction (``left_remove``).
     """
 
-    #: what :func:`delete_token` must do to forget a token of this node:
-    #: 0 nothing, 1 take it out of the WME registry (join nodes, inlined),
-    #: 2 call :meth:`drop`
+    #: non-zero when :func:`delete_token` must call :meth:`drop` to forget a
+    #: token of this node (joins: the WME registry; negative nodes: the left memory)
     kind = 0
 
     __slots__ = ("state", "parent", "children", "shared")
@@ -183,17 +182,5 @@ def delete_token(token: Token) -> None:
                 delete_token(t)
         else:
             delete_token(below)
-    kind = node.kind
-    if kind == 1:
-        # JoinNode.drop, inlined.
-        registries = node.state.tokens_by_wme
-        timetag = token.wmes[-1][4]
-        registry = registries.get(timetag)
-        if registry is token:
-            del registries[timetag]
-        elif isinstance(registry, dict):
-            registry.pop(token, None)
-            if not registry:
-                del registries[timetag]
-    elif kind == 2:
+    if node.kind:
         node.drop(token)
