@@ -139,10 +139,6 @@ class Goal:
         """i-assertions or retractions are pending here."""
         return bool(self.pending_i or self.retractions)
 
-    def any_activity(self) -> bool:
-        """Anything is pending here."""
-        return bool(self.pending_i or self.pending_o or self.retractions)
-
     def preferences(self) -> list[Preference]:
         """The slot's preferences, oldest first."""
         return [sp.preference for sp in self.prefs]

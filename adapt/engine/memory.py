@@ -51,7 +51,7 @@ Examples
 
 from __future__ import annotations
 
-from typing import Iterable, Iterator, Protocol
+from typing import Iterator, Protocol
 
 from adapt.engine.symbols import Identifier, Symbol, format_symbol, symbol_sort_key
 from adapt.engine.wme import WME
@@ -343,8 +343,3 @@ class WorkingMemory:
 
         show(root, 0)
         return "\n".join(lines)
-
-    def bulk_remove(self, keys: Iterable[WmeKey]) -> None:
-        """Request the removal of several WMEs by key."""
-        for key in keys:
-            self.remove(*key)

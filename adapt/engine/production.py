@@ -201,16 +201,6 @@ class PreferenceKind(str, Enum):
     BINARY_INDIFFERENT = "=x"
     NUMERIC_INDIFFERENT = "=n"
 
-    @property
-    def is_binary(self) -> bool:
-        """True for preferences that relate the value to a referent."""
-        return self in (
-            PreferenceKind.BETTER,
-            PreferenceKind.WORSE,
-            PreferenceKind.BINARY_INDIFFERENT,
-            PreferenceKind.NUMERIC_INDIFFERENT,
-        )
-
 
 @dataclass(frozen=True, slots=True)
 class MakeAction:

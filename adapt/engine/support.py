@@ -206,15 +206,3 @@ class PreferenceMemory:
         (a goal at ``level`` is being removed)."""
         for key in [k for k in self.osup if level_of(k[0]) >= level]:
             self.drop_o_supported(key)
-
-    def forget_removed(self, key: WmeKey) -> None:
-        """A WME left working memory: its o-support goes with it."""
-        self.osup.pop(key, None)
-
-    def supporters(self, key: WmeKey) -> list[Instantiation]:
-        """Every holder of the WME ``key``: i-supported ones, then the o-supported one."""
-        out = list(self.isup.get(key, ()))
-        o = self.osup.get(key)
-        if o is not None:
-            out.append(o)
-        return out
