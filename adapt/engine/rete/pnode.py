@@ -22,6 +22,8 @@ if TYPE_CHECKING:
 
 __all__ = ["ProductionNode"]
 
+_TIMETAG = itemgetter(4)
+
 
 
 class ProductionNode:
@@ -61,7 +63,7 @@ class ProductionNode:
         reorder = self._reorder
         if reorder is not None:
             wmes = reorder(wmes)
-        return (self.name, *[w[4] for w in wmes]), wmes
+        return (self.name, *map(_TIMETAG, wmes)), wmes
 
     def left_add(self, token: Token) -> None:
         key, wmes = self.key_and_wmes(token)
