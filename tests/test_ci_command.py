@@ -17,4 +17,5 @@ def test_ci_runs_the_readme_test_command() -> None:
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8").strip().splitlines()
     assert ci[-1] == command
     # the compiled build and the pure-Python engine are both tested
-    assert "python -m pytest -q &&" in command and "ADAPT_PURE_PYTHON=1 python -m pytest" in command
+    assert "ADAPT_REQUIRE_COMPILED=1 python -m pytest -q &&" in command
+    assert "ADAPT_PURE_PYTHON=1 python -m pytest" in command

@@ -69,6 +69,16 @@ def test_the_build_in_use_is_the_one_installed() -> None:
         assert engine_build() == "pure Python (not compiled)"
 
 
+def test_the_compiled_build_when_it_is_required() -> None:
+    """``ADAPT_REQUIRE_COMPILED=1`` (the README's test command, so CI): the run must test the
+    compiled engine, not a silent pure-Python fallback of the install."""
+    if os.environ.get("ADAPT_REQUIRE_COMPILED", "") in ("", "0"):
+        pytest.skip("ADAPT_REQUIRE_COMPILED is not set")
+    assert engine_build() == "compiled (mypyc)", (
+        f"the engine under test is {engine_build()}: the install did not compile it "
+        "(see the 'adapt build:' lines of pip install -v)")
+
+
 def test_rules_info_names_the_engine(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["rules", "info"]) == 0
     out = capsys.readouterr().out
