@@ -380,6 +380,11 @@ class Agent:
         self._output.append(text)
         self.events.emit(Event.WRITE, text)
 
+    @property
+    def halted_message_pending(self) -> bool:
+        """True when the agent halted and "This Agent halted." is not yet the last message."""
+        return self.halted and (not self.messages or self.messages[-1] != "This Agent halted.")
+
     def _symbols_in_use(self) -> set[Symbol]:
         used: set[Symbol] = set()
         for w in self.kernel.wm:

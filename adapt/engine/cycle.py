@@ -49,7 +49,6 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["run", "run_phase", "decide_context_slots", "goal_stack_consistent"]
 
 _MAX_ELAB = "Warning: reached max-elaborations; proceeding to {} phase."
-_HALTED = "This Agent halted."
 
 
 def run(agent: Agent, max_decisions: int | None) -> None:
@@ -77,8 +76,8 @@ def run(agent: Agent, max_decisions: int | None) -> None:
             if phase is Phase.DECISION:
                 done += 1
         finally:
-            if agent.halted and (not agent.messages or agent.messages[-1] != _HALTED):
-                agent.message(_HALTED)
+            if agent.halted_message_pending:
+                agent.message("This Agent halted.")
             if on_end:
                 events.emit(Event.PHASE_END, phase)
         agent.next_phase = phase.next
