@@ -40,7 +40,7 @@ __all__ = ["COMPILED_MODULES", "engine_build", "is_compiled", "prefer_source"]
 
 #: The engine modules the build compiles (the hot paths of matching, firing and
 #: the decision cycle, and the rule parser).  The others stay Python: they
-#: subclass built-in types (``symbols``), are protocols (``matcher``), or are
+#: subclass built-in types (``floats``), are protocols (``matcher``), or are
 #: not on a hot path.
 COMPILED_MODULES: tuple[str, ...] = (
     "adapt.engine.agent",
@@ -58,6 +58,7 @@ COMPILED_MODULES: tuple[str, ...] = (
     "adapt.engine.preferences",
     "adapt.engine.results",
     "adapt.engine.support",
+    "adapt.engine.symbols",
     "adapt.engine.rete.alpha",
     "adapt.engine.rete.build",
     "adapt.engine.rete.join",

@@ -61,7 +61,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Literal, Protocol
+from typing import Final, Literal, Protocol
 
 from adapt.engine.production import (
     Condition,
@@ -278,7 +278,7 @@ def _bind_field(test: Test | None, value: Symbol, b: Bindings) -> bool:
     return True
 
 
-_UNBOUND = object()
+_UNBOUND: Final = object()
 
 
 def _relations(test: Test | None, value: Symbol, b: Bindings,

@@ -35,7 +35,7 @@ decision.
 from __future__ import annotations
 
 import random
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
 from adapt.engine.events import Event
 from adapt.engine.goals import Goal
@@ -48,7 +48,20 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["run", "run_phase", "decide_context_slots", "goal_stack_consistent"]
 
-_MAX_ELAB = "Warning: reached max-elaborations; proceeding to {} phase."
+_MAX_ELAB: Final = "Warning: reached max-elaborations; proceeding to {} phase."
+
+# The enum members the loop tests, as constants (compiled code reads them
+# without an attribute lookup on the enum class).
+_INPUT: Final = Phase.INPUT
+_PROPOSAL: Final = Phase.PROPOSAL
+_DECISION: Final = Phase.DECISION
+_APPLY: Final = Phase.APPLY
+_I: Final = Support.I
+_O: Final = Support.O
+_NEXT: Final = {p: p.next for p in Phase}
+_ON_DECISION: Final = Event.DECISION
+_ON_SELECT: Final = Event.SELECT
+_ON_IMPASSE: Final = Event.IMPASSE
 
 
 def run(agent: Agent, max_decisions: int | None) -> None:
@@ -66,36 +79,36 @@ def run(agent: Agent, max_decisions: int | None) -> None:
     on_end = events.listeners(Event.PHASE_END)
     while agent.stop_reason is None:
         phase = agent.next_phase
-        if phase is Phase.APPLY and max_decisions is not None and done >= max_decisions:
+        if phase is _APPLY and max_decisions is not None and done >= max_decisions:
             agent.stop_reason = "max-decisions"
             break
         if on_begin:
-            events.emit(Event.PHASE_BEGIN, (agent.decisions + (phase is Phase.DECISION), phase))
+            events.emit(Event.PHASE_BEGIN, (agent.decisions + (phase is _DECISION), phase))
         try:
             run_phase(agent, phase)
-            if phase is Phase.DECISION:
+            if phase is _DECISION:
                 done += 1
         finally:
             if agent.halted_message_pending:
                 agent.message("This Agent halted.")
             if on_end:
                 events.emit(Event.PHASE_END, phase)
-        agent.next_phase = phase.next
+        agent.next_phase = _NEXT[phase]
         if agent.halted:
             agent.stop_reason = "halt"
 
 
 def run_phase(agent: Agent, phase: Phase) -> None:
     """Run one phase of the cycle."""
-    if phase is Phase.PROPOSAL:
+    if phase is _PROPOSAL:
         elaborate(agent, apply=False)
-    elif phase is Phase.APPLY:
+    elif phase is _APPLY:
         elaborate(agent, apply=True)
-    elif phase is Phase.DECISION:
+    elif phase is _DECISION:
         agent.decisions += 1
         decide_context_slots(agent)
         agent.kernel.commit()
-    elif phase is Phase.INPUT:
+    elif phase is _INPUT:
         agent.io.run_input()
         agent.kernel.commit()
     else:
@@ -115,7 +128,7 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
     cycles = 0
     max_elaborations = agent.max_elaborations
     active: Goal | None = None
-    firing = Support.I
+    firing = _I
     fire = k.fire
     commit = k.commit
     while True:
@@ -126,7 +139,7 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
                 break
             nxt = nxt.lower
         if nxt is None:
-            if firing is Support.I and not k.bottom.i_activity():
+            if firing is _I and not k.bottom.i_activity():
                 goal_stack_consistent(agent, k.bottom)
             return
         if cycles >= max_elaborations:
@@ -137,22 +150,22 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
         if previous is None:
             pass
         elif active is previous or active.level == previous.level:
-            if apply and firing is Support.I and not (active.pending_i or active.retractions):
+            if apply and firing is _I and not (active.pending_i or active.retractions):
                 if not goal_stack_consistent(agent, active):
                     return
         elif active.level > previous.level:
             alive = k.goals.get(previous.id) is previous
-            if (not apply or firing is Support.I) and alive and not previous.i_activity():
+            if (not apply or firing is _I) and alive and not previous.i_activity():
                 if not goal_stack_consistent(agent, previous):
                     return
-            if apply and active.saved_firing is Support.I and not active.i_activity():
+            if apply and active.saved_firing is _I and not active.i_activity():
                 if not goal_stack_consistent(agent, active):
                     return
         else:
             previous.saved_firing = firing
             if not goal_stack_consistent(agent, active):
                 return
-        firing = Support.O if apply and not (active.pending_i or active.retractions) else Support.I
+        firing = _O if apply and not (active.pending_i or active.retractions) else _I
         fire(active, firing)
         cycles += 1
         agent.elaboration_cycles += 1
@@ -179,7 +192,7 @@ def goal_stack_consistent(agent: Agent, through: Goal) -> bool:
     return True
 
 
-_NO_RNG = random.Random(0)
+_NO_RNG: Final = random.Random(0)
 
 
 def _consistent(goal: Goal) -> bool:
@@ -224,16 +237,16 @@ def _decide_slot(agent: Agent, goal: Goal) -> bool:
     else:
         d = decide(goal.preferences(), rng=agent.rng)
         events = agent.events
-        if events.listeners(Event.DECISION):
-            events.emit(Event.DECISION, (goal, d))
+        if events.listeners(_ON_DECISION):
+            events.emit(_ON_DECISION, (goal, d))
         if d.outcome == "select":
             selected = d.selected
             assert isinstance(selected, Identifier)
             k.select(goal, selected)
             agent.operators.append([agent.decisions, goal.level, k.operator_name(selected)])
             agent.operator_count += 1
-            if events.listeners(Event.SELECT):
-                events.emit(Event.SELECT, (goal, selected))
+            if events.listeners(_ON_SELECT):
+                events.emit(_ON_SELECT, (goal, selected))
             return True
         if d.outcome == "none":
             impasse, attribute = NO_CHANGE, "state"
@@ -253,6 +266,6 @@ def _decide_slot(agent: Agent, goal: Goal) -> bool:
     sub = k.create_impasse(goal, impasse, attribute, items, non_numeric)
     agent.impasses.append([agent.decisions, sub.level, impasse, attribute])
     agent.impasse_count += 1
-    if agent.events.listeners(Event.IMPASSE):
-        agent.events.emit(Event.IMPASSE, (goal, sub))
+    if agent.events.listeners(_ON_IMPASSE):
+        agent.events.emit(_ON_IMPASSE, (goal, sub))
     return True

@@ -34,7 +34,7 @@ False
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Final
 
 from adapt.engine.matcher import FlatKey, Match
 from adapt.engine.production import (
@@ -64,7 +64,10 @@ __all__ = ["RuleInfo", "Instantiation", "CompiledValue", "PlanStep",
 #: ``(SRC_CONST, symbol)``, ``(SRC_WME, index, field)`` (a field of the match's
 #: ``index``-th WME), ``(SRC_NEW, k)`` (the firing's ``k``-th new identifier),
 #: ``(SRC_CALL, name, (arg, ...))``.
-SRC_CONST, SRC_WME, SRC_NEW, SRC_CALL = 0, 1, 2, 3
+SRC_CONST: Final = 0
+SRC_WME: Final = 1
+SRC_NEW: Final = 2
+SRC_CALL: Final = 3
 
 #: A compiled RHS value: a tuple starting with one of the ``SRC_*`` tags.
 CompiledValue = tuple[Any, ...]

@@ -24,7 +24,7 @@ payloads built only when someone listens.
 from __future__ import annotations
 
 from functools import partial
-from typing import Callable
+from typing import Callable, Final
 
 from adapt.engine.events import Event, EventBus
 from adapt.engine.functions import FunctionTable, RhsContext
@@ -48,9 +48,9 @@ from adapt.engine.wme import WME
 
 __all__ = ["Kernel"]
 
-_REJECT = PreferenceKind.REJECT
-_O = Support.O
-_I = Support.I
+_REJECT: Final = PreferenceKind.REJECT
+_O: Final = Support.O
+_I: Final = Support.I
 
 
 def _raw_changes(matcher: Matcher) -> MatchChanges:

@@ -46,7 +46,7 @@ still holds).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
 from adapt.engine.conditions import Bindings, exists
 from adapt.engine.events import Event
@@ -70,7 +70,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["ResultMaker", "Justification"]
 
-_ACCEPTABLE = PreferenceKind.ACCEPTABLE
+_ACCEPTABLE: Final = PreferenceKind.ACCEPTABLE
 
 
 #: A negated condition (or conjunctive negation) of a justification, with the

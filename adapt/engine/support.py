@@ -26,7 +26,7 @@ undoes exactly that.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
 from adapt.engine.goals import SlotPreference
 from adapt.engine.memory import WmeKey, WorkingMemory
@@ -44,9 +44,9 @@ __all__ = ["PreferenceMemory", "MadePreference"]
 #: o_supported)`` -- ``o_supported`` is the support of the firing that made it.
 MadePreference = tuple[PreferenceKind, Identifier, Symbol, Symbol, "Symbol | None", bool]
 
-_ACCEPTABLE = PreferenceKind.ACCEPTABLE
-_REJECT = PreferenceKind.REJECT
-_REQUIRE = PreferenceKind.REQUIRE
+_ACCEPTABLE: Final = PreferenceKind.ACCEPTABLE
+_REJECT: Final = PreferenceKind.REJECT
+_REQUIRE: Final = PreferenceKind.REQUIRE
 
 
 class PreferenceMemory:

@@ -23,7 +23,7 @@ Examples
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Callable, Final
 
 from adapt.engine.conditions import RELATIONS, relation_holds
 from adapt.engine.wme import WME
@@ -42,7 +42,7 @@ class _Any:
 
 
 #: The wildcard of an alpha key: the field has no constant equality test.
-ANY: object = _Any()
+ANY: Final[object] = _Any()
 
 AlphaTest = tuple[str, int, bool, object]
 AlphaKey = tuple[object, object, bool]
