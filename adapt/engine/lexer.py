@@ -28,7 +28,7 @@ Examples
 from __future__ import annotations
 
 import re
-from typing import Iterator, NamedTuple, Union
+from typing import Iterator, Union
 
 from adapt.engine.symbols import Float
 from adapt.errors import RuleSyntaxError
@@ -66,21 +66,31 @@ CONSTANT_KINDS = frozenset({"symbol", "int", "float", "idshaped", "quoted"})
 TokenValue = Union[str, int, Float, None]
 
 
-class Token(NamedTuple):
-    """One lexeme (an immutable record; a named tuple, as the parser makes
-    hundreds of thousands of them for a large rule base).
+class Token:
+    """One lexeme.
 
     ``kind`` is one of ``( ) { } ^ , . ! ~ + - --> relation << >> variable int
     float idshaped symbol quoted doc eof``; ``text`` is the source text and
-    ``value`` the symbol it stands for (for constants and variables).
+    ``value`` the symbol it stands for (for constants and variables).  Tokens
+    are never changed once made (a plain slotted class rather than a frozen
+    record: the parser makes hundreds of thousands of them for a large rule
+    base, and compiled, this class is built without a Python-level call).
     """
 
-    kind: str
-    text: str
-    value: TokenValue
-    line: int
-    col: int
-    offset: int
+    __slots__ = ("kind", "text", "value", "line", "col", "offset")
+
+    def __init__(self, kind: str, text: str, value: TokenValue, line: int, col: int,
+                 offset: int) -> None:
+        self.kind = kind
+        self.text = text
+        self.value = value
+        self.line = line
+        self.col = col
+        self.offset = offset
+
+    def __repr__(self) -> str:
+        return (f"Token({self.kind!r}, {self.text!r}, {self.value!r}, line={self.line}, "
+                f"col={self.col})")
 
 
 class _Lexer:
