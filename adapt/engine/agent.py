@@ -354,9 +354,18 @@ class Agent:
             goal = goal.lower
         return out
 
-    def print_state(self, ident: Identifier | None = None, depth: int = 1) -> str:
-        """Like Soar's ``print --depth N S1``."""
-        return self.kernel.wm.tree(ident if ident is not None else self.top_state, depth)
+    def print_state(self, ident: object = None, depth: int = 1) -> str:
+        """Like Soar's ``print --depth N S1`` (``ident``: an identifier, the top state by default).
+
+        Raises
+        ------
+        EngineError
+            When ``ident`` is not an identifier of this agent.
+        """
+        root = self.top_state if ident is None else ident
+        if not isinstance(root, Identifier):
+            raise EngineError(f"print_state needs an identifier, not {ident!r}")
+        return self.kernel.wm.tree(root, depth)
 
     def on_input(self, callback: Callable[[InputWriter], None]) -> None:
         """Call ``callback(writer)`` in every input phase."""
