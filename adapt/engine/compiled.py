@@ -56,6 +56,7 @@ COMPILED_MODULES: tuple[str, ...] = (
     "adapt.engine.memory",
     "adapt.engine.parse",
     "adapt.engine.preferences",
+    "adapt.engine.production",
     "adapt.engine.results",
     "adapt.engine.support",
     "adapt.engine.symbols",
