@@ -35,6 +35,10 @@ __all__ = [
     "VisionError",
     "ImageError",
     "TraceError",
+    "SchemaError",
+    "RealityError",
+    "GroundTruthError",
+    "RunError",
 ]
 
 
@@ -126,3 +130,23 @@ class ImageError(VisionError):
 
 class TraceError(AdaptError):
     """A trace file is not a trace, or of another format version."""
+
+
+class SchemaError(AdaptError):
+    """A schema type, parameter or command is wrong (an unknown type, a value
+    out of range, a command for a schema that does not exist)."""
+
+
+class RealityError(AdaptError):
+    """A frame source cannot deliver frames (a video that cannot be opened,
+    frames of the wrong size, a ground-truth file with bad rows)."""
+
+
+class GroundTruthError(RealityError, LocatedError):
+    """A ground-truth file (``t,object,x,y[,vx,vy]``) has a bad header or row;
+    the message names ``file:line:col`` and what was expected."""
+
+
+class RunError(AdaptError):
+    """The scenario runner cannot start or go on (an output folder that cannot
+    be written, a reality whose frames do not fit the camera)."""

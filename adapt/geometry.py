@@ -41,12 +41,48 @@ __all__ = [
     "rotation_log",
     "nearest_rotation",
     "WORLD_UP",
+    "MAX_IMAGE_SIDE",
+    "MAX_PIXELS",
+    "MAX_FOCAL",
+    "MAX_COORDINATE",
 ]
 
 #: World up direction.
 WORLD_UP = np.array([0.0, 0.0, 1.0])
 
 FloatArray = NDArray[np.float64]
+
+#: Largest image side a :class:`Camera` accepts, pixels.
+MAX_IMAGE_SIDE = 8192
+#: Largest image a :class:`Camera` accepts, pixels (4096 x 4096; a 4K UHD frame fits).
+MAX_PIXELS = 4096 * 4096
+#: Largest focal length and principal-point offset a :class:`Camera` accepts, pixels.
+MAX_FOCAL = 1.0e6
+#: Largest world coordinate (any axis) the imagination accepts, metres.
+MAX_COORDINATE = 1.0e4
+
+
+def _number(name: str, value: object) -> float:
+    """``value`` as a finite float, or an :class:`ImaginationError` naming ``name``."""
+    try:
+        v = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ImaginationError(f"{name}: expected a number, got {value!r}") from None
+    if not np.isfinite(v):
+        raise ImaginationError(f"{name}: expected a finite number, got {value!r}")
+    return v
+
+
+def _vector3(name: str, value: ArrayLike) -> FloatArray:
+    try:
+        v = np.array(value, dtype=float).reshape(3)
+    except (TypeError, ValueError):
+        raise ImaginationError(f"{name}: expected [x, y, z], got {value!r}") from None
+    if not np.all(np.isfinite(v)) or np.abs(v).max() > MAX_COORDINATE:
+        raise ImaginationError(
+            f"{name}: expected coordinates within +-{MAX_COORDINATE:g} metres, got {v.tolist()}"
+        )
+    return v
 
 
 def look_at_rotation(
@@ -70,19 +106,20 @@ def look_at_rotation(
     >>> look_at_rotation((0, 0, 1), (0, 1, 1)).round(6).tolist()
     [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]
     """
-    c = np.asarray(position, dtype=float).reshape(3)
-    t = np.asarray(target, dtype=float).reshape(3)
+    c = _vector3("position", position)
+    t = _vector3("look_at", target)
+    roll_deg = _number("roll_deg", roll_deg)
     forward = t - c
     norm = float(np.linalg.norm(forward))
     if not np.isfinite(norm) or norm < 1e-12:
         raise ImaginationError(
-            f"camera look_at {t.tolist()} equals its position {c.tolist()}: "
+            f"look_at: {t.tolist()} equals its position {c.tolist()}: "
             "expected a look_at point away from the camera"
         )
     z = forward / norm
     if abs(float(z @ WORLD_UP)) > 1.0 - 1e-9:
         raise ImaginationError(
-            "camera looks straight "
+            "look_at: the camera looks straight "
             + ("up" if z[2] > 0 else "down")
             + ": expected a viewing direction that is not parallel to world up (+z)"
         )
@@ -175,6 +212,25 @@ class Camera:
         World-to-camera rotation ``R``.
     position : (3,) ndarray
         Camera centre ``C`` in world coordinates (metres).
+
+    The camera keeps read-only copies of ``rotation`` and ``position``, so
+    changing the arrays it was given later does not move it.  Limits (errors
+    name the field): ``fx``, ``fy`` in ``(0, MAX_FOCAL]``; ``width`` and
+    ``height`` whole numbers up to :data:`MAX_IMAGE_SIDE` with at most
+    :data:`MAX_PIXELS` pixels; coordinates within :data:`MAX_COORDINATE`
+    metres.
+
+    Examples
+    --------
+    >>> r = np.eye(3)
+    >>> cam = Camera(500, 500, 320, 240, 640, 480, r, np.zeros(3))
+    >>> r[0, 0] = 5.0
+    >>> float(cam.rotation[0, 0]), cam.rotation.flags.writeable
+    (1.0, False)
+    >>> Camera(500, 500, 320, 240, 33000, 480, np.eye(3), np.zeros(3))
+    Traceback (most recent call last):
+    ...
+    adapt.errors.ImaginationError: width: expected 1 to 8192 pixels, got 33000
     """
 
     fx: float
@@ -188,20 +244,58 @@ class Camera:
 
     def __post_init__(self) -> None:
         for name in ("fx", "fy"):
-            v = float(getattr(self, name))
-            if not np.isfinite(v) or v <= 0:
-                raise ImaginationError(f"camera {name} must be a positive number, got {v}")
-        if int(self.width) <= 0 or int(self.height) <= 0:
+            v = _number(name, getattr(self, name))
+            if not 0 < v <= MAX_FOCAL:
+                raise ImaginationError(
+                    f"{name}: expected a positive number of pixels up to {MAX_FOCAL:g}, got {v!r}"
+                )
+            object.__setattr__(self, name, v)
+        for name in ("cx", "cy"):
+            v = _number(name, getattr(self, name))
+            if abs(v) > MAX_FOCAL:
+                raise ImaginationError(
+                    f"{name}: expected a number of pixels within +-{MAX_FOCAL:g}, got {v!r}"
+                )
+            object.__setattr__(self, name, v)
+        for name in ("width", "height"):
+            v = getattr(self, name)
+            if (isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating))
+                    or not float(v).is_integer()):
+                raise ImaginationError(f"{name}: expected a whole number of pixels, got {v!r}")
+            if not 0 < int(v) <= MAX_IMAGE_SIDE:
+                raise ImaginationError(
+                    f"{name}: expected 1 to {MAX_IMAGE_SIDE} pixels, got {v!r}"
+                )
+            object.__setattr__(self, name, int(v))
+        if self.width * self.height > MAX_PIXELS:
             raise ImaginationError(
-                f"camera width and height must be positive, got {self.width}x{self.height}"
+                f"width: {self.width}x{self.height} is {self.width * self.height:,} pixels; "
+                f"expected at most {MAX_PIXELS:,} (for example 4096x4096)"
             )
-        r = np.asarray(self.rotation, dtype=float).reshape(3, 3)
-        if not np.allclose(r @ r.T, np.eye(3), atol=1e-6) or np.linalg.det(r) < 0:
-            raise ImaginationError("camera rotation must be a proper rotation matrix")
+        try:
+            r = np.array(self.rotation, dtype=float).reshape(3, 3)
+        except (TypeError, ValueError):
+            raise ImaginationError(
+                f"rotation: expected a 3x3 rotation matrix, got {self.rotation!r}"
+            ) from None
+        if (not np.all(np.isfinite(r)) or not np.allclose(r @ r.T, np.eye(3), atol=1e-6)
+                or np.linalg.det(r) < 0):
+            raise ImaginationError(
+                "rotation: expected a proper rotation matrix (orthonormal, determinant +1)"
+            )
+        try:
+            c = np.array(self.position, dtype=float).reshape(3)
+        except (TypeError, ValueError):
+            raise ImaginationError(f"position: expected [x, y, z], got {self.position!r}") from None
+        if not np.all(np.isfinite(c)) or np.abs(c).max() > MAX_COORDINATE:
+            raise ImaginationError(
+                f"position: expected coordinates within +-{MAX_COORDINATE:g} metres, "
+                f"got {c.tolist()}"
+            )
+        r.setflags(write=False)
+        c.setflags(write=False)
         object.__setattr__(self, "rotation", r)
-        object.__setattr__(self, "position", np.asarray(self.position, dtype=float).reshape(3))
-        object.__setattr__(self, "width", int(self.width))
-        object.__setattr__(self, "height", int(self.height))
+        object.__setattr__(self, "position", c)
 
     @classmethod
     def look_at(
@@ -286,3 +380,41 @@ class Camera:
         pts = self.position + rays * t[:, None]
         pts[~(t > 0)] = np.nan
         return pts
+
+
+def look_at_parameters(
+    rotation: ArrayLike, position: ArrayLike, distance: float = 1.0
+) -> tuple[FloatArray, float]:
+    """The ``look_at`` point and ``roll_deg`` of a camera pose: the inverse of
+    :func:`look_at_rotation`.
+
+    ``look_at`` is the point ``distance`` metres along the viewing axis
+    (the third row of ``rotation``); ``roll_deg`` turns
+    ``look_at_rotation(position, look_at)`` into ``rotation``, so
+    ``look_at_rotation(position, *look_at_parameters(R, position))`` is ``R``.
+    These are the scenario's ``camera`` keys.
+
+    Raises
+    ------
+    ImaginationError
+        If ``rotation`` is not a rotation matrix, ``distance`` is not positive,
+        or the camera looks straight up or down (no roll is defined).
+
+    Examples
+    --------
+    >>> r = look_at_rotation((0.0, -0.6, 0.6), (0.5, 3.0, 0.3), roll_deg=2.5)
+    >>> target, roll = look_at_parameters(r, (0.0, -0.6, 0.6), distance=3.0)
+    >>> round(roll, 6), bool(np.allclose(look_at_rotation((0.0, -0.6, 0.6), target, roll), r))
+    (2.5, True)
+    """
+    r = np.asarray(rotation, dtype=float).reshape(3, 3)
+    if not np.isfinite(r).all() or not np.allclose(r @ r.T, np.eye(3), atol=1e-6) or np.linalg.det(r) < 0:
+        raise ImaginationError("expected a proper rotation matrix (orthonormal, determinant +1)")
+    if not (np.isfinite(distance) and distance > 0):
+        raise ImaginationError(f"the look_at distance must be a positive number, got {distance}")
+    c = np.asarray(position, dtype=float).reshape(3)
+    target = c + float(distance) * r[2]
+    r0 = look_at_rotation(c, target, 0.0)
+    m = r @ r0.T  # the roll about the viewing axis: [[cos, sin, 0], [-sin, cos, 0], [0, 0, 1]]
+    roll = float(np.degrees(np.arctan2(m[0, 1], m[0, 0])))
+    return target, roll

@@ -17,14 +17,34 @@ PACKAGE = Path(__file__).resolve().parents[1] / "adapt"
 STDLIB = set(sys.stdlib_module_names)
 
 
-def imports_of(path: Path) -> set[str]:
-    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+def _module_of(path: Path) -> list[str]:
+    rel = path.relative_to(PACKAGE.parent).with_suffix("")
+    parts = list(rel.parts)
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return parts
+
+
+def imports_of(path: Path, source: str | None = None) -> set[str]:
+    """Absolute names of every module ``path`` imports, relative imports resolved."""
+    text = path.read_text(encoding="utf-8") if source is None else source
+    tree = ast.parse(text, filename=str(path))
     found: set[str] = set()
+    here = _module_of(path)
+    package = here if path.name == "__init__.py" else here[:-1]
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             found.update(alias.name for alias in node.names)
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            found.add(node.module)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level == 0:
+                if node.module:
+                    found.add(node.module)
+                continue
+            base = package[: len(package) - (node.level - 1)]
+            if node.module:
+                found.add(".".join([*base, node.module]))
+            else:
+                found.update(".".join([*base, alias.name]) for alias in node.names)
     return found
 
 
@@ -75,3 +95,88 @@ def test_geometry_errors_and_files_are_leaves() -> None:
             assert top in STDLIB or top == "__future__" or name in allowed or top in allowed, (
                 f"{leaf} imports {name}"
             )
+
+
+@pytest.mark.parametrize("path", modules_in("figures"), ids=lambda p: p.name)
+def test_figures_draw_without_knowing_the_layers(path: Path) -> None:
+    # figures: NumPy, matplotlib, adapt.files and adapt.errors only, so any layer's command may draw
+    for name in imports_of(path):
+        top = name.split(".")[0]
+        if top == "adapt":
+            assert name in ("adapt.files", "adapt.errors") or name.startswith("adapt.figures"), (
+                f"figures/{path.name} imports {name}"
+            )
+        else:
+            assert top in STDLIB or top in ("__future__", "numpy", "matplotlib"), (
+                f"figures/{path.name} imports {name}"
+            )
+
+
+def test_vision_does_not_draw_figures() -> None:
+    for path in modules_in("vision"):
+        for name in imports_of(path):
+            assert not name.startswith(("adapt.figures", "matplotlib")), f"vision/{path.name} imports {name}"
+
+
+#: What each layer above the foundations may import from adapt (prefixes).
+ALLOWED = {
+    "mirror.py": ("adapt.imagination", "adapt.geometry", "adapt.errors"),
+    "kalman.py": (),
+    "seeds.py": (),
+    "frames.py": ("adapt.errors", "adapt.files"),
+    "scenario": ("adapt.scenario", "adapt.imagination", "adapt.geometry", "adapt.errors"),
+    "schemas": ("adapt.schemas", "adapt.engine", "adapt.vision", "adapt.imagination",
+                "adapt.mirror", "adapt.geometry", "adapt.errors", "adapt.kalman",
+                "adapt.frames", "adapt.scenario"),
+    # reality: never the engine or vision (it is what perception looks at, not a perceiver)
+    "reality": ("adapt.reality", "adapt.imagination", "adapt.scenario", "adapt.geometry",
+                "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds"),
+}
+
+
+@pytest.mark.parametrize("layer", sorted(ALLOWED))
+def test_layers_import_only_what_is_below_them(layer: str) -> None:
+    target = PACKAGE / layer
+    paths = [target] if target.is_file() else modules_in(layer)
+    for path in paths:
+        for name in imports_of(path):
+            if name.split(".")[0] != "adapt":
+                continue
+            assert name.startswith(ALLOWED[layer]), f"{layer}: {path.name} imports {name}"
+
+
+PERCEIVING = ("engine", "vision", "imagination", "schemas", "mirror.py", "kalman.py")
+
+
+@pytest.mark.parametrize("layer", PERCEIVING)
+def test_nothing_that_perceives_can_reach_ground_truth(layer: str) -> None:
+    target = PACKAGE / layer
+    paths = [target] if target.is_file() else modules_in(layer)
+    for path in paths:
+        for name in imports_of(path):
+            assert not name.startswith(("adapt.reality", "adapt.runner")), (
+                f"{path} imports {name}: the perceiving side never sees the reality's truth"
+            )
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            word = node.attr if isinstance(node, ast.Attribute) else (
+                node.id if isinstance(node, ast.Name) else None)
+            assert word not in ("truth", "ground_truth"), f"{path} reads {word}"
+
+
+def test_only_the_runner_and_the_cli_open_the_reality() -> None:
+    for path in PACKAGE.rglob("*.py"):
+        parts = path.relative_to(PACKAGE).parts
+        if parts[0] in ("runner", "cli", "reality"):
+            continue
+        for name in imports_of(path):
+            assert not name.startswith("adapt.reality"), f"{path} imports {name}"
+            assert not name.startswith("adapt.runner"), f"{path} imports {name}"
+
+
+def test_relative_imports_are_resolved() -> None:
+    path = PACKAGE / "schemas" / "network.py"
+    found = imports_of(path, "from . import links\nfrom .base import Schema\nfrom ..engine import Agent\n")
+    assert found == {"adapt.schemas.links", "adapt.schemas.base", "adapt.engine"}
+    init = PACKAGE / "schemas" / "__init__.py"
+    assert imports_of(init, "from .network import X\n") == {"adapt.schemas.network"}

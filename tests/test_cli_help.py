@@ -50,6 +50,6 @@ def test_seed_option_where_a_run_is_random(name: str) -> None:
 
 
 def test_imagine_seed_is_reported(capsys: pytest.CaptureFixture[str]) -> None:
-    scenario = str(ROOT / "scenarios" / "bouncing-ball.yaml")
+    scenario = str(ROOT / "scenarios" / "room.yaml")
     assert main(["imagine", scenario, "--horizon", "0.2", "--json", "--seed", "11"]) == 0
     assert json.loads(capsys.readouterr().out)["seed"] == 11

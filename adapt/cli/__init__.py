@@ -24,6 +24,8 @@ __all__ = ["main", "build_parser"]
 
 #: Modules of this package that add subcommands, in the order ``--help`` lists them.
 SUBCOMMAND_MODULES = (
+    "adapt.cli.run",
+    "adapt.cli.schemas",
     "adapt.cli.rules",
     "adapt.cli.imagination",
     "adapt.cli.vision",

@@ -13,6 +13,7 @@ status  name                        meaning
 5       ``RULE_INTERRUPT``          ``rules run``: a rule called ``(interrupt)``
 6       ``RULE_ERROR``              ``rules run``: a run-time error in a rule's actions
 7       ``NO_ALIGNMENT``            ``mmd`` / ``sync``: the images could not be aligned
+8       ``NOT_CONVERGED``           ``sync``: ``--max-iter`` renders without reaching ``--tolerance``
 130     ``INTERRUPTED``             stopped by Ctrl-C (SIGINT); what ran is reported
 ======  ==========================  ==================================================
 """
@@ -35,4 +36,5 @@ class Exit(IntEnum):
     RULE_INTERRUPT = 5
     RULE_ERROR = 6
     NO_ALIGNMENT = 7
+    NOT_CONVERGED = 8
     INTERRUPTED = 130

@@ -7,19 +7,30 @@
     the predicted positions and, when the scenario has a robot, the earliest
     intercept.
 
-Every file is written atomically (a temporary file in the same directory,
-then a rename), so nothing is left half-written.
+Before any work, every output path is checked: two outputs may not be one
+file, no output may be an input (the scenario or one of its textures), and
+each must be a writable file name.  Every file is then written atomically (a
+temporary file in the same directory, then a rename), so nothing is left
+half-written.  The work is bounded by the imagination's documented limits
+(``docs/imagination.md``).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import tempfile
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterable
 
 from adapt.errors import AdaptError, ImaginationError
 from adapt.files import atomic_path, write_atomic
+
+#: Most frames ``imagine --video`` writes (20 minutes at 30 frames/s).
+MAX_VIDEO_FRAMES = 36_000
+#: Highest ``--fps``.
+MAX_FPS = 1000.0
 
 __all__ = ["register"]
 
@@ -56,9 +67,68 @@ def register(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None
     q.set_defaults(func=_imagine)
 
 
-def _atomic_write(path: Path, data: bytes) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    write_atomic(path, data)
+def _inputs(sc: Any) -> list[tuple[str, Path]]:
+    """The files a scenario reads: the YAML and its texture files."""
+    found: list[tuple[str, Path]] = []
+    if sc.path is not None:
+        found.append(("the scenario", Path(sc.path)))
+    scene = sc.scene
+    refs = [scene.floor.texture] + [w.texture for w in scene.walls]
+    refs += [o.texture for o in scene.obstacles] + [b.texture for b in scene.balls]
+    for ref in refs:
+        if ref is not None and not ref.startswith("builtin:"):
+            found.append(("a texture of the scenario", Path(ref)))
+    return found
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    if a.resolve() == b.resolve():
+        return True
+    try:
+        return a.exists() and b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def _check_outputs(outputs: Iterable[tuple[str, Path]], inputs: Iterable[tuple[str, Path]]) -> None:
+    """Refuse, before any work, outputs that would collide, replace an input, or
+    cannot be written."""
+    inputs = list(inputs)
+    seen: list[tuple[str, Path]] = []
+    for option, path in outputs:
+        for other, earlier in seen:
+            if _same_file(path, earlier):
+                raise AdaptError(f"{option} {str(path)!r} is the same file as {other} "
+                                 f"{str(earlier)!r}; expected a different file for each output")
+        for what, source in inputs:
+            if _same_file(path, source):
+                raise AdaptError(f"{option} {str(path)!r} is {what}; an output never replaces an "
+                                 "input: choose another file name")
+        if path.exists() and not path.is_file():
+            kind = "a directory" if path.is_dir() else "not a regular file"
+            raise AdaptError(f"{option} {str(path)!r} is {kind}; expected a file name")
+        folder = path.resolve().parent
+        while not folder.exists() and folder != folder.parent:
+            folder = folder.parent
+        if not folder.is_dir():
+            raise AdaptError(f"{option} {str(path)!r}: {str(folder)!r} is not a folder")
+        try:  # a real probe: os.access says yes to root even on read-only file systems
+            fd, probe = tempfile.mkstemp(dir=folder, prefix=".adapt-probe-")
+            os.close(fd)
+            os.unlink(probe)
+        except OSError as exc:
+            raise AdaptError(f"{option} {str(path)!r}: cannot write in the folder {str(folder)!r} "
+                             f"({exc.strerror or exc})") from None
+        seen.append((option, path))
+
+
+def _write(path: Path, data: bytes, option: str) -> None:
+    """Write atomically, creating missing folders; errors name the output, never a temporary file."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_atomic(path, data)
+    except OSError as exc:
+        raise AdaptError(f"{option} {str(path)!r}: cannot write it ({exc.strerror or exc})") from None
 
 
 def _check_image_path(path: Path, option: str, sixteen_bit: bool = False) -> None:
@@ -88,56 +158,85 @@ def _encode(path: Path, image: Any) -> bytes:
     return bytes(buf)
 
 
+def _world(sc: Any, dt: float | None, seed: int | None, option: str = "--dt") -> Any:
+    from adapt.imagination import World
+
+    try:
+        return World(sc.scene, dt=dt, seed=seed)
+    except ImaginationError as exc:
+        msg = str(exc)
+        if dt is not None and msg.startswith("dt: "):
+            raise ImaginationError(f"{option}: {msg[len('dt: '):]}") from None
+        raise
+
+
 def _render(args: argparse.Namespace) -> int:
+    import math
+
     import numpy as np
 
-    from adapt.imagination import Renderer, World
+    from adapt.imagination import Renderer
     from adapt.scenario import load_scenario
 
     sc = load_scenario(args.scenario)
-    if not 0 <= args.t < float("inf"):
+    if not (math.isfinite(args.t) and args.t >= 0):
         raise ImaginationError(f"--t must be a non-negative number of seconds, got {args.t}")
+    outputs = [("--out", Path(args.out))]
     _check_image_path(Path(args.out), "--out")
     if args.labels:
         _check_image_path(Path(args.labels), "--labels", sixteen_bit=True)
-    world = World(sc.scene, seed=sc.seed if args.seed is None else args.seed)
+        outputs.append(("--labels", Path(args.labels)))
+    _check_outputs(outputs, _inputs(sc))
+    world = _world(sc, None, sc.seed if args.seed is None else args.seed)
+    world.steps_for(args.t, "--t")  # refuses, before any work, a time too far ahead
     world.run_until(args.t)
-    out = Renderer(sc.scene, sc.camera).render(world.snapshot())
+    out = Renderer(sc.scene, sc.camera).render(world.snapshot(), balls=world.balls)
     target = Path(args.out)
-    _atomic_write(target, _encode(target, out.image))
+    encoded = [(target, _encode(target, out.image), "--out")]
     if args.labels:
         lpath = Path(args.labels)
-        _atomic_write(lpath, _encode(lpath, out.labels.astype(np.uint16)))
+        encoded.append((lpath, _encode(lpath, out.labels.astype(np.uint16)), "--labels"))
+    for path, data, option in encoded:
+        _write(path, data, option)
     print(f"wrote {target} ({sc.camera.width}x{sc.camera.height}, t={world.time:.4f} s)")
     return 0
 
 
 def _imagine(args: argparse.Namespace) -> int:
+    import math
+
     import numpy as np
 
-    from adapt.imagination import World, intercept, rollout
+    from adapt.imagination import MAX_SAMPLES, intercept, intercept_reach, rollout
     from adapt.scenario import load_scenario
 
     sc = load_scenario(args.scenario)
-    if not 0 < args.horizon < float("inf"):
+    if not (math.isfinite(args.horizon) and args.horizon > 0):
         raise ImaginationError(f"--horizon must be a positive number of seconds, got {args.horizon}")
     if args.dt is not None and not args.dt > 0:
         raise ImaginationError(f"--dt must be a positive number of seconds, got {args.dt}")
+    if args.samples is not None and not 1 <= args.samples <= MAX_SAMPLES:
+        raise ImaginationError(f"--samples must be from 1 to {MAX_SAMPLES:,}, got {args.samples}")
+    video = Path(args.video) if args.video else None
+    if video is not None:
+        _check_video(video, args.fps, args.horizon)
+        _check_outputs([("--video", video)], _inputs(sc))
     seed = sc.seed if args.seed is None else args.seed
-    world = World(sc.scene, dt=args.dt, seed=seed)
-    n = args.samples if args.samples is not None else int(round(args.horizon * 10)) + 1
-    if n < 1:
-        raise ImaginationError(f"--samples must be at least 1, got {n}")
+    world = _world(sc, args.dt, seed)
+    steps = world.steps_for(args.horizon, "--horizon")
+    n = args.samples if args.samples is not None else min(int(round(args.horizon * 10)) + 1,
+                                                          MAX_SAMPLES)
     times = list(np.linspace(0.0, args.horizon, n)) if n > 1 else [args.horizon]
     path = rollout(world, args.horizon, times=times, body=args.body)
-    dense = rollout(world, args.horizon, body=path.body)
     hit = None
     robot = sc.scene.robot
     if robot is not None:
-        ball = sc.scene.ball(path.body)
+        # Every step, or as many evenly spaced samples as a rollout keeps.
+        fine = min(steps + 1, MAX_SAMPLES)
+        dense = rollout(world, args.horizon, body=path.body,
+                        times=None if fine == steps + 1 else list(np.linspace(0.0, args.horizon, fine)))
         hit = intercept(dense, robot.position, robot.max_speed, robot.max_accel,
-                        reach=ball.radius + (robot.radius if robot.shape == "disc"
-                                             else min(robot.size) / 2.0))
+                        reach=intercept_reach(sc.scene.ball(path.body), robot))
     result: dict[str, Any] = {
         "scenario": str(args.scenario),
         "body": path.body,
@@ -158,8 +257,8 @@ def _imagine(args: argparse.Namespace) -> int:
             "robot": robot.name if robot else None,
         },
     }
-    if args.video:
-        result["video"] = _write_video(Path(args.video), sc, world, args.horizon, args.fps)
+    if video is not None:
+        result["video"] = _write_video(video, sc, world, args.horizon, args.fps)
     if args.json:
         print(json.dumps(result))
         return 0
@@ -179,9 +278,25 @@ def _imagine(args: argparse.Namespace) -> int:
         else:
             print(f"intercept: {robot.name} meets {path.body} at t={hit.time:.3f} s at "
                   f"({hit.position[0]:+.3f}, {hit.position[1]:+.3f}) m after {hit.travel:.3f} m")
-    if args.video:
+    if video is not None:
         print(f"wrote {args.video} ({result['video']['frames']} frames)")
     return 0
+
+
+_CODECS = {".mp4": "mp4v", ".avi": "MJPG"}
+
+
+def _check_video(path: Path, fps: float, horizon: float) -> None:
+    import math
+
+    if path.suffix.lower() not in _CODECS:
+        raise AdaptError(f"--video {str(path)!r}: expected a .mp4 or .avi file name")
+    if not (math.isfinite(fps) and 0 < fps <= MAX_FPS):
+        raise AdaptError(f"--fps must be a positive number up to {MAX_FPS:g}, got {fps}")
+    frames = int(horizon * fps) + 1
+    if frames > MAX_VIDEO_FRAMES:
+        raise AdaptError(f"--video: {horizon:g} s at {fps:g} frames/s is {frames:,} frames; "
+                         f"at most {MAX_VIDEO_FRAMES:,}: shorten --horizon or lower --fps")
 
 
 def _write_video(path: Path, sc: Any, world: Any, horizon: float, fps: float) -> dict[str, Any]:
@@ -189,24 +304,22 @@ def _write_video(path: Path, sc: Any, world: Any, horizon: float, fps: float) ->
 
     from adapt.imagination import Renderer
 
-    codecs = {".mp4": "mp4v", ".avi": "MJPG"}
     ext = path.suffix.lower()
-    if ext not in codecs:
-        raise AdaptError(f"--video {str(path)!r}: expected a .mp4 or .avi file name")
-    if not fps > 0:
-        raise AdaptError(f"--fps must be positive, got {fps}")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_path(path, suffix=ext) as tmp:
-        writer = cv2.VideoWriter(tmp, cv2.VideoWriter_fourcc(*codecs[ext]), fps,  # type: ignore[attr-defined]
-                                 (sc.camera.width, sc.camera.height))
-        if not writer.isOpened():
-            raise AdaptError(f"OpenCV cannot write {ext} video here")
-        renderer = Renderer(sc.scene, sc.camera)
-        fork = world.fork()
-        frames = int(horizon * fps) + 1
-        t0 = fork.time
-        for k in range(frames):
-            fork.run_until(t0 + k / fps)
-            writer.write(renderer.render(fork.snapshot()).image)
-        writer.release()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with atomic_path(path, suffix=ext) as tmp:
+            writer = cv2.VideoWriter(tmp, cv2.VideoWriter_fourcc(*_CODECS[ext]), fps,
+                                     (sc.camera.width, sc.camera.height))
+            if not writer.isOpened():
+                raise AdaptError(f"--video {str(path)!r}: OpenCV cannot write {ext} video here")
+            renderer = Renderer(sc.scene, sc.camera)
+            fork = world.fork()
+            frames = int(horizon * fps) + 1
+            t0 = fork.time
+            for k in range(frames):
+                fork.run_until(t0 + k / fps)
+                writer.write(renderer.render(fork.snapshot(), balls=fork.balls).image)
+            writer.release()
+    except OSError as exc:
+        raise AdaptError(f"--video {str(path)!r}: cannot write it ({exc.strerror or exc})") from None
     return {"path": str(path), "frames": frames, "fps": fps}

@@ -1,38 +1,51 @@
 """``adapt mmd`` and ``adapt sync``: the vision subcommands.
 
-``adapt mmd REAL SYNTH [--out DIR] [--json]`` compares a real image with a
-synthetic one and prints (``--json``)::
+``adapt mmd REAL SYNTH [--out DIR] [--json] [--exact-mask]`` compares a real
+image with a synthetic one and prints (``--json``)::
 
     {"homography": [[...], [...], [...]] | null,   # synthetic pixels -> real pixels
      "inliers": n,
      "regions": [{"bbox": [x, y, w, h], "centroid": [x, y], "area": a,
                   "mean_difference": d, "expected": false}, ...],
      "ms": t,                                       # matching + H + warp + mask + difference + regions
-     "aligned": true, "reason": "", "method": "lk", "known_fraction": f}
+     "aligned": true, "reason": "", "method": "lk", "known_fraction": f,
+     "working_size": [w, h]}
 
-With ``--out`` it writes ``warped.png``, ``mask.png`` and ``mmd.png``.
+Homography and regions are in REAL's pixels.  With ``--out`` it writes
+``warped.png``, ``mask.png`` and ``mmd.png`` (at the working resolution).  It
+exits with :attr:`~adapt.cli.exits.Exit.NO_ALIGNMENT` (7) when the images
+cannot be aligned.
 
 ``adapt sync SCENARIO.yaml --real IMAGE [--out DIR] [--gain G] [--max-iter N]
-[--tolerance PX] [--json]`` starts the synthetic camera at the scenario's
-nominal pose and turns it until the rendered view agrees with IMAGE, printing
+[--tolerance PX] [--full-pose] [--json]`` starts the synthetic camera at the
+scenario's nominal pose and turns it until the rendered view agrees with
+IMAGE.  It prints one line per iteration as it runs, one ``wrote`` line per
+file, and the corrected camera as the scenario's own ``camera`` keys.  With
+``--json`` the progress goes to standard error and standard output holds
 ``{"iterations": [{"iteration", "pixel_error", "inliers", "correction_deg",
-"rotation", "position"}, ...], "converged", "reason", "camera": {"rotation",
-"position"}}``.  With ``--out`` it writes one strip per step,
-``step_NN.png`` (real | synthetic with its inlier corners | warped | mask |
-MMD), and ``sync.json`` (the same JSON).
+"rotation", "position"}, ...], "converged", "outcome", "reason", "camera":
+{"fx", "fy", "cx", "cy", "width", "height", "position", "look_at",
+"roll_deg", "rotation"}}``.  With ``--out`` it writes one strip per step,
+``step_NN.png`` (real | synthetic with its corners | warped | mask | MMD), as
+the step completes, and ``sync.json`` (the same JSON) at the end.  Exit
+status: 0 converged, 7 no alignment, 8 not converged within ``--max-iter``.
 
-Every file is written atomically (temporary file, then rename).
+Every file is written atomically (temporary file, then rename), and no output
+may be one of the inputs.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import sys
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
-from adapt.errors import ImageError
+from adapt.cli.exits import Exit
+from adapt.errors import AdaptError, ImageError, VisionError
 from adapt.files import write_atomic
 
 __all__ = ["register"]
@@ -43,7 +56,9 @@ def register(sub: Any) -> None:
     p = sub.add_parser(
         "mmd",
         help="match-mediated difference of a real and a synthetic image",
-        description="Align SYNTH to REAL by matched corners, and show what SYNTH does not explain.",
+        description="Align SYNTH to REAL by matched corners, and show what SYNTH does not explain. "
+        "Images larger than 640x480 are analysed at that many pixels; the homography and the "
+        "regions are given in REAL's pixels. Exit status 7 when the images cannot be aligned.",
     )
     p.add_argument("real", metavar="REAL", help="the real (camera) image")
     p.add_argument("synthetic", metavar="SYNTH", help="the synthetic (rendered) image")
@@ -56,22 +71,38 @@ def register(sub: Any) -> None:
         "sync",
         help="synchronise a scenario's synthetic camera with a real image",
         description="Turn the synthetic camera from the scenario's nominal pose until "
-        "its rendered view agrees with the real image (paper eq. 3).",
+        "its rendered view agrees with the real image (paper eq. 3), and print the corrected "
+        "camera as scenario keys. Exit status 0 converged, 7 no alignment, 8 not converged "
+        "within --max-iter.",
     )
     s.add_argument("scenario", metavar="SCENARIO.yaml")
     s.add_argument("--real", metavar="IMAGE", required=True, help="the real image")
     s.add_argument("--out", metavar="DIR", help="write step_NN.png strips and sync.json here")
     s.add_argument("--gain", type=float, default=0.5, metavar="G", help="correction gain g in (0, 1] (default 0.5)")
     s.add_argument("--max-iter", type=int, default=10, metavar="N", help="most renders (default 10)")
-    s.add_argument("--tolerance", type=float, default=0.5, metavar="PX", help="stop below this pixel error (default 0.5)")
-    s.add_argument("--json", action="store_true", help="print the result as JSON")
+    s.add_argument("--tolerance", type=float, default=None, metavar="PX",
+                   help="stop below this pixel error (default 0.5 at 640x480, scaled with the image)")
+    s.add_argument("--full-pose", action="store_true",
+                   help="also correct the position, from the floor's homography (floor-dominated views)")
+    s.add_argument("--json", action="store_true", help="print the result as JSON (progress on stderr)")
     s.set_defaults(func=_run_sync)
+
+
+def _refuse_overwriting(inputs: Sequence[str], outputs: Sequence[Path]) -> None:
+    """Raise before anything is written if an output is one of the inputs."""
+    resolved = {Path(i).resolve(): i for i in inputs}
+    for out in outputs:
+        hit = resolved.get(out.resolve())
+        if hit is not None:
+            raise ImageError(f"{out}: is the input {hit}; choose another --out directory")
 
 
 def _out_dir(path: str | None) -> Path | None:
     if path is None:
         return None
     d = Path(path)
+    if d.exists() and not d.is_dir():
+        raise ImageError(f"{path}: is a file, expected an output directory")
     try:
         d.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -95,6 +126,10 @@ def _panels(result: Any) -> tuple[Any, Any, Any]:
     return result.warped, mask, diff
 
 
+def _size(shape: Sequence[int]) -> str:
+    return f"{shape[1]}x{shape[0]}"
+
+
 def _mmd_json(result: Any, regions: Any, ms: float) -> dict[str, object]:
     h = result.homography
     return {
@@ -106,76 +141,127 @@ def _mmd_json(result: Any, regions: Any, ms: float) -> dict[str, object]:
         "reason": result.alignment.reason,
         "method": result.matches.method,
         "known_fraction": round(float(result.known.mean()), 4),
+        "working_size": [result.frame.shape[1], result.frame.shape[0]],
     }
 
 
 def _run_mmd(args: argparse.Namespace) -> int:
-    from adapt.vision.images import read_image, write_image
+    from adapt.vision.images import check_pair, read_image, write_image
     from adapt.vision.mmd import mmd
-    from adapt.vision.regions import find_regions, label_regions
     from adapt.vision.threads import DEFAULT_THREADS, set_threads
 
+    names = ("warped.png", "mask.png", "mmd.png")
+    if args.out is not None:
+        _refuse_overwriting([args.real, args.synthetic], [Path(args.out) / n for n in names])
     set_threads(DEFAULT_THREADS)
     real = read_image(args.real)
     synthetic = read_image(args.synthetic)
+    check_pair(real, synthetic, sources=(args.real, args.synthetic))
     out = _out_dir(args.out)
     t0 = time.perf_counter()
     result = mmd(real, synthetic, exact=args.exact_mask)
-    regions = label_regions(find_regions(result.difference), [])
+    regions = result.regions()
     ms = (time.perf_counter() - t0) * 1e3
+    written = []
     if out is not None:
-        warped, mask, diff = _panels(result)
-        write_image(out / "warped.png", warped)
-        write_image(out / "mask.png", mask)
-        write_image(out / "mmd.png", diff)
+        for name, image in zip(names, _panels(result)):
+            written.append(write_image(out / name, image))
     data = _mmd_json(result, regions, ms)
     if args.json:
         print(json.dumps(data))
     else:
+        work = ""
+        if result.frame.reduces:
+            work = f", analysed at {_size(result.frame.shape)}"
         if result.aligned:
-            print(f"aligned: {result.n_inliers} inliers ({result.matches.method}), {ms:.1f} ms")
+            print(f"aligned: {result.n_inliers} inliers ({result.matches.method}), {ms:.1f} ms{work}")
         else:
-            print(f"no alignment: {result.alignment.reason} ({ms:.1f} ms)")
+            print(f"no alignment: {result.alignment.reason} ({ms:.1f} ms{work})")
         for r in regions:
             x, y, w, h = r.bbox
             print(f"  unexpected region at ({x}, {y}) {w}x{h}, area {r.area}, "
                   f"mean difference {r.mean_difference:.0f}")
-        if out is not None:
-            print(f"wrote {out / 'warped.png'}, {out / 'mask.png'}, {out / 'mmd.png'}")
-    return 0
+        for path in written:
+            print(f"wrote {path}")
+    return int(Exit.OK if result.aligned else Exit.NO_ALIGNMENT)
 
 
-def _strip(real: Any, step: Any) -> Any:
+def _strip(path: Path, real: Any, step: Any) -> Path:
     """Figure-4-style strip: real | synthetic with corners | warped | mask | MMD."""
-    import cv2
-    import numpy as np
-
-    def bgr(img: Any) -> Any:
-        from adapt.vision.images import as_uint8
-
-        u8 = as_uint8(img)
-        return cv2.cvtColor(u8, cv2.COLOR_GRAY2BGR) if u8.ndim == 2 else u8
+    from adapt.figures import Panel, write_strip
 
     res = step.result
-    syn = bgr(step.synthetic).copy()
     inl = res.alignment.inliers
-    for (x, y), good in zip(res.matches.synthetic_points, inl):
-        cv2.circle(syn, (int(round(x)), int(round(y))), 3, (0, 255, 0) if good else (0, 0, 255), 1,
-                   cv2.LINE_AA)
+    pts = res.matches.synthetic_points
     warped, mask, diff = _panels(res)
-    panels = [bgr(real), syn, bgr(warped), bgr(mask), bgr(diff)]
-    text = f"step {step.iteration}: error {step.pixel_error:.2f} px, {step.n_inliers} inliers"
-    cv2.putText(panels[0], text, (8, 20), cv2.FONT_HERSHEY_SIMPLEX, 0.5, (0, 255, 255), 1, cv2.LINE_AA)
-    return np.hstack(panels)
+    if math.isnan(step.pixel_error):
+        title = f"step {step.iteration}: no alignment ({res.alignment.reason})"
+    else:
+        title = (f"step {step.iteration}: pixel error {step.pixel_error:.2f} px, {step.n_inliers} inliers, "
+                 f"correction {step.correction_deg:.3f} deg")
+    row = [
+        Panel("real", real),
+        Panel("synthetic, corners (green: inliers, red: outliers)", step.synthetic,
+              points=[(pts[inl], "lime"), (pts[~inl], "red")]),
+        Panel("warped synthetic", warped),
+        Panel("mask I_m", mask),
+        Panel("MMD I_d (0-255)", diff, vmin=0, vmax=255),
+    ]
+    return write_strip(path, [row], title=title)
+
+
+def _camera_keys(camera: Any, scenario: Any) -> dict[str, Any]:
+    """The scenario's ``camera`` keys of ``camera`` (and its world rotation).
+
+    The ``look_at`` is put at the distance of the scenario's own, so the two
+    are easy to compare (any point on the viewing axis gives the same camera);
+    for a camera on the robot, ``position`` and ``look_at`` are given in the
+    robot's frame at its starting pose, as the scenario writes them."""
+    import numpy as np
+
+    from adapt.geometry import look_at_parameters
+
+    mount = scenario.mount
+    distance = float(np.linalg.norm(np.subtract(mount.look_at, mount.position)))
+    target, roll = look_at_parameters(camera.rotation, camera.position, distance if distance > 0 else 1.0)
+    position = np.asarray(camera.position, float)
+    robot = scenario.scene.robot
+    on_robot = getattr(mount.kind, "value", "fixed") == "robot" and robot is not None
+    if on_robot:  # world -> robot frame (the inverse of CameraMount.world_pose)
+        a = math.radians(robot.heading_deg)
+        rot = np.array([[math.cos(a), -math.sin(a), 0.0], [math.sin(a), math.cos(a), 0.0], [0.0, 0.0, 1.0]])
+        offset = np.array([robot.position[0], robot.position[1], 0.0])
+        position, target = rot.T @ (position - offset), rot.T @ (target - offset)
+    keys: dict[str, Any] = {
+        "fx": float(camera.fx), "fy": float(camera.fy), "cx": float(camera.cx), "cy": float(camera.cy),
+        "width": int(camera.width), "height": int(camera.height),
+        "position": [round(float(v), 6) + 0.0 for v in position],  # + 0.0: no "-0.0"
+        "look_at": [round(float(v), 6) + 0.0 for v in target],
+        "roll_deg": round(roll, 5) + 0.0,
+    }
+    if on_robot:
+        keys["mount"] = "robot"
+    keys["rotation"] = np.round(camera.rotation, 8).tolist()
+    return keys
+
+
+def _camera_yaml(keys: dict[str, Any], converged: bool) -> str:
+    note = ("synchronised with the real image" if converged
+            else "after the last correction (not converged)")
+    lines = [f"camera:                     # {note}: paste over the scenario's camera"]
+    for k in ("fx", "fy", "cx", "cy", "width", "height", "position", "look_at", "roll_deg", "mount"):
+        if k not in keys:
+            continue
+        v = keys[k]
+        text = "[" + ", ".join(repr(x) for x in v) + "]" if isinstance(v, list) else repr(v)
+        lines.append(f"  {k}: {text}")
+    return "\n".join(lines)
 
 
 def _run_sync(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from adapt.errors import VisionError
     from adapt.imagination import Renderer
     from adapt.scenario import load_scenario
-    from adapt.vision.images import read_image, write_image
+    from adapt.vision.images import check_image, read_image
     from adapt.vision.sync import synchronise
     from adapt.vision.threads import DEFAULT_THREADS, set_threads
 
@@ -183,46 +269,73 @@ def _run_sync(args: argparse.Namespace) -> int:
         raise VisionError(f"--gain must be in (0, 1], got {args.gain}")
     if args.max_iter < 1:
         raise VisionError(f"--max-iter must be at least 1, got {args.max_iter}")
+    if args.max_iter > 1000:
+        raise VisionError(f"--max-iter must be at most 1000, got {args.max_iter}")
+    if args.tolerance is not None and not (math.isfinite(args.tolerance) and args.tolerance > 0):
+        raise VisionError(f"--tolerance must be a positive number of pixels, got {args.tolerance}")
+    if args.out is not None:
+        outs = [Path(args.out) / f"step_{i:02d}.png" for i in range(args.max_iter)]
+        _refuse_overwriting([args.real, args.scenario], outs + [Path(args.out) / "sync.json"])
     set_threads(DEFAULT_THREADS)
     scenario = load_scenario(args.scenario)
-    real = read_image(args.real)
+    real = check_image(read_image(args.real), "real", source=args.real)
     cam = scenario.camera
     if real.shape[:2] != (cam.height, cam.width):
         raise VisionError(
-            f"{args.real} is {real.shape[1]}x{real.shape[0]} pixels but the scenario's camera "
-            f"renders {cam.width}x{cam.height}: use an image of the camera's size"
+            f"{args.real}: the image is {real.shape[1]}x{real.shape[0]} pixels but the scenario's "
+            f"camera renders {cam.width}x{cam.height}: use an image of the camera's size"
         )
-    if real.ndim == 2:
-        import cv2
-
-        real = cv2.cvtColor(real, cv2.COLOR_GRAY2BGR)  # type: ignore[assignment]
     out = _out_dir(args.out)
     renderer = Renderer(scenario.scene, cam)
+    progress = sys.stderr if args.json else sys.stdout
 
     def render(camera: Any) -> Any:
         return renderer.with_camera(camera).render().image
 
+    def on_step(step: Any) -> None:
+        if math.isnan(step.pixel_error):
+            line = f"step {step.iteration}: no alignment: {step.result.alignment.reason}"
+        else:
+            line = (f"step {step.iteration}: pixel error {step.pixel_error:.3f} px, "
+                    f"{step.n_inliers} inliers ({step.result.matches.method}), "
+                    f"correction {step.correction_deg:.3f} deg")
+        print(line, file=progress, flush=True)
+        if out is not None:
+            path = _strip(out / f"step_{step.iteration:02d}.png", real, step)
+            print(f"wrote {path}", file=progress, flush=True)
+
     result = synchronise(
-        real, cam, render, gain=args.gain, tolerance=args.tolerance, max_iterations=args.max_iter
+        real, cam, render, gain=args.gain, tolerance=args.tolerance, max_iterations=args.max_iter,
+        full_pose=args.full_pose, on_step=on_step,
     )
+    try:
+        keys = _camera_keys(result.camera, scenario)
+    except AdaptError:  # a camera looking straight up or down has no look_at / roll
+        import numpy as np
+
+        keys = {"rotation": np.round(result.camera.rotation, 8).tolist(),
+                "position": np.round(result.camera.position, 8).tolist()}
     data = {
         "iterations": [s.as_dict() for s in result.steps],
         "converged": result.converged,
+        "outcome": result.outcome,
         "reason": result.reason,
-        "camera": {
-            "rotation": np.round(result.camera.rotation, 8).tolist(),
-            "position": np.round(result.camera.position, 8).tolist(),
-        },
+        "camera": keys,
     }
     if out is not None:
-        for step in result.steps:
-            write_image(out / f"step_{step.iteration:02d}.png", _strip(real, step))
         _write_json(out / "sync.json", data)
+        print(f"wrote {out / 'sync.json'}", file=progress, flush=True)
     if args.json:
         print(json.dumps(data))
     else:
-        for s in result.steps:
-            print(f"step {s.iteration}: pixel error {s.pixel_error:.3f}, {s.n_inliers} inliers, "
-                  f"turned {s.correction_deg:.3f} deg")
         print(("converged: " if result.converged else "not converged: ") + result.reason)
-    return 0 if result.converged else 1
+        moved = result.converged or len(result.steps) > 1 or result.outcome == "iteration limit"
+        if "look_at" in keys and moved:
+            print(_camera_yaml(keys, result.converged))
+        elif moved:
+            print(f"camera rotation {keys['rotation']}, position {keys['position']}")
+    if result.outcome == "converged":
+        return int(Exit.OK)
+    if result.outcome == "no alignment":
+        return int(Exit.NO_ALIGNMENT)
+    return int(Exit.NOT_CONVERGED)

@@ -5,6 +5,12 @@
   :class:`Floor`, :class:`RobotSpec`);
 * :mod:`~adapt.imagination.world` - the pymunk :class:`World`, its
   :class:`WorldState` snapshots and :class:`Contact` events;
+* :mod:`~adapt.imagination.surface` - the static :class:`Surface` planes of a
+  scene in world metres; :mod:`~adapt.imagination.appearance` - an
+  :class:`Appearance` that replaces a surface's look at run time;
+* :mod:`~adapt.imagination.backdrop` - the :class:`Backdrop`: surfaces with
+  prepared textures, drawn for any camera pose by one warp per surface;
+  :mod:`~adapt.imagination.raycast` - the exact per-pixel reference;
 * :mod:`~adapt.imagination.render` - the :class:`Renderer` (BGR image and
   label image through an :class:`adapt.geometry.Camera`);
 * :mod:`~adapt.imagination.predict` - rollouts, contact prediction, intercepts
@@ -16,13 +22,20 @@ and ``adapt.errors`` only.
 
 from __future__ import annotations
 
+from adapt.imagination.appearance import Appearance
+from adapt.imagination.backdrop import Backdrop
 from adapt.imagination.predict import (
     ENSEMBLE_PARAMETERS,
+    MAX_ENSEMBLE_STEPS,
+    MAX_ENSEMBLE_VALUES,
+    MAX_MEMBERS,
+    MAX_SAMPLES,
     Ensemble,
     Intercept,
     Trajectory,
     ensemble,
     intercept,
+    intercept_reach,
     rollout,
     time_to_reach,
 )
@@ -33,6 +46,7 @@ from adapt.imagination.render import (
     LABEL_ROBOT,
     LABEL_SKY,
     LABEL_WALL,
+    Box,
     Renderer,
     RenderResult,
     initial_state,
@@ -46,38 +60,60 @@ from adapt.imagination.scene import (
     SceneSpec,
     Wall,
 )
+from adapt.imagination.surface import Surface, scene_surfaces
 from adapt.imagination.texture import Texture, load_texture
-from adapt.imagination.world import BodyState, Contact, World, WorldState
+from adapt.imagination.world import (
+    MAX_STEPS,
+    MAX_SUBSTEPS,
+    BodyState,
+    Contact,
+    StepHook,
+    World,
+    WorldState,
+)
 
 __all__ = [
+    "ENSEMBLE_PARAMETERS",
+    "LABEL_BALL",
+    "LABEL_FLOOR",
+    "LABEL_OBSTACLE",
+    "LABEL_ROBOT",
+    "LABEL_SKY",
+    "LABEL_WALL",
+    "MAX_ENSEMBLE_STEPS",
+    "MAX_ENSEMBLE_VALUES",
+    "MAX_MEMBERS",
+    "MAX_SAMPLES",
+    "MAX_STEPS",
+    "MAX_SUBSTEPS",
+    "Appearance",
+    "Backdrop",
     "Ball",
+    "BodyState",
+    "Box",
+    "Contact",
+    "Ensemble",
     "Floor",
+    "Intercept",
     "Obstacle",
+    "RenderResult",
+    "Renderer",
     "RobotSpec",
     "SceneSpec",
+    "StepHook",
+    "Surface",
+    "Texture",
+    "Trajectory",
     "Wall",
     "World",
     "WorldState",
-    "BodyState",
-    "Contact",
-    "Renderer",
-    "Trajectory",
-    "Intercept",
-    "Ensemble",
-    "ENSEMBLE_PARAMETERS",
-    "rollout",
-    "intercept",
-    "time_to_reach",
     "ensemble",
-    "RenderResult",
     "initial_state",
+    "intercept",
+    "intercept_reach",
     "label_names",
-    "Texture",
     "load_texture",
-    "LABEL_SKY",
-    "LABEL_FLOOR",
-    "LABEL_WALL",
-    "LABEL_OBSTACLE",
-    "LABEL_BALL",
-    "LABEL_ROBOT",
+    "rollout",
+    "scene_surfaces",
+    "time_to_reach",
 ]

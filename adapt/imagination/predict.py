@@ -4,12 +4,20 @@
   the contact events on the way;
 * :func:`intercept` / :func:`time_to_reach` - the earliest point of a
   predicted path that a robot with a maximum speed and acceleration can reach
-  in time;
+  in time; :func:`intercept_reach` - how close the robot's centre must come to
+  a ball's;
 * :func:`ensemble` - N seeded rollouts with ball parameters drawn from ranges,
   summarised by mean and percentile positions.
 
 A fork never disturbs the world it was taken from.  Times are world times in
 seconds (a rollout from a world at ``t = 2`` samples ``2 + offset``).
+
+Work is bounded: a rollout runs at most ``MAX_STEPS`` steps (see
+:mod:`~adapt.imagination.world`) and keeps at most :data:`MAX_SAMPLES`
+samples; an ensemble has at most :data:`MAX_MEMBERS` members, keeps at most
+:data:`MAX_ENSEMBLE_VALUES` positions and runs at most
+:data:`MAX_ENSEMBLE_STEPS` steps in all.  Beyond these an
+:class:`~adapt.errors.ImaginationError` says which limit and by how much.
 
 Examples
 --------
@@ -34,8 +42,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import ImaginationError
-from adapt.imagination.scene import Ball, SceneSpec, Vec2
-from adapt.imagination.world import BodyState, Contact, World, WorldState
+from adapt.imagination.scene import Ball, RobotSpec, SceneSpec, Vec2
+from adapt.imagination.world import MAX_STEPS, BodyState, Contact, World, WorldState
 
 __all__ = [
     "Trajectory",
@@ -45,8 +53,22 @@ __all__ = [
     "rollout",
     "time_to_reach",
     "intercept",
+    "intercept_reach",
     "ensemble",
+    "MAX_SAMPLES",
+    "MAX_MEMBERS",
+    "MAX_ENSEMBLE_VALUES",
+    "MAX_ENSEMBLE_STEPS",
 ]
+
+#: Most samples a rollout keeps.
+MAX_SAMPLES = 100_000
+#: Most members of an ensemble.
+MAX_MEMBERS = 10_000
+#: Most positions an ensemble keeps (members x sample times).
+MAX_ENSEMBLE_VALUES = 2_000_000
+#: Most physics steps an ensemble runs, all members together.
+MAX_ENSEMBLE_STEPS = 5 * MAX_STEPS
 
 FloatArray = NDArray[np.float64]
 
@@ -149,16 +171,30 @@ def _default_body(world: World, body: str | None) -> str:
     return world.scene.balls[0].name
 
 
-def _offsets(horizon: float, times: Sequence[float] | None, dt: float) -> list[int]:
-    if not math.isfinite(horizon) or horizon < 0:
+def _offsets(horizon: float, times: Sequence[float] | None, world: World) -> list[int]:
+    try:
+        h = float(horizon)
+    except (TypeError, ValueError):
+        raise ImaginationError(f"horizon: expected a number of seconds, got {horizon!r}") from None
+    if not math.isfinite(h) or h < 0:
         raise ImaginationError(f"horizon: expected a non-negative number of seconds, got {horizon}")
-    total = int(round(horizon / dt))
+    total = world.steps_for(h, "horizon")
+    dt = world.dt
     if times is None:
+        if total + 1 > MAX_SAMPLES:
+            raise ImaginationError(
+                f"horizon: sampling every step of {h:g} s keeps {total + 1:,} samples; at most "
+                f"{MAX_SAMPLES:,}: pass the sample times"
+            )
         return list(range(total + 1))
+    if len(times) > MAX_SAMPLES:
+        raise ImaginationError(
+            f"times: {len(times):,} sample times; a rollout keeps at most {MAX_SAMPLES:,}"
+        )
     steps = []
     for t in times:
-        if not 0 <= t <= horizon + 1e-12:
-            raise ImaginationError(f"sample time {t} is outside [0, {horizon}] (seconds ahead)")
+        if not 0 <= t <= h + 1e-12:
+            raise ImaginationError(f"sample time {t} is outside [0, {h}] (seconds ahead)")
         steps.append(int(round(t / dt)))
     return sorted(set(steps))
 
@@ -188,8 +224,8 @@ def rollout(
         Start from this state instead of the world's current one.
     """
     name = _default_body(world, body)
-    fork = world.fork(state)
-    steps = _offsets(horizon, times, fork.dt)
+    steps = _offsets(horizon, times, world)
+    fork = world.fork(state, record_contacts=True)
     b = fork.body(name)
     out_t = np.empty(len(steps))
     out_p = np.empty((len(steps), 2))
@@ -203,7 +239,7 @@ def rollout(
         p, v = b.position, b.velocity
         out_p[i] = (p[0], p[1])
         out_v[i] = (v[0], v[1])
-    total = int(round(horizon / fork.dt))
+    total = fork.steps_for(horizon, "horizon")
     if total > done:
         fork.step(total - done)  # contacts up to the horizon even past the last sample
     return Trajectory(name, out_t, out_p, out_v, tuple(fork.contacts))
@@ -228,6 +264,23 @@ def time_to_reach(distance: float, max_speed: float, max_accel: float) -> float:
     if distance <= ramp:
         return math.sqrt(2.0 * distance / max_accel)
     return distance / max_speed + max_speed / (2.0 * max_accel)
+
+
+def intercept_reach(ball: Ball, robot: RobotSpec) -> float:
+    """How close the robot's centre must come to the ball's centre to meet it.
+
+    The ball's radius plus the robot's radius (a disc) or half its smaller
+    side (a box: the distance from its centre to its nearest side).
+
+    Examples
+    --------
+    >>> intercept_reach(Ball("b", radius=0.1), RobotSpec(shape="disc", radius=0.25))
+    0.35
+    >>> intercept_reach(Ball("b", radius=0.1), RobotSpec(shape="box", size=(0.6, 0.4)))
+    0.30000000000000004
+    """
+    body = robot.radius if robot.shape == "disc" else min(robot.size) / 2.0
+    return ball.radius + body
 
 
 def intercept(
@@ -321,8 +374,8 @@ def ensemble(
     (True, True)
     """
     name = _default_body(world, body)
-    if n < 1:
-        raise ImaginationError(f"ensemble size must be at least 1, got {n}")
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_MEMBERS:
+        raise ImaginationError(f"n: expected an ensemble size from 1 to {MAX_MEMBERS:,}, got {n!r}")
     for key, (lo, hi) in ranges.items():
         if key not in ENSEMBLE_PARAMETERS:
             raise ImaginationError(
@@ -335,7 +388,17 @@ def ensemble(
     )
     if times is None:
         times = list(np.linspace(0.0, horizon, 21))
-    steps = _offsets(horizon, times, world.dt)
+    steps = _offsets(horizon, times, world)
+    if n * len(steps) > MAX_ENSEMBLE_VALUES:
+        raise ImaginationError(
+            f"n: {n:,} members x {len(steps):,} sample times keep {n * len(steps):,} positions; "
+            f"at most {MAX_ENSEMBLE_VALUES:,}"
+        )
+    if n * (steps[-1] if steps else 0) > MAX_ENSEMBLE_STEPS:
+        raise ImaginationError(
+            f"n: {n:,} members x {steps[-1]:,} steps is {n * steps[-1]:,} physics steps; "
+            f"an ensemble runs at most {MAX_ENSEMBLE_STEPS:,}"
+        )
     start = world.snapshot() if state is None else state
     scene = world.scene
     base_ball = scene.ball(name) if any(b.name == name for b in scene.balls) else None

@@ -2,16 +2,18 @@
 
 :class:`Renderer` draws a :class:`~adapt.imagination.scene.SceneSpec` through
 a :class:`~adapt.geometry.Camera` into a BGR ``uint8`` image and a label image
-(``int32``, the id of the object seen at each pixel).  Every surface is
-ray-cast per pixel, so perspective, occlusion (a depth buffer) and texture
-mapping are exact at pixel centres:
+(``int32``, the id of the object seen at each pixel):
 
-* the **static background** (sky, textured floor, textured walls, the visible
-  faces of obstacles, each face shaded by a fixed light) is rendered once per
-  camera pose and cached;
+* the **static background** (sky, the textured floor, walls and obstacle
+  faces, each shaded by a fixed light, or an appearance set at run time) comes
+  from the scene's :class:`~adapt.imagination.backdrop.Backdrop`: one
+  perspective warp per surface, a few milliseconds for a new camera pose
+  (``exact=True`` ray-casts every pixel instead: the slow reference).  It is
+  cached per camera pose and appearance version;
 * **moving objects** are drawn over a copy of it for each frame: balls as
   shaded spheres with an anti-aliased outline and a contact shadow on the
-  floor, and the robot as a flat-shaded prism.
+  floor, and the robot as a flat-shaded prism.  :attr:`RenderResult.boxes`
+  gives the pixel box of each one's visible part.
 
 Label ids (also in ``docs/conventions.md``):
 
@@ -22,7 +24,8 @@ id                        what
 ``1``                     the floor
 ``1000 + i``              ``scene.walls[i]``
 ``2000 + i``              ``scene.obstacles[i]``
-``3000 + i``              ``scene.balls[i]``
+``3000 + i``              ``balls[i]`` (the scene's, or those passed to
+                          :meth:`Renderer.render`)
 ``4000``                  the robot
 ========================  =============================================
 
@@ -39,28 +42,45 @@ Examples
 >>> out = Renderer(scene, cam).render()
 >>> out.image.shape, out.image.dtype, out.labels.dtype
 ((240, 320, 3), dtype('uint8'), dtype('int32'))
->>> sorted(label_names(scene)[int(i)] for i in set(out.labels.ravel().tolist()))
+>>> sorted(out.names[int(i)] for i in set(out.labels.ravel().tolist()))
 ['ball', 'floor', 'north', 'sky']
+>>> out.boxes["ball"]  # x, y, width, height of the visible part
+(145, 145, 30, 30)
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Mapping, Sequence
 
 import cv2
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from adapt.geometry import Camera
-from adapt.imagination.scene import Ball, Color, RobotSpec, SceneSpec
-from adapt.imagination.texture import Texture, load_texture
+from adapt.imagination.appearance import Appearance
+from adapt.imagination.backdrop import Backdrop
+from adapt.imagination.raycast import NEAR, draw_face, pixel_bbox, prism_faces
+from adapt.imagination.scene import Ball, RobotSpec, SceneSpec
+from adapt.imagination.surface import (
+    LABEL_BALL,
+    LABEL_FLOOR,
+    LABEL_OBSTACLE,
+    LABEL_ROBOT,
+    LABEL_SKY,
+    LABEL_WALL,
+    LIGHT,
+    Surface,
+)
+from adapt.imagination.texture import load_texture
 from adapt.imagination.world import BodyState, WorldState
 
 __all__ = [
     "Renderer",
     "RenderResult",
+    "Box",
     "label_names",
     "initial_state",
     "LABEL_SKY",
@@ -71,38 +91,13 @@ __all__ = [
     "LABEL_ROBOT",
 ]
 
-LABEL_SKY = 0
-LABEL_FLOOR = 1
-LABEL_WALL = 1000
-LABEL_OBSTACLE = 2000
-LABEL_BALL = 3000
-LABEL_ROBOT = 4000
-
-#: Near clipping distance in metres (camera z).
-NEAR = 0.01
-#: The floor reaches this far from the camera when it has no extent.
-FAR = 200.0
-#: Direction towards the light (world), fixed.
-LIGHT = np.array([0.35, -0.55, 0.76]) / np.linalg.norm([0.35, -0.55, 0.76])
-#: Sky colour at the horizon and at the top (BGR).
-SKY_HORIZON = np.array([235.0, 225.0, 215.0])
-SKY_TOP = np.array([210.0, 170.0, 120.0])
-
 FloatArray = NDArray[np.float64]
 
+#: A pixel box ``(x, y, width, height)``: columns ``x .. x + width - 1`` and
+#: rows ``y .. y + height - 1``.
+Box = tuple[int, int, int, int]
 
-def _pixel_bbox(pc: NDArray[np.float64], cam: Camera) -> tuple[int, int, int, int] | None:
-    """Pixel bounding box ``(x0, y0, x1, y1)`` (exclusive end, one pixel of margin) of points
-    in camera coordinates in front of the camera, clipped to the image; ``None`` when empty."""
-    px = pc[:, 0] / pc[:, 2] * cam.fx + cam.cx
-    py = pc[:, 1] / pc[:, 2] * cam.fy + cam.cy
-    x0 = max(int(math.floor(px.min())) - 1, 0)
-    y0 = max(int(math.floor(py.min())) - 1, 0)
-    x1 = min(int(math.ceil(px.max())) + 2, cam.width)
-    y1 = min(int(math.ceil(py.max())) + 2, cam.height)
-    if x0 >= x1 or y0 >= y1:
-        return None
-    return x0, y0, x1, y1
+_EMPTY_BOXES: Mapping[str, Box] = MappingProxyType({})
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -115,14 +110,25 @@ class RenderResult:
         BGR colour image.
     labels : (H, W) int32 ndarray
         Object id per pixel (see the module docstring).
+    boxes : mapping of str to (x, y, width, height)
+        For each moving object drawn (balls and the robot), the pixel box of
+        the pixels labelled with it, that is its visible part; an object that
+        is out of view or hidden is absent.
+    names : mapping of int to str
+        Label id to object name for this frame (as :func:`label_names`).
     """
 
     image: NDArray[np.uint8]
     labels: NDArray[np.int32]
+    boxes: Mapping[str, Box] = field(default_factory=lambda: _EMPTY_BOXES)
+    names: Mapping[int, str] = field(default_factory=lambda: MappingProxyType({}))
 
 
-def label_names(scene: SceneSpec) -> dict[int, str]:
+def label_names(scene: SceneSpec, balls: Sequence[Ball] | None = None) -> dict[int, str]:
     """Label id -> object name for a scene (``0`` is ``"sky"``, ``1`` ``"floor"``).
+
+    ``balls`` replaces the scene's balls (the balls of a world that gained or
+    lost some at run time).
 
     Examples
     --------
@@ -135,7 +141,7 @@ def label_names(scene: SceneSpec) -> dict[int, str]:
         names[LABEL_WALL + i] = w.name
     for i, o in enumerate(scene.obstacles):
         names[LABEL_OBSTACLE + i] = o.name
-    for i, b in enumerate(scene.balls):
+    for i, b in enumerate(scene.balls if balls is None else balls):
         names[LABEL_BALL + i] = b.name
     if scene.robot is not None:
         names[LABEL_ROBOT] = scene.robot.name
@@ -151,21 +157,6 @@ def initial_state(scene: SceneSpec) -> WorldState:
     return WorldState(0.0, 0, tuple(bodies))
 
 
-@dataclass(frozen=True, slots=True, eq=False)
-class _Face:
-    """A planar convex face: points ``origin + s*u + t*v`` with ``(s, t)`` in ``polygon``."""
-
-    origin: FloatArray
-    u: FloatArray
-    v: FloatArray
-    polygon: tuple[tuple[float, float], ...]
-    color: Color
-    texture: str | None
-    tile: float
-    label: int
-    two_sided: bool = False
-
-
 class Renderer:
     """Renders a scene through a camera; caches the static background.
 
@@ -173,23 +164,65 @@ class Renderer:
     ----------
     scene : SceneSpec
     camera : Camera
+    exact : bool
+        Ray-cast the background per pixel (the slow reference) instead of
+        warping each surface.
+    backdrop : Backdrop, optional
+        The scene's static surfaces and appearances, shared between renderers
+        (default: a new one for ``scene``).
     """
 
-    def __init__(self, scene: SceneSpec, camera: Camera) -> None:
+    def __init__(
+        self,
+        scene: SceneSpec,
+        camera: Camera,
+        *,
+        exact: bool = False,
+        backdrop: Backdrop | None = None,
+    ) -> None:
         self.scene = scene
         self.camera = camera
+        self.exact = exact
+        self.backdrop = Backdrop(scene) if backdrop is None else backdrop
         h, w = camera.height, camera.width
-        xs = (np.arange(w, dtype=np.float64) - camera.cx) / camera.fx
-        ys = (np.arange(h, dtype=np.float64) - camera.cy) / camera.fy
-        self._rx = xs  # ray x per column (camera frame, z = 1)
-        self._ry = ys  # ray y per row
+        self._rx = (np.arange(w, dtype=np.float64) - camera.cx) / camera.fx  # ray x per column
+        self._ry = (np.arange(h, dtype=np.float64) - camera.cy) / camera.fy  # ray y per row
         self._light_cam = camera.rotation @ LIGHT
         self._bg: tuple[NDArray[np.uint8], NDArray[np.int32], NDArray[np.float32]] | None = None
-        self._floor_label_cache: NDArray[np.bool_] | None = None
+        self._bg_version = -1
 
     def with_camera(self, camera: Camera) -> "Renderer":
-        """A renderer of the same scene through another camera (new background)."""
-        return Renderer(self.scene, camera)
+        """A renderer of the same scene through another camera.
+
+        It shares this renderer's :class:`Backdrop` (prepared textures and
+        appearances), so only the new pose's background is drawn: a few
+        milliseconds.
+        """
+        return Renderer(self.scene, camera, exact=self.exact, backdrop=self.backdrop)
+
+    # -- surfaces and appearance ------------------------------------------------
+
+    @property
+    def surfaces(self) -> tuple[Surface, ...]:
+        """The scene's static surfaces (:func:`~adapt.imagination.surface.scene_surfaces`)."""
+        return self.backdrop.surfaces
+
+    def set_appearance(
+        self,
+        surface: str,
+        image: ArrayLike | Appearance,
+        mask: ArrayLike | None = None,
+        *,
+        extent: Sequence[float] | None = None,
+    ) -> Appearance:
+        """Draw an image on a surface where ``mask`` is valid
+        (:meth:`Backdrop.set_appearance`); every renderer sharing the backdrop
+        sees it from its next render."""
+        return self.backdrop.set_appearance(surface, image, mask, extent=extent)
+
+    def clear_appearance(self, surface: str | None = None) -> None:
+        """Return a surface (default: all) to the scenario's look."""
+        self.backdrop.clear_appearance(surface)
 
     # -- background -----------------------------------------------------------
 
@@ -197,147 +230,66 @@ class Renderer:
     def background(self) -> RenderResult:
         """The static background (read-only arrays), rendered on first use."""
         image, labels, _ = self._background()
-        return RenderResult(image, labels)
+        return RenderResult(image, labels, _EMPTY_BOXES,
+                            MappingProxyType(label_names(self.scene, ())))
 
     def _background(self) -> tuple[NDArray[np.uint8], NDArray[np.int32], NDArray[np.float32]]:
-        if self._bg is None:
-            cam = self.camera
-            h, w = cam.height, cam.width
-            image = np.empty((h, w, 3), np.uint8)
-            image[:] = self._sky(h).astype(np.uint8)[:, None, :]
-            labels = np.zeros((h, w), np.int32)
-            depth = np.full((h, w), np.inf, np.float32)
-            for face in self._static_faces():
-                self._draw_face(face, image, labels, depth)
+        if self._bg is None or self._bg_version != self.backdrop.version:
+            version = self.backdrop.version
+            image, labels, depth = self.backdrop.render(self.camera, exact=self.exact)
             for a in (image, labels, depth):
                 a.setflags(write=False)
             self._bg = (image, labels, depth)
+            self._bg_version = version
         return self._bg
-
-    def _sky(self, h: int) -> FloatArray:
-        # Elevation of each row's central ray: blend from horizon to top colour.
-        cam = self.camera
-        rays = np.stack([np.zeros(h), self._ry, np.ones(h)], axis=1) @ cam.rotation
-        elev = rays[:, 2] / np.linalg.norm(rays, axis=1)
-        k = np.clip(elev, 0.0, 1.0)[:, None] ** 0.5
-        return SKY_HORIZON * (1 - k) + SKY_TOP * k
-
-    def _static_faces(self) -> list[_Face]:
-        scene, cam = self.scene, self.camera
-        c = cam.position
-        ex, ey, ez = np.eye(3)
-        faces: list[_Face] = []
-        fl = scene.floor
-        if fl.extent is not None:
-            x0, y0, x1, y1 = fl.extent
-        else:
-            x0, y0, x1, y1 = c[0] - FAR, c[1] - FAR, c[0] + FAR, c[1] + FAR
-        faces.append(
-            _Face(np.zeros(3), ex, ey, ((x0, y0), (x1, y0), (x1, y1), (x0, y1)),
-                  fl.color, fl.texture, fl.tile, LABEL_FLOOR)
-        )
-        for i, wall in enumerate(scene.walls):
-            a = np.array([*wall.start, 0.0])
-            d = np.array([*wall.end, 0.0]) - a
-            length = float(np.linalg.norm(d))
-            faces.append(
-                _Face(a, d / length, ez,
-                      ((0.0, 0.0), (length, 0.0), (length, wall.height), (0.0, wall.height)),
-                      wall.color, wall.texture, wall.tile, LABEL_WALL + i, two_sided=True)
-            )
-        for i, ob in enumerate(scene.obstacles):
-            faces.extend(
-                _prism_faces(ob.polygon, ob.height, ob.color, ob.texture, ob.tile,
-                             LABEL_OBSTACLE + i, c)
-            )
-        return faces
-
-    # -- faces ----------------------------------------------------------------
-
-    def _face_bbox(self, face: _Face) -> tuple[int, int, int, int] | None:
-        """Pixel bbox ``(x0, y0, x1, y1)`` (exclusive end) of a face, or None."""
-        cam = self.camera
-        pts = np.array([face.origin + s * face.u + t * face.v for s, t in face.polygon])
-        pc = cam.to_camera(pts)
-        pc = _clip_near(pc, NEAR)
-        if len(pc) == 0:
-            return None
-        return _pixel_bbox(pc, cam)
-
-    def _draw_face(
-        self,
-        face: _Face,
-        image: NDArray[np.uint8],
-        labels: NDArray[np.int32],
-        depth: NDArray[np.float32],
-    ) -> None:
-        box = self._face_bbox(face)
-        if box is None:
-            return
-        x0, y0, x1, y1 = box
-        cam = self.camera
-        r = cam.rotation
-        o = r @ (face.origin - cam.position)
-        uc, vc = r @ face.u, r @ face.v
-        n = np.cross(uc, vc)
-        dx = self._rx[x0:x1][None, :]
-        dy = self._ry[y0:y1][:, None]
-        denom = n[0] * dx + n[1] * dy + n[2]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            lam = (n @ o) / denom
-        # Camera-frame point lam * (dx, dy, 1) minus the origin, in face coordinates.
-        px, py, pz = lam * dx - o[0], lam * dy - o[1], lam - o[2]
-        s = uc[0] * px + uc[1] * py + uc[2] * pz
-        t = vc[0] * px + vc[1] * py + vc[2] * pz
-        inside = (lam > NEAR) & np.isfinite(lam)
-        poly = face.polygon
-        for k in range(len(poly)):
-            (sa, ta), (sb, tb) = poly[k], poly[(k + 1) % len(poly)]
-            inside &= (sb - sa) * (t - ta) - (tb - ta) * (s - sa) >= 0
-        dview = depth[y0:y1, x0:x1]
-        inside &= lam < dview
-        if not inside.any():
-            return
-        # Shading: Lambert with an ambient term; two-sided faces light both sides.
-        nw = np.cross(face.u, face.v)
-        cos = float(nw @ LIGHT)
-        if face.two_sided:
-            cos = abs(cos)
-        shade = 0.6 + 0.4 * max(cos, 0.0)
-        if face.texture is None:
-            bgr = np.array(face.color[::-1], np.float64) * shade
-            colors = np.broadcast_to(bgr, (*s.shape, 3))
-        else:
-            colors = _sample_texture(load_texture(face.texture), s, t, face.tile, inside) * shade
-        iview = image[y0:y1, x0:x1]
-        iview[inside] = np.clip(colors[inside], 0, 255).astype(np.uint8)
-        labels[y0:y1, x0:x1][inside] = face.label
-        dview[inside] = lam[inside]
 
     # -- frames ---------------------------------------------------------------
 
-    def render(self, state: WorldState | None = None) -> RenderResult:
-        """Render the moving objects in ``state`` (default: the scene's
-        initial state) over the cached background."""
+    def render(
+        self, state: WorldState | None = None, *, balls: Sequence[Ball] | None = None
+    ) -> RenderResult:
+        """Render the moving objects of ``state`` over the cached background.
+
+        Parameters
+        ----------
+        state : WorldState, optional
+            Default: the scene's initial state.
+        balls : sequence of Ball, optional
+            The ball records to draw (default the scene's); pass
+            ``world.balls`` for a world that gained or lost balls at run time.
+            A ball is drawn when ``state`` has a body of its name.
+        """
         if state is None:
             state = initial_state(self.scene)
+        drawn = self.scene.balls if balls is None else tuple(balls)
         bg_image, bg_labels, bg_depth = self._background()
         image = bg_image.copy()
         labels = bg_labels.copy()
         depth = bg_depth.copy()
         poses = {b.name: b for b in state.bodies}
+        regions: list[tuple[str, int, tuple[int, int, int, int]]] = []
         robot = self.scene.robot
         if robot is not None and robot.name in poses:
-            self._draw_robot(robot, poses[robot.name], image, labels, depth)
-        for ball in self.scene.balls:
+            box = self._draw_robot(robot, poses[robot.name], image, labels, depth)
+            if box is not None:
+                regions.append((robot.name, LABEL_ROBOT, box))
+        for ball in drawn:
             pose = poses.get(ball.name)
             if pose is not None:
                 self._draw_shadow(ball, pose.position, image, bg_labels)
-        for i, ball in enumerate(self.scene.balls):
+        for i, ball in enumerate(drawn):
             pose = poses.get(ball.name)
             if pose is not None:
-                self._draw_ball(ball, pose, LABEL_BALL + i, image, labels, depth)
-        return RenderResult(image, labels)
+                box = self._draw_ball(ball, pose, LABEL_BALL + i, image, labels, depth)
+                if box is not None:
+                    regions.append((ball.name, LABEL_BALL + i, box))
+        boxes: dict[str, Box] = {}
+        for name, label, (x0, y0, x1, y1) in regions:
+            x, y, w, h = cv2.boundingRect((labels[y0:y1, x0:x1] == label).view(np.uint8))
+            if w > 0:
+                boxes[name] = (x0 + x, y0 + y, w, h)
+        return RenderResult(image, labels, MappingProxyType(boxes),
+                            MappingProxyType(label_names(self.scene, drawn)))
 
     def _sphere_bbox(self, center: FloatArray, radius: float) -> tuple[int, int, int, int] | None:
         cam = self.camera
@@ -347,7 +299,7 @@ class Renderer:
         pc = cam.to_camera(corners)
         if pc[:, 2].min() <= NEAR:
             return None
-        return _pixel_bbox(pc, cam)
+        return pixel_bbox(pc, cam)
 
     def _draw_ball(
         self,
@@ -357,13 +309,13 @@ class Renderer:
         image: NDArray[np.uint8],
         labels: NDArray[np.int32],
         depth: NDArray[np.float32],
-    ) -> None:
+    ) -> tuple[int, int, int, int] | None:
         cam = self.camera
         r = ball.radius
         center = np.array([pose.position[0], pose.position[1], r])
         box = self._sphere_bbox(center, r)
         if box is None:
-            return
+            return None
         x0, y0, x1, y1 = box
         sc = cam.rotation @ (center - cam.position)
         dx = self._rx[x0:x1][None, :]
@@ -381,7 +333,7 @@ class Renderer:
         dview = depth[y0:y1, x0:x1]
         visible = (cover > 0) & (lam < dview)
         if not visible.any():
-            return
+            return None
         # Normal in camera coordinates, shading with a specular highlight.
         nx = (lam * dx - sc[0]) / r
         ny = (lam * dy - sc[1]) / r
@@ -403,6 +355,7 @@ class Renderer:
         solid = visible & (cover >= 0.5)
         labels[y0:y1, x0:x1][solid] = label
         dview[solid] = lam[solid]
+        return box
 
     def _ball_texture(
         self, ball: Ball, pose: BodyState, nx: FloatArray, ny: FloatArray, nz: FloatArray
@@ -470,17 +423,22 @@ class Renderer:
         image: NDArray[np.uint8],
         labels: NDArray[np.int32],
         depth: NDArray[np.float32],
-    ) -> None:
+    ) -> tuple[int, int, int, int] | None:
         ca, sa = math.cos(pose.angle), math.sin(pose.angle)
         x, y = pose.position
         outline = tuple(
             (x + ca * px - sa * py, y + sa * px + ca * py) for px, py in robot.outline()
         )
         if not self._prism_in_view(outline, robot.height):
-            return
-        for face in _prism_faces(outline, robot.height, robot.color, None, 1.0,
-                                 LABEL_ROBOT, self.camera.position):
-            self._draw_face(face, image, labels, depth)
+            return None
+        boxes = [draw_face(face, self.camera, image, labels, depth)
+                 for face in prism_faces(outline, robot.height, robot.color, LABEL_ROBOT,
+                                         self.camera.position)]
+        drawn = [b for b in boxes if b is not None]
+        if not drawn:
+            return None
+        return (min(b[0] for b in drawn), min(b[1] for b in drawn),
+                max(b[2] for b in drawn), max(b[3] for b in drawn))
 
     def _prism_in_view(self, polygon: Sequence[tuple[float, float]], height: float) -> bool:
         """Whether any part of a prism can fall inside the image (conservative)."""
@@ -503,82 +461,3 @@ class Renderer:
         py = pts[:, 1] / pts[:, 2] * cam.fy + cam.cy
         return bool(px.max() >= -1 and px.min() <= cam.width and py.max() >= -1
                     and py.min() <= cam.height)
-
-
-def _prism_faces(
-    polygon: Sequence[tuple[float, float]],
-    height: float,
-    color: Color,
-    texture: str | None,
-    tile: float,
-    label: int,
-    camera_position: FloatArray,
-) -> list[_Face]:
-    """The faces of a vertical prism over a CCW convex polygon that face the camera."""
-    faces: list[_Face] = []
-    c = camera_position
-    ez = np.array([0.0, 0.0, 1.0])
-    n = len(polygon)
-    for k in range(n):
-        a = np.array([*polygon[k], 0.0])
-        b = np.array([*polygon[(k + 1) % n], 0.0])
-        d = b - a
-        length = float(np.linalg.norm(d))
-        u = d / length
-        outward = np.array([u[1], -u[0], 0.0])
-        if outward @ (c - a) <= 0:
-            continue
-        faces.append(
-            _Face(a, u, ez, ((0.0, 0.0), (length, 0.0), (length, height), (0.0, height)),
-                  color, texture, tile, label)
-        )
-    if c[2] > height:
-        faces.append(
-            _Face(np.array([0.0, 0.0, height]), np.array([1.0, 0.0, 0.0]),
-                  np.array([0.0, 1.0, 0.0]), tuple(polygon), color, texture, tile, label)
-        )
-    return faces
-
-
-def _clip_near(points: FloatArray, near: float) -> FloatArray:
-    """Clip a convex polygon (camera coordinates, ``(N, 3)``) to ``z >= near``."""
-    out: list[FloatArray] = []
-    n = len(points)
-    for i in range(n):
-        p, q = points[i], points[(i + 1) % n]
-        pin, qin = p[2] >= near, q[2] >= near
-        if pin:
-            out.append(p)
-        if pin != qin:
-            f = (near - p[2]) / (q[2] - p[2])
-            out.append(p + f * (q - p))
-    return np.array(out).reshape(-1, 3)
-
-
-def _sample_texture(
-    tex: Texture, s: FloatArray, t: FloatArray, tile: float, mask: NDArray[np.bool_]
-) -> FloatArray:
-    """BGR colours of face coordinates ``(s, t)`` (metres), mip-mapped."""
-    w, h = tex.size
-    u = np.where(mask, s, 0.0) * (w / tile)
-    v = -np.where(mask, t, 0.0) * (h / tile)
-    # Texels per pixel from the screen-space derivatives; pick a mip level.
-    if u.shape[0] > 1 and u.shape[1] > 1:
-        du_y, du_x = np.gradient(u)
-        dv_y, dv_x = np.gradient(v)
-        foot = np.maximum(np.hypot(du_x, dv_x), np.hypot(du_y, dv_y))
-    else:
-        foot = np.ones_like(u)
-    level = np.clip(np.floor(np.log2(np.maximum(foot, 1.0))), 0, len(tex.levels) - 1)
-    level = level.astype(np.intp)
-    out = np.zeros((*u.shape, 3), np.float64)
-    for k in np.unique(level[mask]):
-        img = tex.levels[int(k)]
-        lh, lw = img.shape[:2]
-        scale = 2.0 ** -int(k)
-        mx = np.mod(u * scale, lw).astype(np.float32)
-        my = np.mod(v * scale, lh).astype(np.float32)
-        sampled = cv2.remap(img, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)
-        sel = mask & (level == k)
-        out[sel] = sampled[sel]
-    return out

@@ -45,6 +45,7 @@ from dataclasses import dataclass, field
 from typing import Sequence
 
 from adapt.errors import ImaginationError
+from adapt.geometry import MAX_COORDINATE
 
 __all__ = [
     "Color",
@@ -57,6 +58,16 @@ __all__ = [
     "SceneSpec",
     "BUILTIN_TEXTURES",
     "DEFAULT_DT",
+    "MAX_COORDINATE",
+    "MIN_SIZE",
+    "MIN_MASS",
+    "MAX_MASS",
+    "MAX_SPEED",
+    "MAX_ACCEL",
+    "MAX_COEFFICIENT",
+    "MIN_DT",
+    "MAX_DT",
+    "MAX_POLYGON_POINTS",
     "polygon_area",
     "check_convex_polygon",
 ]
@@ -70,6 +81,27 @@ BUILTIN_TEXTURES = ("brick", "gravel", "grass", "coffee")
 #: The default physics time step in seconds.
 DEFAULT_DT = 1.0 / 240.0
 
+# Limits every record checks (``docs/imagination.md``): magnitudes beyond them
+# are refused with an error naming the field, never passed on to become an
+# overflow, a NaN or an allocation in the physics or the renderer.
+# Coordinates and lengths: at most MAX_COORDINATE (10 km, from adapt.geometry).
+#: Smallest size (radius, height, tile, robot size), metres.
+MIN_SIZE = 1.0e-3
+#: Mass range, kilograms.
+MIN_MASS = 1.0e-6
+MAX_MASS = 1.0e6
+#: Largest speed (ball velocity, robot ``max_speed``), m/s.
+MAX_SPEED = 1.0e3
+#: Largest acceleration (gravity, robot ``max_accel``), m/s^2.
+MAX_ACCEL = 1.0e4
+#: Largest friction or rolling-resistance coefficient.
+MAX_COEFFICIENT = 100.0
+#: Range of the physics time step, seconds.
+MIN_DT = 1.0e-6
+MAX_DT = 1.0
+#: Most corners of an obstacle's polygon.
+MAX_POLYGON_POINTS = 256
+
 
 def _finite(name: str, value: float) -> float:
     try:
@@ -81,19 +113,27 @@ def _finite(name: str, value: float) -> float:
     return v
 
 
-def _positive(name: str, value: float, unit: str) -> float:
+def _positive(name: str, value: float, unit: str, low: float = 0.0,
+              high: float = MAX_COORDINATE) -> float:
+    """A positive number in ``[low, high]`` (``low = 0`` means only ``> 0``)."""
     v = _finite(name, value)
     if v <= 0:
         raise ImaginationError(f"{name}: expected a positive number of {unit}, got {value!r}")
+    if v < low:
+        raise ImaginationError(f"{name}: expected at least {low:g} {unit}, got {value!r}")
+    if v > high:
+        raise ImaginationError(f"{name}: expected at most {high:g} {unit}, got {value!r}")
     return v
 
 
-def _nonnegative(name: str, value: float, unit: str) -> float:
+def _nonnegative(name: str, value: float, unit: str, high: float = MAX_COEFFICIENT) -> float:
     v = _finite(name, value)
     if v < 0:
         raise ImaginationError(
             f"{name}: expected a non-negative number of {unit}, got {value!r}"
         )
+    if v > high:
+        raise ImaginationError(f"{name}: expected at most {high:g} {unit}, got {value!r}")
     return v
 
 
@@ -104,14 +144,30 @@ def _unit_interval(name: str, value: float) -> float:
     return v
 
 
-def _vec2(name: str, value: Sequence[float]) -> Vec2:
+def _vec2(name: str, value: Sequence[float], limit: float = MAX_COORDINATE,
+          unit: str = "metres") -> Vec2:
+    """``[x, y]`` with both components within ``+-limit``."""
     try:
         items = list(value)
     except TypeError:
         raise ImaginationError(f"{name}: expected [x, y], got {value!r}") from None
     if len(items) != 2:
         raise ImaginationError(f"{name}: expected [x, y], got {value!r}")
-    return (_finite(name, items[0]), _finite(name, items[1]))
+    x, y = _finite(name, items[0]), _finite(name, items[1])
+    if max(abs(x), abs(y)) > limit:
+        raise ImaginationError(
+            f"{name}: expected values within +-{limit:g} {unit}, got {[x, y]}"
+        )
+    return (x, y)
+
+
+def _velocity(name: str, value: Sequence[float]) -> Vec2:
+    v = _vec2(name, value, math.inf, "m/s")
+    if math.hypot(*v) > MAX_SPEED:
+        raise ImaginationError(
+            f"{name}: expected a speed of at most {MAX_SPEED:g} m/s, got {math.hypot(*v):g}"
+        )
+    return v
 
 
 def _color(name: str, value: Sequence[int]) -> Color:
@@ -186,6 +242,10 @@ def check_convex_polygon(name: str, points: Sequence[Sequence[float]]) -> tuple[
         raw = list(points)
     except TypeError:
         raise ImaginationError(f"{name}: expected a list of [x, y] points, got {points!r}") from None
+    if len(raw) > MAX_POLYGON_POINTS:
+        raise ImaginationError(
+            f"{name}: expected at most {MAX_POLYGON_POINTS} points, got {len(raw)}"
+        )
     if len(raw) < 3:
         raise ImaginationError(
             f"{name}: expected a convex polygon with at least 3 points, got {len(raw)}"
@@ -236,13 +296,17 @@ class Floor:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "texture", _texture("texture", self.texture))
-        object.__setattr__(self, "tile", _positive("tile", self.tile, "metres"))
+        object.__setattr__(self, "tile", _positive("tile", self.tile, "metres", MIN_SIZE))
         object.__setattr__(self, "color", _color("color", self.color))
         if self.extent is not None:
             e = [_finite("extent", v) for v in self.extent]
             if len(e) != 4 or e[0] >= e[2] or e[1] >= e[3]:
                 raise ImaginationError(
                     f"extent: expected [xmin, ymin, xmax, ymax] with min < max, got {self.extent!r}"
+                )
+            if max(abs(v) for v in e) > MAX_COORDINATE:
+                raise ImaginationError(
+                    f"extent: expected values within +-{MAX_COORDINATE:g} metres, got {e}"
                 )
             object.__setattr__(self, "extent", tuple(e))
 
@@ -267,9 +331,9 @@ class Wall:
         object.__setattr__(self, "end", _vec2("to", self.end))
         if math.dist(self.start, self.end) < 1e-9:
             raise ImaginationError(f"to: expected a point away from 'from' {list(self.start)}")
-        object.__setattr__(self, "height", _positive("height", self.height, "metres"))
+        object.__setattr__(self, "height", _positive("height", self.height, "metres", MIN_SIZE))
         object.__setattr__(self, "texture", _texture("texture", self.texture))
-        object.__setattr__(self, "tile", _positive("tile", self.tile, "metres"))
+        object.__setattr__(self, "tile", _positive("tile", self.tile, "metres", MIN_SIZE))
         object.__setattr__(self, "color", _color("color", self.color))
         object.__setattr__(self, "restitution", _unit_interval("restitution", self.restitution))
         object.__setattr__(self, "friction", _nonnegative("friction", self.friction, "(coefficient)"))
@@ -296,9 +360,9 @@ class Obstacle:
     def __post_init__(self) -> None:
         _name(self.name)
         object.__setattr__(self, "polygon", check_convex_polygon("polygon", self.polygon))
-        object.__setattr__(self, "height", _positive("height", self.height, "metres"))
+        object.__setattr__(self, "height", _positive("height", self.height, "metres", MIN_SIZE))
         object.__setattr__(self, "texture", _texture("texture", self.texture))
-        object.__setattr__(self, "tile", _positive("tile", self.tile, "metres"))
+        object.__setattr__(self, "tile", _positive("tile", self.tile, "metres", MIN_SIZE))
         object.__setattr__(self, "color", _color("color", self.color))
         object.__setattr__(self, "restitution", _unit_interval("restitution", self.restitution))
         object.__setattr__(self, "friction", _nonnegative("friction", self.friction, "(coefficient)"))
@@ -331,8 +395,8 @@ class Ball:
 
     def __post_init__(self) -> None:
         _name(self.name)
-        object.__setattr__(self, "radius", _positive("radius", self.radius, "metres"))
-        object.__setattr__(self, "mass", _positive("mass", self.mass, "kilograms"))
+        object.__setattr__(self, "radius", _positive("radius", self.radius, "metres", MIN_SIZE))
+        object.__setattr__(self, "mass", _positive("mass", self.mass, "kilograms", MIN_MASS, MAX_MASS))
         object.__setattr__(self, "restitution", _unit_interval("restitution", self.restitution))
         object.__setattr__(self, "friction", _nonnegative("friction", self.friction, "(coefficient)"))
         object.__setattr__(
@@ -341,7 +405,7 @@ class Ball:
             _nonnegative("rolling_resistance", self.rolling_resistance, "(coefficient)"),
         )
         object.__setattr__(self, "position", _vec2("position", self.position))
-        object.__setattr__(self, "velocity", _vec2("velocity", self.velocity))
+        object.__setattr__(self, "velocity", _velocity("velocity", self.velocity))
         object.__setattr__(self, "color", _color("color", self.color))
         object.__setattr__(self, "texture", _texture("texture", self.texture))
 
@@ -378,17 +442,17 @@ class RobotSpec:
         _name(self.name)
         if self.shape not in ("disc", "box"):
             raise ImaginationError(f"shape: expected 'disc' or 'box', got {self.shape!r}")
-        object.__setattr__(self, "radius", _positive("radius", self.radius, "metres"))
+        object.__setattr__(self, "radius", _positive("radius", self.radius, "metres", MIN_SIZE))
         size = _vec2("size", self.size)
-        _positive("size", size[0], "metres")
-        _positive("size", size[1], "metres")
+        _positive("size", size[0], "metres", MIN_SIZE)
+        _positive("size", size[1], "metres", MIN_SIZE)
         object.__setattr__(self, "size", size)
         object.__setattr__(self, "position", _vec2("position", self.position))
         object.__setattr__(self, "heading_deg", _finite("heading_deg", self.heading_deg))
-        object.__setattr__(self, "max_speed", _positive("max_speed", self.max_speed, "m/s"))
-        object.__setattr__(self, "max_accel", _positive("max_accel", self.max_accel, "m/s^2"))
-        object.__setattr__(self, "mass", _positive("mass", self.mass, "kilograms"))
-        object.__setattr__(self, "height", _positive("height", self.height, "metres"))
+        object.__setattr__(self, "max_speed", _positive("max_speed", self.max_speed, "m/s", high=MAX_SPEED))
+        object.__setattr__(self, "max_accel", _positive("max_accel", self.max_accel, "m/s^2", high=MAX_ACCEL))
+        object.__setattr__(self, "mass", _positive("mass", self.mass, "kilograms", MIN_MASS, MAX_MASS))
+        object.__setattr__(self, "height", _positive("height", self.height, "metres", MIN_SIZE))
         object.__setattr__(self, "color", _color("color", self.color))
 
     def outline(self) -> tuple[Vec2, ...]:
@@ -439,8 +503,8 @@ class SceneSpec:
         object.__setattr__(self, "walls", tuple(self.walls))
         object.__setattr__(self, "obstacles", tuple(self.obstacles))
         object.__setattr__(self, "balls", tuple(self.balls))
-        object.__setattr__(self, "gravity", _positive("gravity", self.gravity, "m/s^2"))
-        object.__setattr__(self, "dt", _positive("dt", self.dt, "seconds"))
+        object.__setattr__(self, "gravity", _positive("gravity", self.gravity, "m/s^2", high=MAX_ACCEL))
+        object.__setattr__(self, "dt", _positive("dt", self.dt, "seconds", MIN_DT, MAX_DT))
         seen: set[str] = set()
         names = [w.name for w in self.walls] + [o.name for o in self.obstacles]
         names += [b.name for b in self.balls]

@@ -22,6 +22,28 @@ Forks for prediction rebuild a fresh space from a :class:`WorldState`
 snapshot; that is about four times faster than ``Space.copy()`` and never
 touches the original world.
 
+Fast bodies do not tunnel.  pymunk has no continuous collision detection and
+a wall has no thickness, so a ball that moves more than its radius in one step
+can pass through it.  Each step is therefore divided into ``k`` equal
+sub-steps, with ``k`` the smallest number for which no ball (or the robot)
+moves more than ``TRAVEL_FRACTION`` (half) of its radius per sub-step.  ``k``
+is a function of the state at the start of the step only, so a world run in
+one call or step by step follows the same path.  At ordinary speeds ``k = 1``,
+and a bound on the speeds the world can reach shows it once (again after a
+force, a new state, ball or command) instead of every step.  A step that would need more than ``MAX_SUBSTEPS``
+sub-steps is an :class:`~adapt.errors.ImaginationError` (use a smaller ``dt``).
+
+Work is bounded: one call of :meth:`World.step`, :meth:`World.run` or
+:meth:`World.run_until` takes at most ``MAX_STEPS`` steps; a longer request is
+an error that says so, never a hang.
+
+Hooks (:meth:`World.add_step_hook`) are called before every step, so a
+correction force (``apply_force`` lasts one step) acts on every step of
+``run`` and ``run_until``.  Balls can be added and removed at run time
+(:meth:`World.add_ball`, :meth:`World.remove_ball`); snapshots, forks and
+prediction include them, and :attr:`World.balls` gives their records to the
+renderer.
+
 Examples
 --------
 >>> from adapt.imagination.scene import Ball, SceneSpec, Wall
@@ -38,15 +60,35 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Any, Sequence
+from dataclasses import dataclass, replace
+from typing import Any, Callable, Sequence
 
 import pymunk
 
 from adapt.errors import ImaginationError
-from adapt.imagination.scene import Ball, RobotSpec, SceneSpec, Vec2
+from adapt.imagination.scene import MAX_DT, MIN_DT, Ball, RobotSpec, SceneSpec, Vec2
 
-__all__ = ["BodyState", "WorldState", "Contact", "World"]
+__all__ = [
+    "BodyState",
+    "WorldState",
+    "Contact",
+    "World",
+    "StepHook",
+    "MAX_STEPS",
+    "MAX_SUBSTEPS",
+    "TRAVEL_FRACTION",
+]
+
+#: Most steps one call of ``step``, ``run`` or ``run_until`` takes (at the
+#: default dt of 1/240 s: 4,167 s, over an hour of simulated time).
+MAX_STEPS = 1_000_000
+#: Most sub-steps a step is divided into to keep fast bodies from tunnelling.
+MAX_SUBSTEPS = 64
+#: A body moves at most this fraction of its radius per sub-step.
+TRAVEL_FRACTION = 0.5
+
+#: A function called with the world before every physics step.
+StepHook = Callable[["World"], None]
 
 #: pymunk collision types.
 BALL_TYPE = 1
@@ -56,6 +98,9 @@ ROBOT_TYPE = 3
 #: Penetration pymunk tolerates, in metres (pymunk's default of 0.1 is meant
 #: for pixels).
 COLLISION_SLOP = 5e-4
+
+#: The robot's shape restitution (a contact's is the product with the ball's).
+ROBOT_RESTITUTION = 0.5
 
 
 @dataclass(frozen=True, slots=True)
@@ -129,6 +174,12 @@ class World:
         Start from this snapshot instead of the scene's initial state.
     record_contacts : bool
         Keep a log of :class:`Contact` events in :attr:`contacts`.
+
+    Attributes
+    ----------
+    scene : SceneSpec
+        The scene, including the balls added at run time (and without those
+        removed).
     """
 
     def __init__(
@@ -141,19 +192,34 @@ class World:
         record_contacts: bool = True,
     ) -> None:
         self.scene = scene
-        self.dt = float(scene.dt if dt is None else dt)
-        if not math.isfinite(self.dt) or self.dt <= 0:
-            raise ImaginationError(f"dt: expected a positive number of seconds, got {dt!r}")
+        value = scene.dt if dt is None else dt
+        try:
+            self.dt = float(value)
+        except (TypeError, ValueError):
+            raise ImaginationError(f"dt: expected a number of seconds, got {dt!r}") from None
+        if not (math.isfinite(self.dt) and MIN_DT <= self.dt <= MAX_DT):
+            raise ImaginationError(
+                f"dt: expected a number of seconds from {MIN_DT:g} to {MAX_DT:g}, got {dt!r}"
+            )
         self.seed = seed
         self.contacts: list[Contact] = []
         self._steps = 0
         self._time0 = 0.0
         self._command = (0.0, 0.0, 0.0)
-        self._bodies: dict[str, pymunk.Body] = {}
+        self._balls: dict[str, pymunk.Body] = {}
+        self._parts: dict[str, tuple[pymunk.Shape, tuple[pymunk.Constraint, ...]]] = {}
+        self._radius: dict[str, float] = {}  # what a body's travel per sub-step is measured by
+        self._robot: pymunk.Body | None = None
         self._names: dict[pymunk.Shape, str] = {}
         self._control: pymunk.Body | None = None
+        self._forces: dict[str, tuple[float, float]] = {}
+        self._hooks: list[StepHook] = []
+        # True once a bound showed that no step needs sub-steps until the next
+        # outside change (a force, a state, a ball, a command): see _bound_substeps.
+        self._calm = False
         self._record = record_contacts
         self.space = self._build()
+        self._update_extremes()
         if state is not None:
             self.set_state(state)
 
@@ -198,6 +264,7 @@ class World:
         shape.friction = ball.friction
         shape.collision_type = BALL_TYPE
         space.add(body, shape)
+        joints: tuple[pymunk.Constraint, ...] = ()
         if ball.rolling_resistance > 0:
             rr = pymunk.PivotJoint(space.static_body, body, (0.0, 0.0), (0.0, 0.0))
             rr.max_bias = 0.0
@@ -207,7 +274,10 @@ class World:
             spin.max_bias = 0.0
             spin.max_force = rr.max_force * ball.radius
             space.add(rr, spin)
-        self._bodies[ball.name] = body
+            joints = (rr, spin)
+        self._balls[ball.name] = body
+        self._parts[ball.name] = (shape, joints)
+        self._radius[ball.name] = ball.radius
         self._names[shape] = ball.name
 
     def _add_robot(self, space: pymunk.Space, robot: RobotSpec) -> None:
@@ -222,7 +292,7 @@ class World:
             shape: pymunk.Shape = pymunk.Circle(body, robot.radius)
         else:
             shape = pymunk.Poly(body, robot.outline())
-        shape.elasticity = 0.5
+        shape.elasticity = ROBOT_RESTITUTION
         shape.friction = 0.5
         shape.collision_type = ROBOT_TYPE
         control = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
@@ -234,7 +304,8 @@ class World:
         turn.max_bias = 0.0
         turn.max_force = robot.mass * robot.max_accel * max(robot.radius, max(robot.size))
         space.add(body, shape, control, drive, turn)
-        self._bodies[robot.name] = body
+        self._robot = body
+        self._radius[robot.name] = _robot_radius(robot)
         self._names[shape] = robot.name
         self._control = control
 
@@ -260,6 +331,101 @@ class World:
         v = a.body.velocity  # type: ignore[union-attr]
         self.contacts.append(Contact(time, ball, surface, pos, float(math.hypot(v[0], v[1]))))
 
+    # -- balls at run time ------------------------------------------------------
+
+    @property
+    def balls(self) -> tuple[Ball, ...]:
+        """The records of the balls in the world now (pass them to
+        :meth:`Renderer.render <adapt.imagination.render.Renderer.render>`)."""
+        return self.scene.balls
+
+    def add_ball(
+        self,
+        ball: Ball,
+        position: Sequence[float] | None = None,
+        velocity: Sequence[float] | None = None,
+    ) -> None:
+        """Put a new ball into the running world (for example when perception
+        first sees it).
+
+        ``position`` and ``velocity`` (default: the record's) are where it is
+        now; its name must be new to the scene.  It takes part from the next
+        step, and :attr:`scene`, :attr:`balls`, snapshots and forks include it.
+
+        Examples
+        --------
+        >>> w = World(SceneSpec())
+        >>> w.run(1.0)
+        >>> w.add_ball(Ball("thrown", radius=0.05), position=(0.0, 0.0), velocity=(2.0, 0.0))
+        >>> w.run(0.5)
+        >>> [round(c, 9) for c in w.position("thrown")], w.names, round(w.time, 6)
+        ([1.0, 0.0], ('thrown',), 1.5)
+        """
+        if not isinstance(ball, Ball):
+            raise ImaginationError(f"ball: expected a Ball record, got {type(ball).__name__}")
+        changes: dict[str, Any] = {}
+        if position is not None:
+            changes["position"] = tuple(position)
+        if velocity is not None:
+            changes["velocity"] = tuple(velocity)
+        spec = replace(ball, **changes) if changes else ball
+        self.scene = replace(self.scene, balls=self.scene.balls + (spec,))
+        self._add_ball(self.space, spec)
+        self._update_extremes()
+        self._calm = False
+
+    def remove_ball(self, name: str) -> None:
+        """Take the ball called ``name`` out of the world (its past contacts stay
+        in :attr:`contacts`)."""
+        if name not in self._balls:
+            raise ImaginationError(
+                f"no ball called {name!r} in the world; balls: {list(self._balls)}"
+            )
+        body = self._balls.pop(name)
+        shape, joints = self._parts.pop(name)
+        self.space.remove(*joints, shape, body)
+        del self._names[shape]
+        del self._radius[name]
+        self._forces.pop(name, None)
+        self.scene = replace(self.scene, balls=tuple(b for b in self.scene.balls if b.name != name))
+        self._update_extremes()
+        self._calm = False
+
+    # -- hooks ------------------------------------------------------------------
+
+    def add_step_hook(self, hook: StepHook) -> StepHook:
+        """Call ``hook(world)`` before every physics step from now on.
+
+        A hook may apply forces (they act during that step), command the robot,
+        or add and remove balls.  Hooks run in the order they were added; forks
+        start without hooks.  Returns ``hook``, so it can be used as a
+        decorator.  A world without hooks pays nothing for them.
+
+        Examples
+        --------
+        >>> w = World(SceneSpec(balls=(Ball("b", mass=2.0),)))
+        >>> push = w.add_step_hook(lambda world: world.apply_force("b", (4.0, 0.0)))
+        >>> w.run(1.0)  # 2 m/s^2 on every step
+        >>> round(w.velocity("b")[0], 9)
+        2.0
+        """
+        if not callable(hook):
+            raise ImaginationError(f"hook: expected a callable, got {hook!r}")
+        self._hooks.append(hook)
+        return hook
+
+    def remove_step_hook(self, hook: StepHook) -> None:
+        """Stop calling ``hook``."""
+        try:
+            self._hooks.remove(hook)
+        except ValueError:
+            raise ImaginationError(f"hook: {hook!r} is not registered") from None
+
+    @property
+    def step_hooks(self) -> tuple[StepHook, ...]:
+        """The hooks called before every step, in order."""
+        return tuple(self._hooks)
+
     # -- time -----------------------------------------------------------------
 
     @property
@@ -273,7 +439,33 @@ class World:
         return self._steps
 
     def step(self, n: int = 1) -> None:
-        """Advance ``n`` fixed steps of ``dt``."""
+        """Advance ``n`` fixed steps of ``dt`` (at most :data:`MAX_STEPS`)."""
+        if isinstance(n, float) and float(n).is_integer():
+            n = int(n)
+        if isinstance(n, bool) or not isinstance(n, int):
+            raise ImaginationError(f"steps: expected a whole number, got {n!r}")
+        if not 0 <= n <= MAX_STEPS:
+            raise ImaginationError(
+                f"steps: expected 0 to {MAX_STEPS:,} steps per call, got {n:,}"
+            )
+        if n == 0:
+            return
+        if self._hooks:
+            for _ in range(n):
+                for hook in tuple(self._hooks):
+                    hook(self)
+                self._advance(self._substeps())
+            return
+        if self._forces:  # a force acts in the first step only
+            self._advance(self._substeps())
+            n -= 1
+        if not self._calm:
+            if self._bound_substeps() > 1:
+                for _ in range(n):
+                    self._advance(self._substeps())
+                return
+            self._calm = True
+        # No body can need sub-steps during this call: plain pymunk steps.
         space_step = self.space.step
         dt = self.dt
         if self._record:
@@ -285,31 +477,157 @@ class World:
                 space_step(dt)
             self._steps += n
 
+    def _advance(self, k: int) -> None:
+        """One step of ``dt`` in ``k`` sub-steps; forces last the whole step."""
+        if k == 1:
+            self.space.step(self.dt)
+        else:
+            h = self.dt / k
+            for i in range(k):
+                if i and self._forces:
+                    for name, f in self._forces.items():
+                        body = self.body(name)
+                        body.apply_force_at_world_point(f, body.position)
+                self.space.step(h)
+        self._forces.clear()
+        self._steps += 1
+
+    def _substeps(self) -> int:
+        """Sub-steps the next step needs, from the bodies' speeds now."""
+        worst, who = 0.0, ""
+        forces = self._forces
+        for name, body in self._moving():
+            vx, vy = body.velocity
+            speed = math.hypot(vx, vy)
+            if forces and name in forces:
+                speed += math.hypot(*forces[name]) * self.dt / body.mass
+            rate = speed / self._radius[name]
+            if rate > worst:
+                worst, who = rate, name
+        k = math.ceil(worst * self.dt / TRAVEL_FRACTION - 1e-9)
+        if k > MAX_SUBSTEPS:
+            speed = worst * self._radius[who]
+            raise ImaginationError(
+                f"{who!r} moves at {speed:.4g} m/s, {speed * self.dt:.4g} m per step of "
+                f"{self.dt:.4g} s: more than {MAX_SUBSTEPS} sub-steps can resolve without "
+                "passing through walls; use a smaller dt"
+            )
+        return max(k, 1)
+
+    def _moving(self) -> list[tuple[str, pymunk.Body]]:
+        """(name, body) of the balls, then the robot."""
+        items = list(self._balls.items())
+        if self._robot is not None and self.scene.robot is not None:
+            items.append((self.scene.robot.name, self._robot))
+        return items
+
+    def _bound_substeps(self) -> int:
+        """Sub-steps some step of a call without hooks or pending forces may
+        need, at most.
+
+        No force acts then except rolling resistance (which slows), contacts
+        (restitution at most 1) and the robot's drive.  A robot contact
+        (restitution at most 0.5) sends a ball back at no more than
+        ``0.5 v + 1.5 V``, with ``V`` a bound on the robot's speed, so a ball
+        keeps below ``max(v, 3 V)``; contacts between balls only share energy.
+        Hence no ball is faster than ``sqrt(2 (E + 4.5 V^2 M) / m_min)`` (``E``
+        the balls' kinetic energy, spin included as it can turn into speed at a
+        contact; ``M`` their mass).  A margin of 20% covers pymunk's overlap
+        correction.  (pymunk's ``kinetic_energy`` is ``m v^2 + I w^2``: twice
+        the energy.)
+        """
+        twice = 0.0
+        for body in self._balls.values():
+            twice += body.kinetic_energy
+        rate = 0.0
+        vr = 0.0
+        robot = self._robot
+        if robot is not None:
+            spec = self.scene.robot
+            assert spec is not None
+            vr = (max(math.sqrt(robot.kinetic_energy / spec.mass), spec.max_speed)
+                  + math.sqrt(twice / spec.mass))
+            rate = vr / self._radius[spec.name]
+        if self._balls:
+            mass, light, small = self._ball_extremes
+            top = math.sqrt((twice + 9.0 * vr * vr * mass) / light)
+            rate = max(rate, top / small)
+        return max(1, math.ceil(1.2 * rate * self.dt / TRAVEL_FRACTION - 1e-9))
+
+    def _update_extremes(self) -> None:
+        """Total mass, smallest mass and smallest radius of the balls."""
+        balls = self.scene.balls
+        self._ball_extremes = (sum(b.mass for b in balls), min(b.mass for b in balls),
+                               min(b.radius for b in balls)) if balls else (0.0, 1.0, 1.0)
+
     def run(self, seconds: float) -> None:
-        """Advance by ``seconds`` (rounded to whole steps)."""
-        if seconds < 0:
-            raise ImaginationError(f"cannot run backwards ({seconds} s)")
-        self.step(int(round(seconds / self.dt)))
+        """Advance by ``seconds`` (rounded to whole steps; at most :data:`MAX_STEPS`)."""
+        self.step(self._steps_for(seconds, "run"))
 
     def run_until(self, time: float) -> None:
-        """Advance until :attr:`time` reaches ``time`` (rounded to whole steps)."""
-        self.run(max(0.0, time - self.time))
+        """Advance until :attr:`time` reaches ``time`` (rounded to whole steps;
+        nothing if it is already past)."""
+        try:
+            t = float(time)
+        except (TypeError, ValueError):
+            raise ImaginationError(f"run_until: expected a time in seconds, got {time!r}") from None
+        if not math.isfinite(t):
+            raise ImaginationError(f"run_until: expected a finite time in seconds, got {time!r}")
+        self.step(self._steps_for(max(0.0, t - self.time), "run_until"))
+
+    def steps_for(self, seconds: float, what: str = "seconds") -> int:
+        """The number of steps ``run(seconds)`` takes, checked against
+        :data:`MAX_STEPS`; an error message starts with ``what``.
+
+        Examples
+        --------
+        >>> w = World(SceneSpec(dt=0.01))
+        >>> w.steps_for(2.0)
+        200
+        >>> w.steps_for(1e9, "--t")
+        Traceback (most recent call last):
+        ...
+        adapt.errors.ImaginationError: --t: 1e+09 s is 100,000,000,000 steps of 0.01 s; a call takes at most 1,000,000 steps (10,000 s): run it in parts
+        """
+        return self._steps_for(seconds, what)
+
+    def _steps_for(self, seconds: float, what: str) -> int:
+        try:
+            s = float(seconds)
+        except (TypeError, ValueError):
+            raise ImaginationError(f"{what}: expected a number of seconds, got {seconds!r}") from None
+        if not math.isfinite(s) or s < 0:
+            raise ImaginationError(
+                f"{what}: expected a non-negative number of seconds, got {seconds!r}"
+            )
+        steps = s / self.dt
+        if steps > MAX_STEPS + 0.5:
+            raise ImaginationError(
+                f"{what}: {s:g} s is {steps:,.0f} steps of {self.dt:.4g} s; a call takes at most "
+                f"{MAX_STEPS:,} steps ({MAX_STEPS * self.dt:,.0f} s): run it in parts"
+            )
+        return int(round(steps))
 
     # -- state ----------------------------------------------------------------
 
     @property
     def names(self) -> tuple[str, ...]:
         """Names of the moving bodies (balls, then the robot)."""
-        return tuple(self._bodies)
+        names = tuple(self._balls)
+        if self._robot is not None and self.scene.robot is not None:
+            names += (self.scene.robot.name,)
+        return names
 
     def body(self, name: str) -> pymunk.Body:
         """The pymunk body of a ball or the robot (for read access)."""
-        try:
-            return self._bodies[name]
-        except KeyError:
-            raise ImaginationError(
-                f"no moving body called {name!r}; bodies: {list(self._bodies)}"
-            ) from None
+        body = self._balls.get(name)
+        if body is not None:
+            return body
+        if self._robot is not None and self.scene.robot is not None and name == self.scene.robot.name:
+            return self._robot
+        raise ImaginationError(
+            f"no moving body called {name!r}; bodies: {list(self.names)}"
+        )
 
     def position(self, name: str) -> Vec2:
         """Current ``(x, y)`` of a body."""
@@ -324,7 +642,8 @@ class World:
     def snapshot(self) -> WorldState:
         """A frozen copy of the current state."""
         bodies = []
-        for name, body in self._bodies.items():
+        for name in self.names:
+            body = self.body(name)
             p, v = body.position, body.velocity
             bodies.append(
                 BodyState(
@@ -341,8 +660,15 @@ class World:
         """Put the bodies into a snapshot's state (positions, velocities, time).
 
         Bodies the snapshot does not mention keep their state; a body it names
-        that this world lacks is an error.
+        that this world lacks is an error (add a ball first with
+        :meth:`add_ball`).
         """
+        for b in state.bodies:
+            if b.name not in self.names:
+                raise ImaginationError(
+                    f"no moving body called {b.name!r} in this world (bodies: "
+                    f"{list(self.names)}); add a ball with add_ball before setting its state"
+                )
         for b in state.bodies:
             body = self.body(b.name)
             body.position = b.position
@@ -350,13 +676,13 @@ class World:
             body.angle = b.angle
             body.angular_velocity = b.angular_velocity
             self.space.reindex_shapes_for_body(body)
+        self._calm = False
         self._time0 = state.time - state.step * self.dt
         self._steps = state.step
         self.command_robot(state.command[:2], state.command[2])
-        if self._control is not None and self.scene.robot is not None:
-            robot = self._bodies[self.scene.robot.name]
-            self._control.position = robot.position
-            self._control.angle = robot.angle
+        if self._control is not None and self._robot is not None:
+            self._control.position = self._robot.position
+            self._control.angle = self._robot.angle
 
     def fork(
         self, state: WorldState | None = None, *, scene: SceneSpec | None = None,
@@ -366,7 +692,8 @@ class World:
 
         ``scene`` swaps the scene (for example other ball parameters); its
         moving bodies must carry the same names.  The original world is not
-        touched.
+        touched.  The fork has the balls of :attr:`scene` (those added at run
+        time too) and no step hooks.
 
         Examples
         --------
@@ -391,16 +718,34 @@ class World:
         """Push a body's centre with ``force`` newtons during the next step only.
 
         pymunk clears forces after every step, so a spring correction must be
-        applied before each step.
+        applied before each step: from a step hook (:meth:`add_step_hook`).
+        Forces applied to the same body before one step add up.
         """
         body = self.body(name)
-        body.apply_force_at_world_point((float(force[0]), float(force[1])), body.position)
+        try:
+            fx, fy = float(force[0]), float(force[1])
+        except (TypeError, ValueError, IndexError):
+            raise ImaginationError(f"force: expected [fx, fy] in newtons, got {force!r}") from None
+        if not (math.isfinite(fx) and math.isfinite(fy)):
+            raise ImaginationError(f"force: expected finite newtons, got {[fx, fy]}")
+        body.apply_force_at_world_point((fx, fy), body.position)
+        self._calm = False
+        px, py = self._forces.get(name, (0.0, 0.0))
+        self._forces[name] = (px + fx, py + fy)
 
     def command_robot(self, velocity: Sequence[float], angular_velocity: float = 0.0) -> None:
         """Command the robot's velocity (m/s, clipped to ``max_speed``) and turn rate (rad/s)."""
-        vx, vy = float(velocity[0]), float(velocity[1])
+        try:
+            vx, vy, w = float(velocity[0]), float(velocity[1]), float(angular_velocity)
+        except (TypeError, ValueError, IndexError):
+            raise ImaginationError(
+                f"command: expected a velocity [vx, vy] and a turn rate, got {velocity!r}, "
+                f"{angular_velocity!r}"
+            ) from None
+        if not (math.isfinite(vx) and math.isfinite(vy) and math.isfinite(w)):
+            raise ImaginationError(f"command: expected finite numbers, got {[vx, vy, w]}")
         if self.scene.robot is None or self._control is None:
-            if vx or vy or angular_velocity:
+            if vx or vy or w:
                 raise ImaginationError("the scene has no robot to command")
             self._command = (0.0, 0.0, 0.0)
             return
@@ -408,6 +753,12 @@ class World:
         limit = self.scene.robot.max_speed
         if speed > limit:
             vx, vy = vx * limit / speed, vy * limit / speed
-        self._command = (vx, vy, float(angular_velocity))
+        self._command = (vx, vy, w)
+        self._calm = False
         self._control.velocity = (vx, vy)
-        self._control.angular_velocity = float(angular_velocity)
+        self._control.angular_velocity = w
+
+
+def _robot_radius(robot: RobotSpec) -> float:
+    """The distance a robot may move per sub-step is measured against this."""
+    return robot.radius if robot.shape == "disc" else min(robot.size) / 2.0

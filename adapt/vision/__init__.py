@@ -6,7 +6,8 @@ Every function takes ``real`` before ``synthetic`` and never modifies its inputs
 
 Modules
 -------
-images             validation of image pairs, 8-bit/grey conversion, image files
+images             validation of images, the one conversion of a pair (conform), image files
+scale              pixel parameters relative to 640x480; the bounded working resolution
 matching           synthetic -> real corner matches (GFTT + LK, SIFT re-acquisition)
 homography         H_e with USAC_MAGSAC / RANSAC, or an explicit "no alignment"
 mask               the MMD mask I_m (exact and fast sum of Gaussians)

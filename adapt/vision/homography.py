@@ -38,6 +38,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.vision.matching import Matches
+from adapt.vision.scale import image_scale
 
 __all__ = [
     "Alignment",
@@ -52,7 +53,8 @@ __all__ = [
 MIN_INLIERS = 12
 #: Inliers must span at least this fraction of the image width and of its height.
 MIN_SPREAD = 0.25
-#: Inlier threshold of the robust estimator, pixels.
+#: Inlier threshold of the robust estimator, pixels at 640x480 (scaled with
+#: the image, :mod:`~adapt.vision.scale`).
 REPROJECTION_THRESHOLD = 3.0
 #: Largest acceptable condition number of the normalised H (degenerate beyond).
 MAX_CONDITION = 1e4
@@ -125,7 +127,7 @@ def estimate_homography(
     shape: tuple[int, ...],
     *,
     min_inliers: int = MIN_INLIERS,
-    threshold: float = REPROJECTION_THRESHOLD,
+    threshold: float | None = None,
 ) -> Alignment:
     """Fit ``H_e`` (synthetic -> real) robustly to ``matches``.
 
@@ -136,9 +138,12 @@ def estimate_homography(
         The images' shape (``(H, W)`` or ``(H, W, C)``).
     min_inliers : int
         Below this many inliers the result is "no alignment".
-    threshold : float
-        Reprojection threshold of the robust estimator, pixels.
+    threshold : float, optional
+        Reprojection threshold of the robust estimator, pixels;
+        :data:`REPROJECTION_THRESHOLD` scaled with the image by default.
     """
+    if threshold is None:
+        threshold = REPROJECTION_THRESHOLD * image_scale(shape)
     n = len(matches)
     if n < max(min_inliers, 4):
         return _reject(n, f"{n} matches, fewer than the {max(min_inliers, 4)} needed")

@@ -1,20 +1,27 @@
-"""Validation and normalisation of the images MMD compares, and image files.
+"""Validation and conversion of the images MMD compares, and image files.
 
 Every vision function takes ``real`` then ``synthetic``: NumPy arrays of shape
 ``(H, W)`` (grey) or ``(H, W, 3)`` (BGR, OpenCV's channel order), of dtype
-``uint8``, ``uint16`` or floating point in ``[0, 1]``.  The two must have the
-same size, dtype and number of channels; anything else is a
-:class:`~adapt.errors.VisionError` that says what differs.  Working copies are
-8-bit (:func:`as_uint8`); inputs are never modified.
+``uint8``, ``uint16`` (full range, 0-65535) or floating point in ``[0, 1]``.
+The two must have the same size; anything else is a
+:class:`~adapt.errors.VisionError` that says what differs and what was
+expected.  They may differ in dtype and in channels: :func:`conform` is the
+one conversion both ``adapt mmd`` and ``adapt sync`` (and
+:func:`~adapt.vision.mmd.mmd` itself) use; it makes both 8-bit and, when one
+is grey and the other colour, compares them in grey.  Inputs are never
+modified.
 
 Examples
 --------
 >>> import numpy as np
 >>> real = np.zeros((40, 60, 3), np.uint8)
->>> check_pair(real, np.zeros((40, 60), np.uint8))
+>>> r, s = conform(real, np.zeros((40, 60), np.uint16))
+>>> r.shape, s.shape, s.dtype.name
+((40, 60), (40, 60), 'uint8')
+>>> check_image(np.zeros((1, 1), np.uint8), "real", source="tiny.png")
 Traceback (most recent call last):
 ...
-adapt.errors.VisionError: real image is colour (40x60x3) but synthetic image is grey (40x60): convert one of them so both are colour or both grey
+adapt.errors.VisionError: tiny.png: real image is 1x1 pixels: expected at least 32x32 pixels
 """
 
 from __future__ import annotations
@@ -32,15 +39,19 @@ from adapt.files import write_atomic
 __all__ = [
     "check_image",
     "check_pair",
+    "conform",
     "as_uint8",
     "to_grey",
     "describe",
     "read_image",
     "write_image",
+    "MIN_SIDE",
 ]
 
 #: Smallest image side MMD accepts (the LK pyramid and the mask need some room).
 MIN_SIDE = 32
+#: Float images may stray this far outside [0, 1] (rounding in a conversion).
+FLOAT_SLACK = 1.0 / 512.0
 
 _SUPPORTED_INTS = (np.uint8, np.uint16)
 
@@ -58,14 +69,30 @@ def describe(image: NDArray) -> str:
     return "colour (" + "x".join(str(s) for s in image.shape) + ")"
 
 
-def check_image(image: object, name: str = "image") -> NDArray:
+def _what(name: str, source: str | None) -> tuple[str, str]:
+    """(prefix, subject) of a message: ``("a.png: ", "real image")``."""
+    subject = f"{name} image" if name else "image"
+    return (f"{source}: " if source else ""), subject
+
+
+def check_image(image: object, name: str = "", *, source: str | None = None) -> NDArray:
     """Return ``image`` as an array after checking it is an image MMD can use.
+
+    Parameters
+    ----------
+    image : object
+        The candidate image.
+    name : str
+        Its role in messages (``"real"``, ``"synthetic"``; empty for none).
+    source : str, optional
+        The file it was read from; messages then start with it.
 
     Raises
     ------
     VisionError
         If it is not a 2-D grey or 3-channel colour array of a supported dtype,
-        is smaller than ``MIN_SIDE`` pixels, or holds NaN/inf values.
+        is smaller than ``MIN_SIDE`` pixels on a side, or is a float image
+        holding NaN, infinite values or values outside ``[0, 1]``.
 
     Examples
     --------
@@ -74,66 +101,97 @@ def check_image(image: object, name: str = "image") -> NDArray:
     ...
     adapt.errors.VisionError: real image has 4 channels: expected grey (HxW) or BGR colour (HxWx3)
     """
+    pre, what = _what(name, source)
     if not isinstance(image, np.ndarray):
-        raise VisionError(f"{name} image is a {type(image).__name__}, expected a NumPy array")
+        raise VisionError(f"{pre}{what} is a {type(image).__name__}, expected a NumPy array")
     if image.ndim == 3 and image.shape[2] == 1:
         image = image[:, :, 0]
     if image.ndim == 3 and image.shape[2] != 3:
         raise VisionError(
-            f"{name} image has {image.shape[2]} channels: expected grey (HxW) or BGR colour (HxWx3)"
+            f"{pre}{what} has {image.shape[2]} channels: expected grey (HxW) or BGR colour (HxWx3)"
         )
     if image.ndim not in (2, 3):
-        raise VisionError(f"{name} image has {image.ndim} dimensions: expected (HxW) or (HxWx3)")
+        raise VisionError(f"{pre}{what} has {image.ndim} dimensions: expected (HxW) or (HxWx3)")
     if min(image.shape[:2]) < MIN_SIDE:
         raise VisionError(
-            f"{name} image is {image.shape[1]}x{image.shape[0]} pixels: "
-            f"expected at least {MIN_SIDE} pixels on each side"
+            f"{pre}{what} is {image.shape[1]}x{image.shape[0]} pixels: "
+            f"expected at least {MIN_SIDE}x{MIN_SIDE} pixels"
         )
     if image.dtype.type in _SUPPORTED_INTS:
         return image
     if np.issubdtype(image.dtype, np.floating):
-        if not np.isfinite(image).all():
-            raise VisionError(f"{name} image holds NaN or infinite values")
+        lo, hi = float(np.min(image)), float(np.max(image))
+        if not (np.isfinite(lo) and np.isfinite(hi)):
+            raise VisionError(f"{pre}{what} holds NaN or infinite values")
+        if lo < -FLOAT_SLACK or hi > 1.0 + FLOAT_SLACK:
+            raise VisionError(
+                f"{pre}{what} is float with values from {lo:g} to {hi:g}: expected values in "
+                "[0, 1] (divide 8-bit values by 255)"
+            )
         return image
     raise VisionError(
-        f"{name} image has dtype {image.dtype}: expected uint8, uint16 or float in [0, 1]"
+        f"{pre}{what} has dtype {image.dtype}: expected uint8, uint16 or float in [0, 1]"
     )
 
 
-def check_pair(real: object, synthetic: object) -> tuple[NDArray, NDArray]:
-    """Check ``real`` and ``synthetic`` separately and against each other.
+def check_pair(
+    real: object,
+    synthetic: object,
+    *,
+    sources: tuple[str | None, str | None] = (None, None),
+) -> tuple[NDArray, NDArray]:
+    """Check ``real`` and ``synthetic`` separately, and that they have the same
+    size (dtype and channels may differ: see :func:`conform`).
+
+    Parameters
+    ----------
+    real, synthetic : object
+        The candidate images.
+    sources : (str or None, str or None)
+        The files they were read from, for messages.
 
     Raises
     ------
     VisionError
-        If either is not a usable image, or they differ in size, dtype or
-        channels (the message names both).
+        If either is not a usable image, or their sizes differ (the message
+        names both).
 
     Examples
     --------
-    >>> check_pair(np.zeros((40, 40), np.uint8), np.zeros((40, 40), np.float32))
+    >>> check_pair(np.zeros((40, 40), np.uint8), np.zeros((40, 50), np.uint8))
     Traceback (most recent call last):
     ...
-    adapt.errors.VisionError: real image has dtype uint8 but synthetic image has dtype float32: convert them to the same dtype
+    adapt.errors.VisionError: real image is 40x40 but synthetic image is 50x40 pixels: render the synthetic view at the real camera's size
     """
-    r = check_image(real, "real")
-    s = check_image(synthetic, "synthetic")
-    if (r.ndim == 3) != (s.ndim == 3):
+    r = check_image(real, "real", source=sources[0])
+    s = check_image(synthetic, "synthetic", source=sources[1])
+    if r.shape[:2] != s.shape[:2]:
+        rn = "real image" + (f" {sources[0]}" if sources[0] else "")
+        sn = "synthetic image" + (f" {sources[1]}" if sources[1] else "")
         raise VisionError(
-            f"real image is {describe(r)} but synthetic image is {describe(s)}: "
-            "convert one of them so both are colour or both grey"
-        )
-    if r.shape != s.shape:
-        raise VisionError(
-            f"real image is {r.shape[1]}x{r.shape[0]} but synthetic image is "
+            f"{rn} is {r.shape[1]}x{r.shape[0]} but {sn} is "
             f"{s.shape[1]}x{s.shape[0]} pixels: render the synthetic view at the real camera's size"
         )
-    if r.dtype != s.dtype:
-        raise VisionError(
-            f"real image has dtype {r.dtype} but synthetic image has dtype {s.dtype}: "
-            "convert them to the same dtype"
-        )
     return r, s
+
+
+def conform(real: NDArray, synthetic: NDArray) -> tuple[NDArray[np.uint8], NDArray[np.uint8]]:
+    """The one conversion of a checked pair before comparison: both 8-bit
+    (:func:`as_uint8`), and both grey when either is grey (a grey camera
+    against a colour rendering is compared in grey: the grey image holds no
+    colour to compare).  Images that need no conversion are returned as they
+    are (not copied).
+
+    Examples
+    --------
+    >>> r, s = conform(np.full((2, 2, 3), 65535, np.uint16), np.full((2, 2, 3), 0.5))
+    >>> r.dtype.name, int(r.max()), int(s.max())
+    ('uint8', 255, 128)
+    """
+    r8, s8 = as_uint8(real), as_uint8(synthetic)
+    if r8.ndim != s8.ndim:
+        r8, s8 = to_grey(r8), to_grey(s8)
+    return r8, s8
 
 
 def as_uint8(image: NDArray) -> NDArray[np.uint8]:

@@ -21,10 +21,10 @@ Examples
 --------
 >>> import numpy as np
 >>> pts = np.array([[20.0, 10.0]])
->>> m = exact_mask(pts, np.array([1.0]), (100, 120))        # sigma = 12
+>>> m = exact_mask(pts, np.array([1.0]), (100, 120), sigma=12)
 >>> round(float(m[10, 20]), 3), round(float(m[10, 32]), 3)
 (1.0, 0.607)
->>> bool(np.abs(fast_mask(pts, np.array([1.0]), (100, 120)) - m).max() < 0.1)
+>>> bool(np.abs(fast_mask(pts, np.array([1.0]), (100, 120), sigma=12) - m).max() < 0.1)
 True
 """
 
@@ -36,11 +36,14 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from adapt.vision.scale import image_scale
+
 __all__ = ["exact_mask", "fast_mask", "SIGMA", "FAST_STEP"]
 
-#: Width of each match's Gaussian, pixels.
+#: Width of each match's Gaussian, pixels at 640x480 (scaled with the image,
+#: :mod:`~adapt.vision.scale`).
 SIGMA = 12.0
-#: Grid step of the fast mask, pixels.
+#: Grid step of the fast mask, pixels at 640x480 (scaled with the image).
 FAST_STEP = 4
 #: Bilinear splatting and bilinear upsampling each widen the Gaussian by about
 #: a tent's variance (step^2 / 6); this many tents are taken out of the blur
@@ -63,7 +66,7 @@ def exact_mask(
     quality: ArrayLike,
     shape: tuple[int, ...],
     *,
-    sigma: float = SIGMA,
+    sigma: float | None = None,
 ) -> FloatImage:
     """The mask as the exact clipped sum of Gaussians.
 
@@ -75,8 +78,8 @@ def exact_mask(
         ``q(p)``, the weight of each Gaussian.
     shape : tuple
         ``(H, W)`` (extra trailing dimensions are ignored).
-    sigma : float
-        Gaussian width in pixels.
+    sigma : float, optional
+        Gaussian width in pixels; :data:`SIGMA` scaled with the image by default.
 
     Returns
     -------
@@ -84,6 +87,7 @@ def exact_mask(
     """
     p, q = _inputs(points, quality)
     h, w = int(shape[0]), int(shape[1])
+    sigma = SIGMA * image_scale(shape) if sigma is None else float(sigma)
     if len(p) == 0:
         return np.zeros((h, w), np.float32)
     k = -0.5 / (sigma * sigma)
@@ -98,16 +102,20 @@ def fast_mask(
     quality: ArrayLike,
     shape: tuple[int, ...],
     *,
-    sigma: float = SIGMA,
-    step: int = FAST_STEP,
+    sigma: float | None = None,
+    step: int | None = None,
 ) -> FloatImage:
     """The mask approximated on a coarse grid (within 0.1 of :func:`exact_mask`).
 
     Parameters are those of :func:`exact_mask`, plus ``step``, the grid step
-    in pixels (``sigma / step`` should stay at 2 or more).
+    in pixels (``sigma / step`` should stay at 2 or more); by default
+    :data:`FAST_STEP` scaled with the image, at least 1.
     """
     p, q = _inputs(points, quality)
     h, w = int(shape[0]), int(shape[1])
+    s = image_scale(shape)
+    sigma = SIGMA * s if sigma is None else float(sigma)
+    step = max(1, int(round(FAST_STEP * s))) if step is None else int(step)
     if len(p) == 0:
         return np.zeros((h, w), np.float32)
     hs, ws = -(-h // step), -(-w // step)

@@ -22,8 +22,14 @@
    does not cover (``MMDResult.known`` is False there).  Unknown is not
    difference.
 
-The result is a frozen :class:`MMDResult`; :mod:`~adapt.vision.regions` turns
-``difference`` into regions.
+The result is a frozen :class:`MMDResult`; :meth:`MMDResult.regions` (through
+:mod:`~adapt.vision.regions`) turns ``difference`` into regions.
+
+**Scale.**  The inputs are converted by :func:`~adapt.vision.images.conform`
+and analysed at a working resolution of at most 640x480 pixels (larger
+images are reduced, :mod:`~adapt.vision.scale`); every pixel parameter is
+given for 640x480 and scaled with the working image.  ``H_e``, the matches
+and the regions are reported in the inputs' pixels.
 
 Examples
 --------
@@ -46,16 +52,19 @@ False
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import Sequence
 
 import cv2
 import numpy as np
 from numpy.typing import NDArray
 
 from adapt.vision.homography import MIN_INLIERS, Alignment, estimate_homography
-from adapt.vision.images import as_uint8, check_pair
-from adapt.vision.mask import SIGMA, exact_mask, fast_mask
-from adapt.vision.matching import Matches, PreparedImage, match_descriptors, prepare, track
+from adapt.vision.images import conform
+from adapt.vision.mask import exact_mask, fast_mask
+from adapt.vision.matching import Matches, PreparedImage, match_descriptors, prepare_pair, track
+from adapt.vision.regions import MIN_OVERLAP, THRESHOLD, Region, find_regions, label_regions, to_input
+from adapt.vision.scale import WorkingFrame
 
 __all__ = ["MMDResult", "mmd", "REACQUIRE_INLIERS", "REACQUIRE_RATIO", "EXPLAINED"]
 
@@ -66,7 +75,8 @@ REACQUIRE_INLIERS = 40
 REACQUIRE_RATIO = 0.5
 #: Mask level above which a pixel counts as explained (used for the gain/bias fit).
 EXPLAINED = 0.5
-#: Gain/bias fit uses every FIT_STEP-th pixel in each direction.
+#: Gain/bias fit uses every FIT_STEP-th pixel in each direction (at 640x480;
+#: scaled with the working image).
 FIT_STEP = 4
 #: Bounds of the fitted gain.
 GAIN_RANGE = (0.25, 4.0)
@@ -76,6 +86,11 @@ GAIN_RANGE = (0.25, 4.0)
 class MMDResult:
     """The match-mediated difference of a real and a synthetic image.
 
+    ``alignment`` and ``matches`` are in the input images' pixels; the images
+    (``warped``, ``mask``, ``known``, ``difference``) are at the working
+    resolution ``frame.shape`` (the input's own size up to 640x480 pixels, see
+    :mod:`~adapt.vision.scale`); :meth:`regions` gives regions in input pixels.
+
     Attributes
     ----------
     alignment : Alignment
@@ -83,16 +98,18 @@ class MMDResult:
     matches : Matches
         The matches ``H_e`` was fitted to.
     warped : ndarray
-        The synthetic image warped into the real frame (uint8, real's shape;
-        zeros where unknown).
-    mask : (H, W) float32 ndarray
+        The synthetic image warped into the real frame (uint8, zeros where
+        unknown; grey when either input is grey).
+    mask : (h, w) float32 ndarray
         ``I_m`` in [0, 1], in the real frame.
-    known : (H, W) bool ndarray
+    known : (h, w) bool ndarray
         Pixels the warped synthetic image covers.
-    difference : (H, W) float32 ndarray
+    difference : (h, w) float32 ndarray
         ``I_d`` in grey levels, 0 where unknown.
     gain, bias : (C,) float64 ndarray
         The per-channel fit ``real ~ gain * warped + bias``.
+    frame : WorkingFrame
+        The working resolution and its maps to the input.
     """
 
     alignment: Alignment
@@ -103,6 +120,7 @@ class MMDResult:
     difference: NDArray[np.float32] = field(repr=False)
     gain: NDArray[np.float64]
     bias: NDArray[np.float64]
+    frame: WorkingFrame
 
     @property
     def aligned(self) -> bool:
@@ -111,7 +129,7 @@ class MMDResult:
 
     @property
     def homography(self) -> NDArray[np.float64] | None:
-        """``H_e`` mapping synthetic pixels to real ones, or None."""
+        """``H_e`` mapping synthetic pixels to real ones (input pixels), or None."""
         return self.alignment.homography
 
     @property
@@ -121,14 +139,28 @@ class MMDResult:
 
     @property
     def inlier_points(self) -> NDArray[np.float64]:
-        """Real-frame positions of the inlier matches, ``(N, 2)``."""
+        """Real-image positions of the inlier matches, ``(N, 2)`` input pixels."""
         return self.matches.real_points[self.alignment.inliers]
+
+    def regions(
+        self,
+        monitored: Sequence[Sequence[float]] = (),
+        *,
+        threshold: float = THRESHOLD,
+        min_overlap: float = MIN_OVERLAP,
+    ) -> tuple[Region, ...]:
+        """The difference regions in input pixels, labelled expected when they
+        overlap a ``monitored`` box (input pixels): :func:`find_regions` on
+        ``difference`` (its default, scaled, area and cleaning),
+        :func:`~adapt.vision.regions.to_input`, then :func:`label_regions`."""
+        found = to_input(find_regions(self.difference, threshold=threshold), self.frame)
+        return label_regions(found, monitored, min_overlap=min_overlap)
 
 
 def _align(
     real: PreparedImage, synthetic: PreparedImage, min_inliers: int, reacquire: bool
 ) -> tuple[Matches, Alignment]:
-    shape = real.image.shape
+    shape = real.frame.shape
     m = track(real, synthetic)
     a = estimate_homography(m, shape, min_inliers=min_inliers)
     ratio = a.n_inliers / max(len(m), 1)
@@ -153,11 +185,11 @@ def _known(h: NDArray, shape: tuple[int, int]) -> NDArray[np.bool_]:
 
 
 def _fit_gain(
-    real: NDArray[np.uint8], warped: NDArray[np.uint8], use: NDArray[np.bool_]
+    real: NDArray[np.uint8], warped: NDArray[np.uint8], use: NDArray[np.bool_], step: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    sel = use[::FIT_STEP, ::FIT_STEP]
-    r = real[::FIT_STEP, ::FIT_STEP][sel].astype(np.float64).reshape(-1, real.shape[2] if real.ndim == 3 else 1)
-    w = warped[::FIT_STEP, ::FIT_STEP][sel].astype(np.float64).reshape(r.shape)
+    sel = use[::step, ::step]
+    r = real[::step, ::step][sel].astype(np.float64).reshape(-1, real.shape[2] if real.ndim == 3 else 1)
+    w = warped[::step, ::step][sel].astype(np.float64).reshape(r.shape)
     c = r.shape[1]
     gain = np.ones(c)
     bias = np.zeros(c)
@@ -176,46 +208,53 @@ def mmd(
     real: NDArray | PreparedImage,
     synthetic: NDArray | PreparedImage,
     *,
-    sigma: float = SIGMA,
+    sigma: float | None = None,
     exact: bool = False,
     reacquire: bool = True,
     min_inliers: int = MIN_INLIERS,
+    max_pixels: int | None = None,
 ) -> MMDResult:
     """Match-mediated difference of ``real`` and ``synthetic``.
 
     Parameters
     ----------
     real, synthetic : ndarray or PreparedImage
-        Same size, dtype and channels (see :mod:`~adapt.vision.images`).  Pass a
+        The same size; grey or BGR; ``uint8``, ``uint16`` or float in
+        ``[0, 1]``; converted by :func:`~adapt.vision.images.conform` (a grey
+        and a colour image are compared in grey).  Pass a
         :class:`~adapt.vision.matching.PreparedImage` to reuse a rendered
         background's corners across frames.
-    sigma : float
-        Width of the mask's Gaussians, pixels.
+    sigma : float, optional
+        Width of the mask's Gaussians in working pixels;
+        :data:`~adapt.vision.mask.SIGMA` (12 px at 640x480) scaled with the
+        working image by default.
     exact : bool
         Use :func:`~adapt.vision.mask.exact_mask` instead of the fast one.
     reacquire : bool
         Allow SIFT re-acquisition when tracking gives too few inliers.
     min_inliers : int
         Fewer inliers than this is "no alignment".
+    max_pixels : int, optional
+        Largest working image in pixels: larger inputs are reduced to it
+        (:mod:`~adapt.vision.scale`); 640x480 by default, or what a prepared
+        ``real`` was prepared for.
 
     Raises
     ------
     VisionError
         If the images cannot be compared.
     """
-    r = real if isinstance(real, PreparedImage) else prepare(real, corners=False)
-    s = synthetic if isinstance(synthetic, PreparedImage) else prepare(synthetic)
-    check_pair(r.image, s.image)
-    real8 = as_uint8(r.image)
-    syn8 = as_uint8(s.image)
-    hh, ww = real8.shape[:2]
+    r, s = prepare_pair(real, synthetic, max_pixels=max_pixels)
+    frame = r.frame
+    real8, syn8 = conform(r.work, s.work)
+    hh, ww = frame.shape
     channels = real8.shape[2] if real8.ndim == 3 else 1
     matches, alignment = _align(r, s, min_inliers, reacquire)
     if not alignment.aligned:
         zero = np.zeros((hh, ww), np.float32)
         return MMDResult(
-            alignment, matches, np.zeros_like(real8), zero, np.zeros((hh, ww), bool),
-            zero.copy(), np.ones(channels), np.zeros(channels),
+            alignment, _to_input(matches, frame), np.zeros_like(real8), zero,
+            np.zeros((hh, ww), bool), zero.copy(), np.ones(channels), np.zeros(channels), frame,
         )
     h = alignment.homography
     assert h is not None
@@ -226,7 +265,8 @@ def mmd(
     q = matches.quality[alignment.inliers]
     mask = (exact_mask if exact else fast_mask)(pts, q, (hh, ww), sigma=sigma)
     explained = known & (mask >= EXPLAINED)
-    gain, bias = _fit_gain(real8, warped, explained if np.count_nonzero(explained) > 0 else known)  # type: ignore[arg-type]
+    step = max(1, int(round(FIT_STEP * frame.scale)))
+    gain, bias = _fit_gain(real8, warped, explained if np.count_nonzero(explained) > 0 else known, step)
     if channels == 1:
         adjusted = cv2.convertScaleAbs(warped, alpha=float(gain[0]), beta=float(bias[0]))
         diff = cv2.absdiff(real8, adjusted)
@@ -243,4 +283,19 @@ def mmd(
     difference *= 1.0 - mask
     difference[~known] = 0.0
     warped[~known] = 0
-    return MMDResult(alignment, matches, warped, mask, known, difference, gain, bias)  # type: ignore[arg-type]
+    if frame.reduces:
+        alignment = replace(alignment, homography=frame.homography_to_input(h))
+    return MMDResult(
+        alignment, _to_input(matches, frame), warped, mask, known, difference, gain, bias, frame
+    )
+
+
+def _to_input(matches: Matches, frame: WorkingFrame) -> Matches:
+    """Matches in working pixels as matches in input pixels."""
+    if not frame.reduces:
+        return matches
+    return replace(
+        matches,
+        real_points=frame.to_input(matches.real_points),
+        synthetic_points=frame.to_input(matches.synthetic_points),
+    )

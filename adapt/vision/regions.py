@@ -6,6 +6,12 @@ returns its connected components as frozen :class:`Region` records, largest
 first.  :func:`label_regions` marks each region *expected* when it overlaps a
 region a perceptual schema already monitors, and *unexpected* otherwise.
 
+The smallest area and the cleaning kernel are given for a 640x480 image and
+scaled with the difference image's size (:mod:`~adapt.vision.scale`), so the
+same scene gives the same regions, scaled, at any resolution.
+:func:`to_input` maps regions found on a working image (an MMD of a large
+image) back to the input's pixels.
+
 Examples
 --------
 >>> import numpy as np
@@ -20,6 +26,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import Sequence
 
@@ -27,16 +34,29 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["Region", "find_regions", "label_regions", "THRESHOLD", "MIN_AREA", "MIN_OVERLAP"]
+from adapt.vision.scale import WorkingFrame, image_scale
+
+__all__ = [
+    "Region",
+    "find_regions",
+    "label_regions",
+    "to_input",
+    "THRESHOLD",
+    "MIN_AREA",
+    "MIN_OVERLAP",
+    "OPEN_SIZE",
+]
 
 #: ``I_d`` above this (grey levels, 0-255) is difference.
 THRESHOLD = 30.0
-#: Components smaller than this (pixels) are dropped.
+#: Components smaller than this (pixels at 640x480; scaled with the image's
+#: area) are dropped.
 MIN_AREA = 40
 #: A region is expected when at least this fraction of its bounding box lies
 #: inside a monitored box.
 MIN_OVERLAP = 0.3
-#: Side of the square structuring element of the opening (closing uses 2x+1).
+#: Side of the square structuring element of the opening (closing uses 2x+1),
+#: pixels at 640x480 (scaled with the image).
 OPEN_SIZE = 3
 
 BBox = tuple[int, int, int, int]
@@ -91,8 +111,8 @@ def find_regions(
     difference: NDArray,
     *,
     threshold: float = THRESHOLD,
-    min_area: int = MIN_AREA,
-    open_size: int = OPEN_SIZE,
+    min_area: int | None = None,
+    open_size: int | None = None,
 ) -> tuple[Region, ...]:
     """Connected regions of ``difference > threshold``, largest first.
 
@@ -101,15 +121,22 @@ def find_regions(
     difference : (H, W) ndarray
         An MMD image (``MMDResult.difference``), grey levels.
     threshold : float
-        Difference level that counts.
-    min_area : int
-        Smallest region kept, pixels (after cleaning).
-    open_size : int
-        Opening kernel side; 0 or 1 disables cleaning.
+        Difference level that counts (grey levels; not scaled).
+    min_area : int, optional
+        Smallest region kept, pixels (after cleaning); :data:`MIN_AREA` scaled
+        with the image's area by default.
+    open_size : int, optional
+        Opening kernel side; 0 or 1 disables cleaning; :data:`OPEN_SIZE`
+        scaled with the image by default.
     """
     d = np.asarray(difference)
     if d.ndim != 2:
         raise ValueError(f"difference must be a 2-D image, got shape {d.shape}")
+    s = image_scale(d.shape)
+    if min_area is None:
+        min_area = max(1, int(math.floor(MIN_AREA * s * s + 0.5)))
+    if open_size is None:
+        open_size = max(1, int(math.floor(OPEN_SIZE * s + 0.5)))
     binary = (d > threshold).astype(np.uint8)
     if open_size > 1:
         k = cv2.getStructuringElement(cv2.MORPH_RECT, (open_size, open_size))
@@ -164,3 +191,45 @@ def label_regions(
         replace(r, expected=any(_overlap(r.bbox, b) >= min_overlap for b in boxes))  # type: ignore[arg-type]
         for r in regions
     )
+
+
+def to_input(regions: Sequence[Region], frame: WorkingFrame) -> tuple[Region, ...]:
+    """Regions found on ``frame``'s working image, in the input image's pixels.
+
+    The bounding box is scaled edge to edge, the centroid as a pixel centre,
+    the area by both factors, and the silhouette is resized (nearest
+    neighbour) to the new box; ``mean_difference`` and ``expected`` are kept.
+    Without a reduction the regions are returned as they are.
+
+    Examples
+    --------
+    >>> from adapt.vision.scale import working_frame
+    >>> d = np.zeros((480, 640), np.float32)
+    >>> d[100:120, 200:240] = 90.0
+    >>> (r,) = to_input(find_regions(d), working_frame((960, 1280)))
+    >>> r.bbox, r.centroid, r.area, r.silhouette.shape
+    ((400, 200, 80, 40), (439.5, 219.5), 3200, (40, 80))
+    """
+    if not frame.reduces:
+        return tuple(regions)
+    fx, fy = frame.factor
+    ih, iw = frame.input_shape
+    out = []
+    for r in regions:
+        x, y, w, h = r.bbox
+        x0, y0 = int(math.floor(x * fx + 0.5)), int(math.floor(y * fy + 0.5))
+        x1 = min(iw, int(math.floor((x + w) * fx + 0.5)))
+        y1 = min(ih, int(math.floor((y + h) * fy + 0.5)))
+        bw, bh = max(1, x1 - x0), max(1, y1 - y0)
+        sil = cv2.resize(r.silhouette.astype(np.uint8), (bw, bh), interpolation=cv2.INTER_NEAREST)
+        (cx, cy) = frame.to_input([r.centroid])[0]
+        out.append(
+            replace(
+                r,
+                bbox=(x0, y0, bw, bh),
+                centroid=(float(cx), float(cy)),
+                area=int(round(r.area * fx * fy)),
+                silhouette=sil.astype(bool),
+            )
+        )
+    return tuple(out)

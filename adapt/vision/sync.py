@@ -3,14 +3,18 @@
 :func:`synchronise` repeats: render the synthetic view from the current camera
 (through the ``render`` callback, so vision never imports the imagination),
 compute the MMD against the real image, measure the remaining pixel error
-``e = corner_error(H_e, I)`` (how far ``H_e`` moves the image corners), stop if
-``e < tolerance``, otherwise correct the camera with eq. 3 (fractional
+``e = corner_error(H_e, I)`` (how far ``H_e`` moves the image corners, in the
+real image's pixels), stop if ``e < tolerance`` (0.5 px at 640x480 by default,
+scaled with the image), otherwise correct the camera with eq. 3 (fractional
 rotation, :func:`~adapt.vision.camera_correction.correct_rotation`) or, with
 ``full_pose=True``, with the floor's plane-induced homography
 (:func:`~adapt.vision.camera_correction.correct_pose`).
 
 With a perfect ``H_e`` the error after ``t`` corrections is
 ``e_0 (1 - g)^t``: from 35 px, g = 0.5 needs 6 corrections to reach 0.5 px.
+
+An ``on_step`` callback sees each :class:`SyncStep` as soon as it is done
+(the command line prints a line and writes a strip per step).
 
 Examples
 --------
@@ -34,7 +38,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -45,10 +49,12 @@ from adapt.vision.homography import corner_error
 from adapt.vision.images import check_image
 from adapt.vision.matching import prepare
 from adapt.vision.mmd import MMDResult, mmd
+from adapt.vision.scale import image_scale
 
 __all__ = ["Render", "SyncStep", "SyncResult", "synchronise", "TOLERANCE", "MAX_ITERATIONS", "GAIN"]
 
-#: Stop when H_e moves the image corners by less than this, pixels.
+#: Stop when H_e moves the image corners by less than this, pixels at 640x480
+#: (scaled with the image).
 TOLERANCE = 0.5
 #: Give up after this many renders.
 MAX_ITERATIONS = 10
@@ -120,6 +126,17 @@ class SyncResult:
     converged: bool
     reason: str
 
+    @property
+    def outcome(self) -> Literal["converged", "no alignment", "iteration limit"]:
+        """How the loop ended: ``"converged"``, ``"no alignment"`` (a render
+        could not be aligned with the real image) or ``"iteration limit"``
+        (``max_iterations`` renders without reaching the tolerance)."""
+        if self.converged:
+            return "converged"
+        if self.steps and not self.steps[-1].result.aligned:
+            return "no alignment"
+        return "iteration limit"
+
 
 def synchronise(
     real: NDArray,
@@ -127,9 +144,11 @@ def synchronise(
     render: Render,
     *,
     gain: float = GAIN,
-    tolerance: float = TOLERANCE,
+    tolerance: float | None = None,
     max_iterations: int = MAX_ITERATIONS,
     full_pose: bool = False,
+    on_step: Callable[[SyncStep], None] | None = None,
+    max_pixels: int | None = None,
 ) -> SyncResult:
     """Synchronise the synthetic camera with the real image.
 
@@ -144,13 +163,18 @@ def synchronise(
         ``real``.
     gain : float
         ``g`` in (0, 1].
-    tolerance : float
-        Stop when the pixel error is below this.
+    tolerance : float, optional
+        Stop when the pixel error (real image pixels) is below this;
+        :data:`TOLERANCE` scaled with the real image by default.
     max_iterations : int
         Most renders.
     full_pose : bool
         Correct the position as well, from the floor's homography (the scene
         seen must then be the floor plane ``z = 0``).
+    on_step : callable, optional
+        Called with each :class:`SyncStep` as soon as it is complete.
+    max_pixels : int, optional
+        The MMD's working resolution (:func:`~adapt.vision.mmd.mmd`).
 
     Raises
     ------
@@ -161,14 +185,23 @@ def synchronise(
         raise ValueError(f"gain must be in (0, 1], got {gain}")
     if max_iterations < 1:
         raise ValueError(f"max_iterations must be at least 1, got {max_iterations}")
-    r = prepare(check_image(real, "real"), corners=False)
+    r = prepare(check_image(real, "real"), corners=False, name="real",
+                **({} if max_pixels is None else {"max_pixels": max_pixels}))
+    if tolerance is None:
+        tolerance = TOLERANCE * image_scale(r.shape)
     steps: list[SyncStep] = []
+
+    def done(step: SyncStep) -> None:
+        steps.append(step)
+        if on_step is not None:
+            on_step(step)
+
     cam = camera
     for it in range(max_iterations):
         synthetic = render(cam)
         res = mmd(r, synthetic)
         if not res.aligned:
-            steps.append(SyncStep(it, cam, math.nan, 0, 0.0, synthetic, res))
+            done(SyncStep(it, cam, math.nan, 0, 0.0, synthetic, res))
             return SyncResult(
                 tuple(steps), cam, False, f"no alignment at iteration {it}: {res.alignment.reason}"
             )
@@ -176,15 +209,15 @@ def synchronise(
         assert h is not None
         err = corner_error(h, np.eye(3), real.shape)
         if err < tolerance:
-            steps.append(SyncStep(it, cam, err, res.n_inliers, 0.0, synthetic, res))
-            return SyncResult(tuple(steps), cam, True, f"pixel error {err:.3f} < {tolerance}")
+            done(SyncStep(it, cam, err, res.n_inliers, 0.0, synthetic, res))
+            return SyncResult(tuple(steps), cam, True, f"pixel error {err:.3f} < {tolerance:g}")
         if full_pose:
             pts = res.matches.synthetic_points[res.alignment.inliers]
             new = correct_pose(cam, h, pts, gain=gain)
         else:
             new = correct_rotation(cam, h, gain=gain)
         turn = float(np.degrees(np.linalg.norm(rotation_log(new.rotation @ cam.rotation.T))))
-        steps.append(SyncStep(it, cam, err, res.n_inliers, turn, synthetic, res))
+        done(SyncStep(it, cam, err, res.n_inliers, turn, synthetic, res))
         cam = new
     return SyncResult(
         tuple(steps), cam, False, f"pixel error still {steps[-1].pixel_error:.3f} after {max_iterations} renders"

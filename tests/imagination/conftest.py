@@ -8,7 +8,7 @@ import pytest
 
 from adapt.scenario import Scenario, load_scenario
 
-BUNDLED = Path(__file__).resolve().parents[2] / "scenarios" / "bouncing-ball.yaml"
+BUNDLED = Path(__file__).resolve().parents[2] / "scenarios" / "room.yaml"
 
 
 @pytest.fixture(scope="session")

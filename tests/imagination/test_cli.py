@@ -13,7 +13,7 @@ from adapt.cli import main
 from adapt.imagination import LABEL_BALL, Renderer, World
 from adapt.scenario import Scenario
 
-BUNDLED = Path(__file__).resolve().parents[2] / "scenarios" / "bouncing-ball.yaml"
+BUNDLED = Path(__file__).resolve().parents[2] / "scenarios" / "room.yaml"
 
 
 def test_render_writes_the_frame_and_labels(tmp_path: Path, bundled: Scenario,
@@ -91,3 +91,83 @@ def test_bad_scenario_error_is_located(tmp_path: Path, capsys: pytest.CaptureFix
     err = capsys.readouterr().err
     assert f"{bad}:" in err and "world.objects[0].radius" in err
     assert not (tmp_path / "x.png").exists()
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["render", str(BUNDLED), "--out", "{d}/same.png", "--labels", "{d}/same.png"],
+         "is the same file as --out"),
+        (["render", str(BUNDLED), "--out", "{d}/a.png", "--labels", "{d}/./a.png"],
+         "is the same file as --out"),
+        (["render", str(BUNDLED), "--out", "{d}/a.png", "--t", "1e9"],
+         "--t: 1e+09 s is 240,000,000,000 steps"),
+        (["imagine", str(BUNDLED), "--horizon", "1e9"], "--horizon: 1e+09 s is"),
+        (["imagine", str(BUNDLED), "--horizon", "1", "--samples", "100000000"],
+         "--samples must be from 1 to 100,000"),
+        (["imagine", str(BUNDLED), "--horizon", "1", "--dt", "1e-9"], "--dt: expected"),
+        (["imagine", str(BUNDLED), "--horizon", "1", "--video", "{d}/v.mp4", "--fps", "1e9"],
+         "--fps must be"),
+        (["imagine", str(BUNDLED), "--horizon", "4000", "--video", "{d}/v.mp4"],
+         "120,001 frames; at most 36,000"),
+        (["render", str(BUNDLED), "--out", "/proc/adapt-x.png"], "cannot write in the folder"),
+    ],
+)
+def test_outputs_and_work_are_checked_before_anything_is_written(
+    tmp_path: Path, argv: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    argv = [a.replace("{d}", str(tmp_path)) for a in argv]
+    assert main(argv) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("adapt: error: ") and message in err, err
+    assert ".tmp" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_no_output_replaces_an_input(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import shutil
+
+    from adapt.imagination.texture import texture_path
+
+    scenario = tmp_path / "s.yaml"
+    shutil.copy(texture_path("builtin:grass"), tmp_path / "g.png")
+    scenario.write_text(BUNDLED.read_text().replace("texture: gravel", "texture: g.png"))
+    before = scenario.read_bytes(), (tmp_path / "g.png").read_bytes()
+    assert main(["render", str(scenario), "--out", str(tmp_path / "g.png")]) == 1
+    assert "is a texture of the scenario" in capsys.readouterr().err
+    assert main(["imagine", str(scenario), "--horizon", "1", "--video",
+                 str(tmp_path / "s.yaml")]) == 1
+    assert main(["render", str(scenario), "--out", str(tmp_path / "x.png"), "--labels",
+                 str(scenario)]) == 1
+    assert (scenario.read_bytes(), (tmp_path / "g.png").read_bytes()) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["g.png", "s.yaml"]
+
+
+def test_render_refuses_an_output_that_is_not_a_regular_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import os
+
+    (tmp_path / "dir.png").mkdir()
+    assert main(["render", str(BUNDLED), "--out", str(tmp_path / "dir.png")]) == 1
+    assert "is a directory" in capsys.readouterr().err
+    os.mkfifo(tmp_path / "pipe.png")
+    assert main(["render", str(BUNDLED), "--out", str(tmp_path / "x.png"), "--labels",
+                 str(tmp_path / "pipe.png")]) == 1
+    assert "is not a regular file" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dir.png", "pipe.png"]
+
+
+def test_imagine_reports_the_intercept_with_the_public_reach(
+    capsys: pytest.CaptureFixture[str], bundled: Scenario
+) -> None:
+    from adapt.imagination import intercept, intercept_reach, rollout
+
+    assert main(["imagine", str(BUNDLED), "--horizon", "4", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    robot = bundled.scene.robot
+    assert robot is not None
+    world = World(bundled.scene)
+    hit = intercept(rollout(world, 4.0), robot.position, robot.max_speed, robot.max_accel,
+                    reach=intercept_reach(bundled.scene.balls[0], robot))
+    assert hit is not None and data["intercept"]["t"] == pytest.approx(hit.time)

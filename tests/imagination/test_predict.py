@@ -115,3 +115,31 @@ def test_ensemble_rejects_unknown_parameters() -> None:
         ensemble(corridor(), 1.0, {"colour": (0.0, 1.0)})
     with pytest.raises(ImaginationError, match="low <= high"):
         ensemble(corridor(), 1.0, {"mass": (2.0, 1.0)})
+
+
+def test_intercept_reach_is_the_ball_radius_plus_the_robots_half_width() -> None:
+    from adapt.imagination import RobotSpec, intercept_reach
+
+    ball = Ball("b", radius=0.11)
+    assert intercept_reach(ball, RobotSpec(shape="disc", radius=0.25)) == pytest.approx(0.36)
+    assert intercept_reach(ball, RobotSpec(shape="box", size=(0.6, 0.4))) == pytest.approx(0.31)
+
+
+def test_rollouts_and_ensembles_refuse_unbounded_work() -> None:
+    from adapt.imagination import MAX_SAMPLES
+
+    world = corridor()
+    with pytest.raises(ImaginationError, match="^horizon: 1e\\+09 s is"):
+        rollout(world, 1e9, times=[0.0])
+    with pytest.raises(ImaginationError, match="^horizon: sampling every step"):
+        rollout(world, 1000.0)
+    with pytest.raises(ImaginationError, match="^times: "):
+        rollout(world, 1.0, times=list(np.linspace(0, 1, MAX_SAMPLES + 1)))
+    with pytest.raises(ImaginationError, match="^horizon: expected a non-negative"):
+        rollout(world, float("nan"))
+    with pytest.raises(ImaginationError, match="^n: expected an ensemble size"):
+        ensemble(world, 1.0, {}, n=10**9)
+    with pytest.raises(ImaginationError, match="^n: .* positions"):
+        ensemble(world, 1.0, {}, n=10_000, times=list(np.linspace(0, 1, 241)))
+    with pytest.raises(ImaginationError, match="^n: .* physics steps"):
+        ensemble(world, 4000.0, {}, n=20, times=[4000.0])

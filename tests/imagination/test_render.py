@@ -173,3 +173,57 @@ def test_brick_walls_show_horizontal_courses(bundled: Scenario) -> None:
     across_rows = np.abs(np.diff(grey, axis=0))[both_rows].mean()
     across_cols = np.abs(np.diff(grey, axis=1))[both_cols].mean()
     assert across_rows > 1.5 * across_cols
+
+
+def box_of(labels: np.ndarray, label: int) -> tuple[int, int, int, int]:
+    ys, xs = np.nonzero(labels == label)
+    return (int(xs.min()), int(ys.min()), int(xs.max() - xs.min() + 1), int(ys.max() - ys.min() + 1))
+
+
+def test_boxes_give_the_visible_part_of_each_moving_object(bundled: Scenario) -> None:
+    world = World(bundled.scene)
+    world.run(1.6)  # the ball is in view by the north wall
+    out = Renderer(bundled.scene, bundled.camera).render(world.snapshot())
+    assert set(out.boxes) == {"ball"}  # the robot carries the camera: out of view
+    assert out.boxes["ball"] == box_of(out.labels, LABEL_BALL)
+    assert out.names[LABEL_BALL] == "ball" and out.names[LABEL_WALL] == "north"
+
+
+def test_a_partly_hidden_ball_has_the_box_of_its_visible_part() -> None:
+    box = Obstacle("box", ((-0.3, 0.4), (0.3, 0.4), (0.3, 0.6), (-0.3, 0.6)), height=0.2)
+    scene = SceneSpec(obstacles=(box,), balls=(Ball("b", radius=0.15),),
+                      robot=RobotSpec(position=(0.8, 0.2), shape="box", size=(0.4, 0.3)))
+    r = Renderer(scene, camera(position=(0.0, -2.0, 0.4), look_at=(0.0, 1.0, 0.2)))
+    whole = r.render(WorldState(0.0, 0, (BodyState("b", (0.0, -0.2), (0.0, 0.0)),
+                                          BodyState("robot", (0.8, 0.2), (0.0, 0.0)))))
+    hidden = r.render(WorldState(0.0, 0, (BodyState("b", (0.0, 0.9), (0.0, 0.0)),)))
+    assert whole.boxes["b"] == box_of(whole.labels, LABEL_BALL)
+    assert whole.boxes["robot"] == box_of(whole.labels, LABEL_ROBOT)
+    _, _, w, h = hidden.boxes["b"]
+    assert h < w  # only the top of the ball shows over the box
+    assert hidden.boxes["b"] == box_of(hidden.labels, LABEL_BALL)
+    gone = r.render(WorldState(0.0, 0, (BodyState("b", (3.0, -1.9), (0.0, 0.0)),)))  # out of view
+    assert "b" not in gone.boxes and "robot" not in gone.boxes
+
+
+def test_balls_added_at_run_time_are_drawn_with_their_records(bundled: Scenario) -> None:
+    world = World(bundled.scene)
+    world.add_ball(Ball("late", radius=0.1, color=(0, 255, 0)), position=(0.0, 1.5))
+    r = Renderer(bundled.scene, bundled.camera)
+    without = r.render(world.snapshot())
+    assert "late" not in without.boxes  # the renderer's scene does not know it
+    out = r.render(world.snapshot(), balls=world.balls)
+    assert set(out.boxes) >= {"late"} and out.names[LABEL_BALL + 1] == "late"
+    assert out.boxes["late"] == box_of(out.labels, LABEL_BALL + 1)
+    x, y, w, h = out.boxes["late"]
+    assert out.image[y + h // 2, x + w // 2, 1] > 150  # green
+    assert label_names(bundled.scene, world.balls)[LABEL_BALL + 1] == "late"
+
+
+def test_exact_and_fast_renderers_draw_the_same_frame(bundled: Scenario) -> None:
+    world = World(bundled.scene)
+    world.run(1.6)
+    fast = Renderer(bundled.scene, bundled.camera).render(world.snapshot())
+    exact = Renderer(bundled.scene, bundled.camera, exact=True).render(world.snapshot())
+    assert fast.boxes == exact.boxes
+    assert (fast.labels == exact.labels).mean() > 0.995

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -135,3 +136,211 @@ def test_unknown_body_and_bad_dt() -> None:
         World(SceneSpec(), dt=0.0)
     assert math.isclose(World(SceneSpec()).dt, 1 / 240)
     assert np.isfinite(world.snapshot().time)
+
+
+# -- step hooks ----------------------------------------------------------------------
+
+
+def test_a_hook_runs_before_every_step_so_a_force_acts_on_every_step() -> None:
+    world = World(SceneSpec(balls=(Ball("b", mass=2.0),)))
+    seen: list[int] = []
+
+    def spring(w: World) -> None:
+        seen.append(w.steps)
+        w.apply_force("b", (4.0, 0.0))  # a = 2 m/s^2
+
+    world.add_step_hook(spring)
+    world.run(1.0)
+    world.run_until(1.5)
+    world.step(3)
+    n = 360 + 3
+    assert seen == list(range(n))
+    assert world.velocity("b")[0] == pytest.approx(2.0 * n * world.dt, abs=1e-9)
+    # pymunk moves with the velocity before the step's update: x = a dt^2 n (n - 1) / 2.
+    assert world.position("b")[0] == pytest.approx(2.0 * world.dt**2 * n * (n - 1) / 2, rel=1e-9)
+    world.remove_step_hook(spring)
+    world.step(10)
+    assert len(seen) == n and world.step_hooks == ()
+    with pytest.raises(ImaginationError, match="not registered"):
+        world.remove_step_hook(spring)
+    with pytest.raises(ImaginationError, match="^hook: expected a callable"):
+        world.add_step_hook(3)  # type: ignore[arg-type]
+
+
+def test_a_spring_damper_hook_pulls_the_ball_to_a_target(bundled: Scenario) -> None:
+    world = World(bundled.scene)
+    target = np.array([0.5, 1.5])
+    k, m = 40.0, bundled.scene.balls[0].mass
+    c = 2.0 * math.sqrt(k * m)
+
+    def spring(w: World) -> None:
+        p, v = np.array(w.position("ball")), np.array(w.velocity("ball"))
+        w.apply_force("ball", k * (target - p) - c * v)
+
+    world.add_step_hook(spring)
+    world.run(4.0)
+    assert world.position("ball") == pytest.approx(tuple(target), abs=0.01)
+
+
+def test_forks_have_no_hooks_and_hooks_may_add_balls() -> None:
+    world = World(SceneSpec())
+    added: list[float] = []
+
+    def thrower(w: World) -> None:
+        if w.steps == 10:
+            w.add_ball(Ball("late", radius=0.05), position=(0.0, 0.0), velocity=(1.0, 0.0))
+            added.append(w.time)
+
+    world.add_step_hook(thrower)
+    world.step(20)
+    assert world.names == ("late",) and added == [pytest.approx(10 * world.dt)]
+    assert world.position("late")[0] == pytest.approx(10 * world.dt)
+    assert world.fork().step_hooks == ()
+
+
+# -- balls at run time ---------------------------------------------------------------
+
+
+def test_add_and_remove_balls_at_run_time(bundled: Scenario) -> None:
+    from adapt.imagination import ensemble, rollout
+
+    world = World(bundled.scene, seed=1)
+    world.run(0.5)
+    world.add_ball(Ball("thrown", radius=0.08, mass=0.2), position=(1.0, 0.0),
+                   velocity=(0.0, 1.0))
+    assert world.names == ("ball", "thrown", "robot")
+    assert [b.name for b in world.balls] == ["ball", "thrown"]
+    assert world.balls[1].position == (1.0, 0.0)
+    snap = world.snapshot()
+    assert snap.body("thrown").position == (1.0, 0.0)
+    fork = world.fork()
+    world.run(1.0)
+    fork.run(1.0)
+    assert fork.snapshot() == world.snapshot()
+    assert world.position("thrown")[1] == pytest.approx(1.0, abs=1e-6)
+    path = rollout(world, 0.5, body="thrown", times=[0.5])
+    assert path.positions[-1, 1] == pytest.approx(1.5, abs=1e-6)
+    e = ensemble(world, 0.5, {"speed_scale": (0.5, 1.5)}, n=5, body="thrown", seed=2)
+    assert e.samples.shape == (5, 21, 2)
+    # Setting a snapshot back restores the run-time ball too.
+    world.set_state(snap)
+    assert world.position("thrown") == (1.0, 0.0)
+    world.remove_ball("thrown")
+    assert world.names == ("ball", "robot") and [b.name for b in world.balls] == ["ball"]
+    assert len(world.space.bodies) == len(World(bundled.scene).space.bodies)
+    with pytest.raises(ImaginationError, match="add a ball with add_ball"):
+        world.set_state(snap)
+    with pytest.raises(ImaginationError, match="no ball called 'thrown'"):
+        world.remove_ball("thrown")
+    with pytest.raises(ImaginationError, match="used twice"):
+        world.add_ball(Ball("ball"))
+    with pytest.raises(ImaginationError, match="^velocity: expected a speed"):
+        world.add_ball(Ball("x"), velocity=(5000.0, 0.0))
+
+
+def test_removing_a_ball_with_rolling_resistance_removes_its_joints() -> None:
+    world = World(SceneSpec(balls=(Ball("a", rolling_resistance=0.1),
+                                   Ball("b", rolling_resistance=0.1, position=(1, 0)))))
+    assert len(world.space.constraints) == 4
+    world.remove_ball("a")
+    assert len(world.space.constraints) == 2 and len(world.space.shapes) == 1
+    world.run(0.1)
+
+
+def test_contacts_of_a_ball_added_at_run_time_are_recorded() -> None:
+    world = World(SceneSpec(walls=(Wall("east", (1.0, -1.0), (1.0, 1.0)),)))
+    world.add_ball(Ball("late", radius=0.1), velocity=(2.0, 0.0))
+    world.run(1.0)
+    assert [(c.ball, c.surface) for c in world.contacts] == [("late", "east")]
+
+
+# -- fast bodies and limits ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize("speed", [20.0, 80.0, 300.0])
+def test_a_fast_ball_bounces_off_a_wall_instead_of_passing_through(speed: float) -> None:
+    scene = SceneSpec(
+        balls=(Ball("b", radius=0.05, restitution=0.9, velocity=(speed, 0.0)),),
+        walls=(Wall("east", (2.0, -1.0), (2.0, 1.0), restitution=1.0),),
+    )
+    world = World(scene)
+    world.run(1.9 / speed + 0.01)
+    assert [c.surface for c in world.contacts] == ["east"]
+    assert world.velocity("b")[0] == pytest.approx(-0.9 * speed, rel=0.02)
+    assert world.position("b")[0] < 2.0
+
+
+def test_a_ball_at_80_m_s_stays_in_the_room(bundled: Scenario) -> None:
+    ball = replace(bundled.scene.balls[0], velocity=(80.0, 30.0))
+    world = World(replace(bundled.scene, balls=(ball,)))
+    world.run(3.0)
+    x, y = world.position("ball")
+    assert -2.5 < x < 2.5 and -1.0 < y < 3.0
+    assert len({c.surface for c in world.contacts}) >= 3
+
+
+def test_sub_steps_depend_on_the_state_only_so_chunks_do_not_matter(bundled: Scenario) -> None:
+    ball = replace(bundled.scene.balls[0], velocity=(30.0, 12.0))
+    scene = replace(bundled.scene, balls=(ball,))
+    whole = World(scene)
+    whole.run(2.0)
+    pieces = World(scene)
+    for _ in range(480):
+        pieces.step()
+    assert whole.snapshot() == pieces.snapshot()
+    halfway = World(scene)
+    halfway.run(1.0)
+    fork = halfway.fork()
+    fork.run(1.0)
+    assert fork.snapshot() == whole.snapshot()
+
+
+def test_a_force_lasts_the_whole_step_when_it_is_sub_divided() -> None:
+    world = World(SceneSpec(balls=(Ball("b", radius=0.01, mass=1.0, velocity=(40.0, 0.0)),)))
+    world.apply_force("b", (0.0, 10.0))
+    world.step()
+    assert world.velocity("b") == pytest.approx((40.0, 10.0 * world.dt), abs=1e-12)
+    world.step()
+    assert world.velocity("b")[1] == pytest.approx(10.0 * world.dt, abs=1e-12)
+
+
+def test_speeds_beyond_what_sub_steps_resolve_are_refused() -> None:
+    world = World(SceneSpec(balls=(Ball("b", radius=0.001, velocity=(1000.0, 0.0)),)))
+    with pytest.raises(ImaginationError, match="'b' moves at 1000 m/s.*use a smaller dt"):
+        world.step()
+    slow = World(SceneSpec(balls=(Ball("b", radius=0.001, velocity=(1000.0, 0.0)),)), dt=1e-5)
+    slow.step(10)
+    assert slow.position("b")[0] == pytest.approx(0.1)
+
+
+def test_step_counts_are_bounded_per_call() -> None:
+    from adapt.imagination import MAX_STEPS
+
+    world = World(SceneSpec(balls=(Ball("b"),)))
+    with pytest.raises(ImaginationError, match="^run: 1e\\+09 s is .* at most 1,000,000 steps"):
+        world.run(1e9)
+    with pytest.raises(ImaginationError, match="^run_until: "):
+        world.run_until(1e9)
+    with pytest.raises(ImaginationError, match="^steps: expected 0 to"):
+        world.step(MAX_STEPS + 1)
+    with pytest.raises(ImaginationError, match="^steps: expected 0 to"):
+        world.step(-1)
+    with pytest.raises(ImaginationError, match="^steps: expected a whole number"):
+        world.step(1.5)  # type: ignore[arg-type]
+    with pytest.raises(ImaginationError, match="^run_until: expected a finite"):
+        world.run_until(float("nan"))
+    with pytest.raises(ImaginationError, match="^dt: expected a number of seconds from 1e-06"):
+        World(SceneSpec(), dt=1e-9)
+    with pytest.raises(ImaginationError, match="^dt: "):
+        SceneSpec(dt=1e-9)
+    assert world.time == 0.0
+
+
+def test_bad_forces_and_commands_are_errors() -> None:
+    world = World(SceneSpec(balls=(Ball("b"),), robot=RobotSpec()))
+    with pytest.raises(ImaginationError, match="^force: expected finite"):
+        world.apply_force("b", (float("inf"), 0.0))
+    with pytest.raises(ImaginationError, match="^force: expected"):
+        world.apply_force("b", "up")  # type: ignore[arg-type]
+    with pytest.raises(ImaginationError, match="^command: expected finite"):
+        world.command_robot((float("nan"), 0.0))

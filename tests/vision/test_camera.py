@@ -155,5 +155,37 @@ def test_camera_loop_stops_without_alignment():
     real = np.full((480, 640), 90, np.uint8)
     result = synchronise(real, scenes.camera(), lambda cam: np.full((480, 640), 90, np.uint8))
     assert not result.converged and "no alignment" in result.reason
+    assert result.outcome == "no alignment"
     assert len(result.steps) == 1 and np.isnan(result.steps[0].pixel_error)
     assert result.steps[0].as_dict()["pixel_error"] is None
+
+
+def test_each_step_is_reported_as_soon_as_it_is_done():
+    rng = np.random.default_rng(3)
+    real_cam = scenes.camera()
+    real = scenes.sensor_noise(scenes.view(scenes.world("room"), real_cam), rng)
+    start = real_cam.with_rotation(rotation_exp([0.03, -0.02, 0.02]))
+    render = PlanarPhoto("room", 3)
+    seen = []
+
+    def on_step(step):
+        # called before the next render: the loop has rendered exactly this many images
+        seen.append((step.iteration, render.calls))
+
+    result = synchronise(real, start, render, gain=0.5, max_iterations=3, on_step=on_step)
+    assert seen == [(i, i + 1) for i in range(len(result.steps))] and len(seen) == 3
+    assert result.outcome == "iteration limit" and not result.converged
+
+
+def test_default_tolerance_scales_with_the_image():
+    # the same loop at 320x240 stops at 0.25 px, not 0.5 px
+    plane = cv2.GaussianBlur(np.random.default_rng(0).integers(0, 256, (480, 640), dtype=np.uint8), (0, 0), 2)
+    k_plane = np.array([[250, 0, 319.5], [0, 250, 239.5], [0, 0, 1.0]])
+    base = Camera(250, 250, 159.5, 119.5, 320, 240, np.eye(3), np.zeros(3))
+
+    def render(cam):
+        return cv2.warpPerspective(plane, cam.K @ cam.rotation @ np.linalg.inv(k_plane), cam.size)
+
+    result = synchronise(render(base), base.with_rotation(rotation_exp([0.01, -0.01, 0.01])), render, gain=0.5)
+    assert result.converged and "< 0.25" in result.reason
+    assert result.steps[-1].pixel_error < 0.25 <= result.steps[-2].pixel_error

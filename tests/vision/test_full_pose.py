@@ -19,7 +19,7 @@ from adapt.scenario import load_scenario
 from adapt.vision.camera_correction import estimate_pose
 from adapt.vision.sync import SyncResult, synchronise
 
-SCENARIO = Path(__file__).resolve().parents[2] / "scenarios" / "bouncing-ball.yaml"
+SCENARIO = Path(__file__).resolve().parents[2] / "scenarios" / "room.yaml"
 #: A floor-dominated view: the scenario's camera (0.6 m above the floor),
 #: looking down at a point 1.8 m ahead of it instead of at the wall.
 LOOK_AT = (0.0, 1.2, 0.0)

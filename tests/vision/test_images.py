@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from adapt.errors import ImageError, VisionError
-from adapt.vision.images import as_uint8, check_pair, read_image, write_image
+from adapt.vision.homography import corner_error
+from adapt.vision.images import as_uint8, check_image, check_pair, conform, read_image, write_image
 from adapt.vision.mmd import mmd
 
 from . import scenes
@@ -24,10 +25,9 @@ def photo_pair():
     "make, words",
     [
         (lambda r, s: (r, cv2.resize(s, (320, 240))), "320x240"),
-        (lambda r, s: (r, s.astype(np.float32) / 255), "dtype"),
-        (lambda r, s: (r, cv2.cvtColor(s, cv2.COLOR_BGR2GRAY)), "grey"),
+        (lambda r, s: (r, s.astype(np.float32)), r"values from 0 to 255: expected values in \[0, 1\]"),
         (lambda r, s: (r, np.dstack([s, s[:, :, :1]])), "4 channels"),
-        (lambda r, s: (r[:10, :10], s[:10, :10]), "at least 32"),
+        (lambda r, s: (r[:10, :10], s[:10, :10]), "10x10 pixels: expected at least 32x32"),
         (lambda r, s: (r.astype(np.int32), s.astype(np.int32)), "dtype int32"),
         (lambda r, s: (r.tolist(), s), "NumPy array"),
         (lambda r, s: (np.full(r.shape, np.nan, np.float32), s.astype(np.float32)), "NaN"),
@@ -70,6 +70,50 @@ def test_dtypes_other_than_uint8_are_accepted_when_they_agree(photo_pair):
     assert a.aligned and b.aligned and c.aligned
     assert np.allclose(a.homography, b.homography, atol=1e-6)
     assert np.abs(a.homography - c.homography).max() < 1e-3
+
+
+@pytest.mark.parametrize(
+    "convert",
+    [
+        lambda r, s: (cv2.cvtColor(r, cv2.COLOR_BGR2GRAY), s),                      # grey camera
+        lambda r, s: (r, cv2.cvtColor(s, cv2.COLOR_BGR2GRAY)),                      # grey rendering
+        lambda r, s: (r.astype(np.uint16) * 257, s),                                # 16-bit camera
+        lambda r, s: (cv2.cvtColor(r, cv2.COLOR_BGR2GRAY).astype(np.uint16) * 257, s),
+        lambda r, s: (r, s.astype(np.float32) / 255.0),                             # float rendering
+    ],
+    ids=["grey-real", "grey-synthetic", "uint16-real", "grey-uint16-real", "float-synthetic"],
+)
+def test_mixed_dtypes_and_channels_are_converted_by_one_rule(photo_pair, convert):
+    real, synthetic = photo_pair
+    plain = mmd(real, synthetic)
+    r, s = convert(real, synthetic)
+    mixed = mmd(r, s)
+    assert mixed.aligned
+    assert corner_error(mixed.homography, plain.homography, real.shape) < 0.3
+    grey = r.ndim == 2 or s.ndim == 2
+    assert mixed.difference.shape == real.shape[:2]
+    assert mixed.warped.ndim == (2 if grey else 3) and mixed.warped.dtype == np.uint8
+    # the conversion mmd uses is conform(): 8-bit, grey when either is grey
+    cr, cs = conform(r, s)
+    assert cr.dtype == cs.dtype == np.uint8 and cr.shape == cs.shape
+    assert cr.ndim == (2 if grey else 3)
+
+
+def test_conform_does_not_copy_what_needs_no_conversion(photo_pair):
+    real, synthetic = photo_pair
+    r, s = conform(real, synthetic)
+    assert r is real and s is synthetic
+
+
+def test_messages_name_the_file_and_the_minimum_size():
+    with pytest.raises(VisionError) as err:
+        check_image(np.zeros((1, 1, 3), np.uint8), "real", source="shots/one.png")
+    assert str(err.value) == "shots/one.png: real image is 1x1 pixels: expected at least 32x32 pixels"
+    with pytest.raises(VisionError) as err:
+        check_image(np.zeros((1, 1), np.uint8))
+    assert str(err.value) == "image is 1x1 pixels: expected at least 32x32 pixels"
+    with pytest.raises(VisionError, match="real image a.png is 40x40 but synthetic image b.png is 50x40"):
+        check_pair(np.zeros((40, 40), np.uint8), np.zeros((40, 50), np.uint8), sources=("a.png", "b.png"))
 
 
 def test_inputs_are_not_modified(photo_pair):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -13,7 +14,7 @@ from adapt.vision.mask import SIGMA, exact_mask, fast_mask
 def test_exact_mask_is_the_clipped_sum():
     pts = np.array([[100.0, 50.0], [110.0, 50.0], [300.0, 200.0]])
     q = np.array([0.5, 0.25, 1.0])
-    m = exact_mask(pts, q, (240, 320))
+    m = exact_mask(pts, q, (240, 320), sigma=SIGMA)
     x, y = 105, 50
     expected = sum(
         qi * np.exp(-((x - px) ** 2 + (y - py) ** 2) / (2 * SIGMA**2)) for (px, py), qi in zip(pts, q)
@@ -22,6 +23,18 @@ def test_exact_mask_is_the_clipped_sum():
     assert m.max() == pytest.approx(1.0)
     assert m.min() >= 0 and m.dtype == np.float32
     assert m[0, 319] < 1e-6
+
+
+@pytest.mark.parametrize("k", [0.5, 2.0])
+def test_default_width_scales_with_the_image(k):
+    # one match, at the same place relative to the image: the same mask, scaled
+    ref = exact_mask([[320.0, 240.0]], [1.0], (480, 640))
+    h, w = int(480 * k), int(640 * k)
+    m = exact_mask([[(320.5 * k) - 0.5, (240.5 * k) - 0.5]], [1.0], (h, w))
+    back = cv2.resize(m, (640, 480), interpolation=cv2.INTER_LINEAR)
+    assert np.abs(back - ref).max() < 0.02
+    fast = fast_mask([[(320.5 * k) - 0.5, (240.5 * k) - 0.5]], [1.0], (h, w))
+    assert np.abs(fast - m).max() < 0.1
 
 
 def test_empty_mask_is_zero():

@@ -1,4 +1,4 @@
-"""Loading scenario YAML: records, resolved textures and located errors."""
+"""Loading scenario YAML: the camera and world sections, resolved textures and located errors."""
 
 from __future__ import annotations
 
@@ -39,7 +39,7 @@ def test_bundled_scenario(bundled: Scenario) -> None:
     assert isinstance(bundled.camera, Camera) and bundled.seed == 7
     assert (len(scene.balls), len(scene.walls), len(scene.obstacles)) == (1, 4, 3)
     assert scene.robot is not None and scene.walls[0].texture == "builtin:brick"
-    assert bundled.path is not None and bundled.path.name == "bouncing-ball.yaml"
+    assert bundled.path is not None and bundled.path.name == "room.yaml"
 
 
 def test_wall_height_error_names_file_line_col_and_key_path(tmp_path: Path) -> None:
@@ -114,10 +114,13 @@ def test_textures_resolve_relative_to_the_file_and_builtin_names(tmp_path: Path)
     assert [w.texture for w in scene.walls] == ["builtin:coffee", "builtin:gravel"]
 
 
-def test_unknown_top_level_sections_are_kept(tmp_path: Path) -> None:
-    p = write(tmp_path, "  objects: [{name: b}]\n", "agent:\n  rules: [a.soar]\n  cycles: 3\nseed: 4\n")
-    sc = load_scenario(p)
-    assert sc.extra == {"agent": {"rules": ["a.soar"], "cycles": 3}} and sc.seed == 4
+def test_unknown_top_level_sections_are_errors_with_a_suggestion(tmp_path: Path) -> None:
+    p = write(tmp_path, "  objects: [{name: b}]\n", "sede: 4\n")
+    err = error_of(p)
+    assert err.message.startswith("sede: unknown key (did you mean 'seed'?)")
+    assert (err.line, err.col) == (12, 1)
+    p = write(tmp_path, "  objects: [{name: b}]\n", "agent: {}\n")
+    assert error_of(p).message.startswith("agent: unknown key; expected one of seed, camera")
 
 
 def test_file_level_errors(tmp_path: Path) -> None:

@@ -1,0 +1,224 @@
+"""``adapt run`` and ``adapt check``: run a scenario, or validate it without running.
+
+``adapt run SCENARIO.yaml [--out DIR] [--seed N] [--max-frames N] [--trace-level N]``
+    runs the perception-deliberation loop and writes ``report.json``,
+    ``trace.jsonl``, ``mmd.mp4`` and ``figures/`` into DIR (default
+    ``runs/<scenario name>``).  The rules' ``(write ...)`` text is printed as
+    it happens; a progress line shows on a terminal; a short summary ends the
+    run.  Ctrl-C stops the run and still writes complete outputs of the
+    frames done (exit status 130).
+``adapt check SCENARIO.yaml``
+    reads the scenario, checks its schema parameters against the schema
+    types and parses its rule files, and prints what it found.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from adapt.cli.exits import Exit
+from adapt.errors import AdaptError
+
+__all__ = ["register"]
+
+
+def register(sub: Any) -> None:
+    """Add ``run`` and ``check``."""
+    p = sub.add_parser("run", help="run a scenario: frames, schemas, rules, imagination",
+                       description="Run SCENARIO's perception-deliberation loop frame by frame "
+                       "and write its report, trace, MMD video and figures.")
+    p.add_argument("scenario", metavar="SCENARIO.yaml")
+    p.add_argument("--out", metavar="DIR", help="output folder (default runs/<scenario name>)")
+    p.add_argument("--seed", type=int, default=None, metavar="N",
+                   help="random seed (default: the scenario's)")
+    p.add_argument("--max-frames", type=int, default=None, metavar="N",
+                   help="stop after N frames (default: the scenario's run section)")
+    p.add_argument("--trace-level", type=int, default=None, choices=range(1, 6), metavar="1..5",
+                   help="trace detail (default: the scenario's outputs.trace_level, 4)")
+    p.add_argument("--no-video", action="store_true", help="do not write mmd.mp4")
+    p.add_argument("--no-figures", action="store_true", help="do not write figures/")
+    p.add_argument("--json", action="store_true", help="print the run's summary as JSON")
+    p.add_argument("--quiet", action="store_true", help="print neither progress nor rule writes")
+    p.set_defaults(func=_run)
+
+    c = sub.add_parser("check", help="validate a scenario and its rule files without running it",
+                       description="Read SCENARIO, check its schema parameters and parse its rule "
+                       "files; errors point at file:line:col.")
+    c.add_argument("scenario", metavar="SCENARIO.yaml")
+    c.add_argument("--json", action="store_true", help="print what was found as JSON")
+    c.set_defaults(func=_check)
+
+
+class _ProgressLine:
+    """``frame 120/300  28.4 frames/s  3 schemas`` on a terminal, rewritten in place."""
+
+    def __init__(self, stream: Any) -> None:
+        self.stream = stream
+        self.width = 0
+
+    def __call__(self, p: Any) -> None:
+        text = (f"frame {p.frame}/{p.frames}  t={p.time:6.2f} s  {p.fps:5.1f} frames/s  "
+                f"{p.schemas} schema{'' if p.schemas == 1 else 's'}")
+        self.stream.write("\r" + text.ljust(self.width))
+        self.width = len(text)
+        self.stream.flush()
+
+    def clear(self) -> None:
+        if self.width:
+            self.stream.write("\r" + " " * self.width + "\r")
+            self.stream.flush()
+            self.width = 0
+
+
+def _run(args: argparse.Namespace) -> int:
+    from dataclasses import replace
+
+    from adapt.runner import Runner
+    from adapt.scenario import load_scenario
+
+    sc = load_scenario(args.scenario)
+    if args.max_frames is not None and args.max_frames < 1:
+        raise AdaptError(f"--max-frames must be at least 1, got {args.max_frames}")
+    outputs = sc.outputs
+    if args.trace_level is not None:
+        outputs = replace(outputs, trace_level=args.trace_level)
+    if args.no_video:
+        outputs = replace(outputs, video=False)
+    if args.no_figures:
+        outputs = replace(outputs, figures=False)
+    out = Path(args.out) if args.out else Path("runs") / Path(args.scenario).stem
+    bar = _ProgressLine(sys.stderr) if sys.stderr.isatty() and not args.quiet else None
+
+    closed = []
+
+    def on_write(text: str) -> None:
+        if args.quiet or args.json or closed:
+            return
+        if bar is not None:
+            bar.clear()
+        try:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+        except BrokenPipeError:  # the reader went away (| head): the run goes on
+            closed.append(True)
+
+    runner = Runner(sc, out=out, seed=args.seed, max_frames=args.max_frames, outputs=outputs,
+                    on_progress=bar, on_write=on_write)
+    try:
+        result = runner.run()
+    finally:
+        if bar is not None:
+            bar.clear()
+    if args.json:
+        print(json.dumps(result.summary))
+    else:
+        _print_summary(result, sc)
+    return int(Exit.INTERRUPTED) if result.interrupted else int(Exit.OK)
+
+
+def _print_summary(result: Any, sc: Any) -> None:
+    s = result.summary
+    state = "interrupted after" if s["interrupted"] else "ran"
+    print(f"{state} {s['frames']} frames ({s['simulated_s']:.2f} s of reality) in "
+          f"{s['wall_s']:.1f} s: {s['frames_per_s']} frames/s")
+    ev = s["events"]
+    print(f"schemas: {', '.join(s['schemas']) or 'none'} "
+          f"({ev.get('instantiated', 0)} instantiated top-down, {ev.get('spawned', 0)} spawned "
+          f"bottom-up, {ev.get('rejected', 0)} commands rejected)")
+    if s.get("camera_position_error_m") or s.get("camera_rotation_error_deg"):
+        pos = s["camera_position_error_m"]
+        rot = s["camera_rotation_error_deg"]
+        if pos and rot:
+            print(f"camera vs truth at the end: {100 * pos['last']:.2f} cm, {rot['last']:.3f} deg")
+    for name, e in (s.get("tracking_error_m") or {}).items():
+        if e:
+            print(f"{name}: observed vs truth median {100 * e['median']:.1f} cm (p90 "
+                  f"{100 * e['p90']:.1f} cm)")
+    for name, e in (s.get("imagination_error_m") or {}).items():
+        u = (s.get("uncorrected_error_m") or {}).get(name)
+        if e:
+            print(f"{name}: imagined vs truth median {100 * e['median']:.1f} cm (p90 "
+                  f"{100 * e['p90']:.1f} cm)"
+                  + (f"; uncorrected {100 * u['median']:.1f} cm" if u else ""))
+    icpt = s.get("intercept")
+    if icpt:
+        base = s.get("baseline") or {}
+        reach = "" if icpt.get("reachable") is not False else " (out of reach of this robot)"
+        mine = (f"caught {icpt['object']} at t={icpt['t']:.2f} s" if icpt["caught"]
+                else f"did not catch {icpt['object']}{reach}")
+        theirs = (f"at t={base['t']:.2f} s" if base.get("caught") else "did not")
+        print(f"intercept: {mine}; the Kalman baseline's robot {theirs}"
+              + (" catch it" if not base.get("caught") else ""))
+    for horizon, by in sorted((s.get("prediction_error_m") or {}).items()):
+        m, b = by.get("mirror") or {}, by.get("baseline") or {}
+        for kind, label in (("bounce", "with a bounce"), ("no_bounce", "without")):
+            mm, bm = m.get(f"{kind}_median"), b.get(f"{kind}_median")
+            if mm is not None and bm is not None:
+                print(f"prediction {horizon} s ahead, {label}: mirror {100 * mm:.1f} cm, "
+                      f"Kalman baseline {100 * bm:.1f} cm (median of {m.get(kind + '_n')})")
+    conf = s.get("confidence")
+    if conf and conf.get("within_reach") is not None:
+        print(f"confident predictions ({conf['threshold']} at {conf['horizon']:g} s): "
+              f"{100 * conf['within_reach']:.0f}% of {conf['confident']} within the catch reach")
+    for key, path in result.outputs.items():
+        print(f"wrote {path}")
+
+
+def _check(args: argparse.Namespace) -> int:
+    from adapt.engine.functions import default_functions
+    from adapt.engine.parse import load_rule_file
+    from adapt.errors import RuleError
+    from adapt.scenario import load_scenario
+    from adapt.schemas import check_settings
+
+    sc = load_scenario(args.scenario)
+    check_settings(sc.schemas)
+    table = default_functions()
+    rules = []
+    for rf in sc.rules:
+        try:
+            loaded = load_rule_file(rf.path, functions=table)
+        except RuleError as exc:
+            raise type(exc)(f"{exc.message} (a rule file of the scenario, {rf.source.location}: "
+                            f"{rf.source.path})", file=exc.file, line=exc.line, col=exc.col,
+                            source_line=exc.source_line) from None
+        rules.append((str(rf.path), len(loaded.productions), list(loaded.warnings)))
+    found = {
+        "scenario": args.scenario,
+        "camera": {"width": sc.camera.width, "height": sc.camera.height,
+                   "mount": sc.mount.kind.value},
+        "world": {"walls": len(sc.scene.walls), "obstacles": len(sc.scene.obstacles),
+                  "objects": [{"name": m.name, "create": m.create.value} for m in sc.objects],
+                  "robot": sc.scene.robot is not None},
+        "reality": sc.reality.kind.value,
+        "goals": [g.name for g in sc.goals],
+        "rules": [{"file": f, "productions": n, "warnings": w} for f, n, w in rules],
+        "schemas": [s.type for s in sc.schemas],
+        "run": {"fps": sc.run.fps, "frames": sc.run.frames,
+                "decisions_per_frame": sc.run.decisions_per_frame},
+        "seed": sc.seed,
+    }
+    if args.json:
+        print(json.dumps(found))
+        return 0
+    for _, _, warnings in rules:
+        for w in warnings:
+            print(f"warning: {w}", file=sys.stderr)
+    objects = ", ".join(f"{o['name']} ({o['create']})" for o in found["world"]["objects"])
+    print(f"{args.scenario}: ok")
+    print(f"  camera {sc.camera.width}x{sc.camera.height}, {sc.mount.kind.value}; world: "
+          f"{len(sc.scene.walls)} walls, {len(sc.scene.obstacles)} obstacles, objects: "
+          f"{objects or 'none'}{', a robot' if sc.scene.robot else ''}")
+    print(f"  reality: {sc.reality.kind.value}; {sc.run.frames} frames at {sc.run.fps:g} frames/s, "
+          f"{sc.run.decisions_per_frame} decisions per frame; seed {sc.seed}")
+    print(f"  goals: {', '.join(found['goals']) or 'none'}; schema settings: "
+          f"{', '.join(found['schemas']) or 'none'}")
+    for f, n, _ in rules:
+        print(f"  rules: {f}: {n} production{'' if n == 1 else 's'}")
+    if not rules:
+        print("  rules: none (the run will instantiate no schemas)")
+    return 0

@@ -1,0 +1,264 @@
+"""The run's figures, drawn with matplotlib into ``figures/``.
+
+* ``sync.png`` -- the paper's Figure 4: real, synthetic (with its matched
+  corners), warped synthetic, MMD mask and MMD image at the start of the run
+  and after the camera synchronised;
+* ``unexpected.png`` -- the paper's Figure 5, for runs where a schema was
+  spawned for an unexpected difference: real, synthetic and MMD before the
+  spawn, at it and after;
+* ``camera.png`` -- the camera loop's pixel error over the run, and the
+  synthetic camera's error against the true camera when there is ground truth;
+* ``floor.png`` -- the floor plan: walls, obstacles, and the observed,
+  imagined and true paths of every object, and the robot's path.
+
+The data come from :class:`Snapshots` (a few frames kept by reference) and
+:class:`Paths` (decimated series), so nothing grows with the run's length.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from adapt.figures.strips import Panel, write_strip
+from adapt.files import atomic_path
+
+if TYPE_CHECKING:  # pragma: no cover
+    from adapt.runner.runner import Runner
+
+__all__ = ["Snapshot", "Snapshots", "Paths", "write_figures", "PLANNED"]
+
+#: Frames kept for the strips, besides spawns and the last frame.
+PLANNED = (0, 1, 2, 3, 5, 8, 13, 21, 34)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Snapshot:
+    """The images of one frame (references, not copies)."""
+
+    index: int
+    time: float
+    real: NDArray[np.uint8]
+    synthetic: NDArray[np.uint8] | None
+    corners: NDArray[np.float64] | None
+    warped: NDArray[np.uint8] | None
+    mask: NDArray[np.float32] | None
+    difference: NDArray[np.float32] | None
+    pixel_error: float
+    unexpected: tuple[tuple[int, int, int, int], ...]
+    monitored: tuple[tuple[str, tuple[int, int, int, int]], ...]
+
+
+class Snapshots:
+    """The frames the strips need: the planned ones, a few around each spawn, the last."""
+
+    def __init__(self, limit: int = 16) -> None:
+        self.limit = limit
+        self.kept: dict[int, Snapshot] = {}
+        self.last: Snapshot | None = None
+        self.spawns: list[int] = []
+        self._want: set[int] = set(PLANNED)
+
+    def wants(self, index: int) -> bool:
+        """True when frame ``index`` should be kept."""
+        return index in self._want
+
+    def spawned(self, index: int) -> None:
+        """A schema was spawned at frame ``index``: keep it and a few after."""
+        if len(self.spawns) < 3:
+            self.spawns.append(index)
+            self._want.update({index, index + 5, index + 15})
+
+    def add(self, snap: Snapshot) -> None:
+        """Keep ``snap`` if wanted; always remember it as the last."""
+        self.last = snap
+        if snap.index in self._want and len(self.kept) < self.limit:
+            self.kept[snap.index] = snap
+
+
+@dataclass
+class Paths:
+    """Decimated series for the plots (at most ``limit`` points each)."""
+
+    limit: int = 4000
+    stride: int = 1
+    count: int = 0
+    time: list[float] = field(default_factory=list)
+    pixel_error: list[float] = field(default_factory=list)
+    camera_position: list[float] = field(default_factory=list)
+    camera_rotation: list[float] = field(default_factory=list)
+    observed: dict[str, list[tuple[float, float] | None]] = field(default_factory=dict)
+    imagined: dict[str, list[tuple[float, float] | None]] = field(default_factory=dict)
+    truth: dict[str, list[tuple[float, float] | None]] = field(default_factory=dict)
+    robot: list[tuple[float, float] | None] = field(default_factory=list)
+
+    def add(self, record: dict[str, Any], pixel_error: float,
+            robot: tuple[float, float] | None) -> None:
+        """Take one frame's record (every ``stride``-th one is kept)."""
+        self.count += 1
+        if (self.count - 1) % self.stride:
+            return
+        n = len(self.time)
+        self.time.append(float(record["t"]))
+        self.pixel_error.append(pixel_error)
+        cam = record.get("camera_pose_error") or {}
+        self.camera_position.append(cam.get("position_m", math.nan) if cam else math.nan)
+        self.camera_rotation.append(cam.get("rotation_deg", math.nan) if cam else math.nan)
+        self.robot.append(robot)
+        truth = record.get("truth") or {}
+        for name, obj in record["objects"].items():
+            for store, value in ((self.observed, obj.get("observed")),
+                                 (self.imagined, obj.get("imagined")),
+                                 (self.truth, truth.get(name))):
+                series = store.setdefault(name, [None] * n)
+                series.append(None if value is None else (float(value[0]), float(value[1])))
+        for store in (self.observed, self.imagined, self.truth):
+            for series in store.values():
+                while len(series) < n + 1:
+                    series.append(None)
+        if len(self.time) > self.limit:
+            self._thin()
+
+    def _thin(self) -> None:
+        self.stride *= 2
+        for key in ("time", "pixel_error", "camera_position", "camera_rotation", "robot"):
+            setattr(self, key, getattr(self, key)[::2])
+        for store in (self.observed, self.imagined, self.truth):
+            for name in store:
+                store[name] = store[name][::2]
+
+
+def _save(fig: Any, path: Path) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_path(path, suffix=".png") as tmp:
+        fig.savefig(tmp, format="png", dpi=100)
+    return path
+
+
+def _sync_rows(snaps: list[Snapshot]) -> list[list[Panel]]:
+    rows = []
+    for s in snaps:
+        err = "no alignment" if math.isnan(s.pixel_error) else f"{s.pixel_error:.2f} px"
+        head = f"t={s.time:.2f} s ({err})"
+        corners = [] if s.corners is None or not len(s.corners) else [(s.corners, "yellow")]
+        rows.append([Panel(f"{head}\nreal", s.real),
+                     Panel("synthetic + matched corners", s.synthetic, points=corners),
+                     Panel("warped synthetic", s.warped), Panel("MMD mask", s.mask),
+                     Panel("MMD image", s.difference)])
+    return rows
+
+
+def _boxed(label: str, image: NDArray[Any] | None, snap: Snapshot) -> Panel:
+    boxes = [(b, "red") for b in snap.unexpected] + [(b, "cyan") for _, b in snap.monitored]
+    if image is not None and image.shape[:2] != snap.real.shape[:2]:
+        boxes = []  # an MMD image at a reduced working resolution: no boxes in input pixels
+    return Panel(label, image, boxes=boxes)
+
+
+def write_figures(runner: "Runner", folder: Path) -> dict[str, Path]:
+    """Write the run's figures; returns name -> path of each file written."""
+    out: dict[str, Path] = {}
+    folder.mkdir(parents=True, exist_ok=True)
+    snaps = runner.snapshots
+    kept = sorted(snaps.kept.values(), key=lambda s: s.index)
+    if snaps.last is not None and (not kept or kept[-1].index != snaps.last.index):
+        kept.append(snaps.last)
+    kept = [s for s in kept if s.synthetic is not None and s.difference is not None]
+    if kept:
+        first = kept[0]
+        synced = next((s for s in kept if s.pixel_error <= 0.5), kept[-1])
+        chosen = [first] if synced is first else [first, synced]
+        out["sync"] = write_strip(folder / "sync.png", _sync_rows(chosen),
+                                  title="Scene Background synchronisation (paper Fig. 4)")
+    if snaps.spawns:
+        at = snaps.spawns[0]
+        chosen = [s for s in kept if s.index in (at - 0, at + 5, at + 15)] or [kept[-1]]
+        before = [s for s in kept if s.index < at]
+        if before:
+            chosen = [before[-1], *chosen]
+        rows = [[_boxed(f"t={s.time:.2f} s\nreal", s.real, s),
+                 Panel("synthetic", s.synthetic), _boxed("MMD image", s.difference, s)]
+                for s in chosen]
+        out["unexpected"] = write_strip(
+            folder / "unexpected.png", rows,
+            title="Unexpected object: found (red), then monitored by a spawned schema (cyan) "
+                  "(paper Fig. 5)")
+    if runner.series.time:
+        out["camera"] = _camera_plot(runner, folder / "camera.png")
+        out["floor"] = _floor_plot(runner, folder / "floor.png")
+    return out
+
+
+def _camera_plot(runner: "Runner", path: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    p = runner.series
+    has_truth = any(math.isfinite(v) for v in p.camera_position)
+    fig, axes = plt.subplots(1, 2 if has_truth else 1, figsize=(10 if has_truth else 5.5, 3.4),
+                             squeeze=False)
+    ax = axes[0][0]
+    ax.plot(p.time, p.pixel_error, lw=1.2, color="tab:blue")
+    ax.set_yscale("symlog", linthresh=1.0)
+    ax.axhline(0.5, color="gray", lw=0.8, ls="--", label="tolerance 0.5 px")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("pixel error of H_e (px)")
+    ax.set_title("camera synchronisation (MMD)")
+    ax.legend(fontsize=8)
+    if has_truth:
+        ax2 = axes[0][1]
+        ax2.plot(p.time, [v * 100 for v in p.camera_position], lw=1.2, label="position (cm)")
+        ax2.plot(p.time, p.camera_rotation, lw=1.2, label="rotation (deg)")
+        ax2.set_xlabel("time (s)")
+        ax2.set_title("synthetic camera vs the true camera")
+        ax2.legend(fontsize=8)
+    fig.tight_layout()
+    out = _save(fig, path)
+    plt.close(fig)
+    return out
+
+
+def _floor_plot(runner: "Runner", path: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    scene = runner.scenario.scene
+    p = runner.series
+    fig, ax = plt.subplots(figsize=(6.4, 5.2))
+    for w in scene.walls:
+        ax.plot([w.start[0], w.end[0]], [w.start[1], w.end[1]], color="saddlebrown", lw=3)
+    for ob in scene.obstacles:
+        xs = [q[0] for q in ob.polygon] + [ob.polygon[0][0]]
+        ys = [q[1] for q in ob.polygon] + [ob.polygon[0][1]]
+        ax.fill(xs, ys, color=np.array(ob.color) / 255.0, alpha=0.8)
+    styles = (("truth", p.truth, "-", "black"), ("observed", p.observed, ".", None),
+              ("imagined", p.imagined, "--", None))
+    for label, store, style, color in styles:
+        for name, series in store.items():
+            pts = np.array([v if v is not None else (np.nan, np.nan) for v in series], float)
+            if np.isfinite(pts).any():
+                ax.plot(pts[:, 0], pts[:, 1], style, ms=2.5, lw=1.2, color=color,
+                        label=f"{name} {label}")
+    robot = np.array([v if v is not None else (np.nan, np.nan) for v in p.robot], float)
+    if len(robot) and np.isfinite(robot).any():
+        ax.plot(robot[:, 0], robot[:, 1], "-", color="dimgray", lw=2, label="robot (odometry)")
+    cam = runner.scenario.camera.position
+    ax.plot([cam[0]], [cam[1]], "^", color="purple", label="camera")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title("floor plan")
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    out = _save(fig, path)
+    plt.close(fig)
+    return out

@@ -1,0 +1,74 @@
+"""The frames of ``mmd.mp4``: real | synthetic | MMD side by side, schemas' boxes drawn.
+
+Each panel is the camera's size; the three are put side by side with a thin
+caption bar.  Boxes: the region a schema monitors, in its own colour, with
+its name; unexpected regions in red.
+
+Examples
+--------
+>>> import numpy as np
+>>> real = np.zeros((48, 64, 3), np.uint8)
+>>> out = side_by_side(real, real, np.zeros((48, 64), np.float32), [], [], frame=3, time=0.1)
+>>> out.shape
+(64, 192, 3)
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["side_by_side", "CAPTION"]
+
+#: Height of the caption bar above the panels, pixels.
+CAPTION = 16
+
+_PALETTE = [(255, 200, 0), (0, 220, 255), (255, 0, 255), (0, 255, 120), (255, 128, 0)]
+_UNEXPECTED = (40, 40, 255)
+
+BBox = tuple[int, int, int, int]
+
+
+def _box(img: NDArray[np.uint8], box: BBox, color: tuple[int, int, int], label: str) -> None:
+    x, y, w, h = (int(v) for v in box)
+    cv2.rectangle(img, (x, y), (x + w - 1, y + h - 1), color, 1, cv2.LINE_AA)
+    if label:
+        cv2.putText(img, label, (x, max(y - 3, 9)), cv2.FONT_HERSHEY_SIMPLEX, 0.35, color, 1,
+                    cv2.LINE_AA)
+
+
+def side_by_side(real: NDArray[np.uint8], synthetic: NDArray[np.uint8] | None,
+                 difference: NDArray[np.float32] | None,
+                 monitored: Sequence[tuple[str, BBox]], unexpected: Sequence[BBox], *,
+                 frame: int, time: float, note: str = "") -> NDArray[np.uint8]:
+    """One video frame (see the module docstring)."""
+    h, w = real.shape[:2]
+    left = np.ascontiguousarray(real.copy())
+    mid = (np.zeros_like(left) if synthetic is None else np.ascontiguousarray(synthetic.copy()))
+    if difference is None:
+        right = np.zeros_like(left)
+    else:
+        d = np.clip(difference * 2.0, 0, 255).astype(np.uint8)
+        if d.shape[:2] != (h, w):  # MMD works at a bounded resolution
+            d = cv2.resize(d, (w, h), interpolation=cv2.INTER_NEAREST)
+        right = cv2.cvtColor(d, cv2.COLOR_GRAY2BGR)
+    colors: dict[str, tuple[int, int, int]] = {}
+    for name, box in monitored:
+        color = colors.setdefault(name, _PALETTE[len(colors) % len(_PALETTE)])
+        for panel in (left, right):
+            _box(panel, box, color, name)
+    for box in unexpected:
+        for panel in (left, right):
+            _box(panel, box, _UNEXPECTED, "?")
+    bar = np.full((CAPTION, 3 * w, 3), 24, np.uint8)
+    for i, title in enumerate(("real", "synthetic (imagination)", "MMD")):
+        cv2.putText(bar, title, (i * w + 4, CAPTION - 4), cv2.FONT_HERSHEY_SIMPLEX, 0.4,
+                    (230, 230, 230), 1, cv2.LINE_AA)
+    text = f"frame {frame}  t={time:.2f} s" + (f"  {note}" if note else "")
+    size = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, 0.4, 1)[0][0]
+    cv2.putText(bar, text, (3 * w - size - 4, CAPTION - 4), cv2.FONT_HERSHEY_SIMPLEX, 0.4,
+                (200, 230, 255), 1, cv2.LINE_AA)
+    return np.vstack([bar, np.hstack([left, mid, right])])

@@ -1,0 +1,294 @@
+"""Reading the ``reality`` section: where the "real" frames come from.
+
+``kind: synthetic`` (the default, also when the section is absent) describes
+a ground-truth world that differs from the imagination as reality does;
+``kind: video`` names a video file or an image sequence.  See
+``docs/scenario.md`` for every key and its default.
+"""
+
+from __future__ import annotations
+
+import glob as globbing
+from dataclasses import replace
+from pathlib import Path
+from typing import Any, Callable
+
+import yaml
+
+from adapt.imagination.scene import Ball, RobotSpec
+from adapt.scenario.nodes import Node, join
+from adapt.scenario.records import (
+    Appearance,
+    CameraOffset,
+    Creation,
+    ObjectModel,
+    Range,
+    RealityKind,
+    RobotTruth,
+    SyntheticReality,
+    Throw,
+    TrueObject,
+    VideoReality,
+)
+from adapt.scenario.source import Source
+from adapt.scenario.world import WorldReader
+
+__all__ = ["RealityReader", "SYNTHETIC_KEYS", "VIDEO_KEYS", "TRUE_OBJECT_KEYS", "THROW_KEYS",
+           "APPEARANCE_KEYS", "REALITY_ROBOT_KEYS", "DEFAULT_REALITY_DT", "DEFAULT_DRAG",
+           "DEFAULT_SPIN"]
+
+SYNTHETIC_KEYS = ("kind", "dt", "camera_offset", "camera_offset_deg", "appearance", "robot",
+                  "objects")
+VIDEO_KEYS = ("kind", "path", "fps", "ground_truth")
+TRUE_OBJECT_KEYS = ("name", "radius", "color", "texture", "position", "velocity", "restitution",
+                    "friction", "rolling_resistance", "mass", "drag", "spin", "throw")
+THROW_KEYS = ("t", "x", "y", "speed", "heading_deg")
+APPEARANCE_KEYS = ("brightness", "contrast", "color_shift", "gradient", "gradient_deg", "blur",
+                   "noise", "texture_scale", "texture_phase", "tint", "spin_marker")
+REALITY_ROBOT_KEYS = ("max_speed", "max_accel", "slip", "slip_interval")
+
+#: Reality's physics step when the scenario gives none (four times finer than the model's).
+DEFAULT_REALITY_DT = 1.0 / 960.0
+#: Speed-dependent rolling drag of a real ball when the scenario gives none, 1/m.
+DEFAULT_DRAG = 0.03
+#: Share of the tangential velocity a real ball stores as spin at a bounce, by default.
+DEFAULT_SPIN = 0.25
+#: The default appearance of a synthetic reality: a little sensor noise and blur.
+DEFAULT_APPEARANCE = Appearance(noise=2.0, blur=0.6)
+
+
+class RealityReader(WorldReader):
+    """The ``reality`` section (on top of the world reader)."""
+
+    def reality(self, node: Node | None, path: str, models: tuple[ObjectModel, ...],
+                robot: RobotSpec | None) -> SyntheticReality | VideoReality:
+        """Read ``reality`` (``node`` None: the default synthetic reality)."""
+        if node is None:
+            return self.default_reality(models, Source(self.file, 1, 1, path, self.line_text(1)))
+        items = self.mapping(node, path)
+        kind = RealityKind.SYNTHETIC
+        if "kind" in items:
+            kind = RealityKind(self.choice(items["kind"][1], join(path, "kind"),
+                                           [k.value for k in RealityKind]))
+        if kind is RealityKind.VIDEO:
+            return self.video(node, path)
+        return self.synthetic(node, path, models, robot)
+
+    def default_reality(self, models: tuple[ObjectModel, ...], source: Source) -> SyntheticReality:
+        """The synthetic reality of a scenario without a ``reality`` section."""
+        objects = []
+        for m in models:
+            if m.create is Creation.WHEN_SEEN:
+                raise m.source.error(
+                    f"object {m.name!r} is created when seen, but the scenario has no reality "
+                    "section to say when it appears; add reality.objects with a throw for it")
+            objects.append(self.true_from_model(m, None, {}, source))
+        return SyntheticReality(DEFAULT_REALITY_DT, CameraOffset(source=source), DEFAULT_APPEARANCE,
+                                tuple(objects), RobotTruth(source=source), source)
+
+    # -- video ---------------------------------------------------------------------------
+
+    def video(self, node: Node, path: str) -> VideoReality:
+        items = self.mapping(node, path)
+        self.check_keys(items, VIDEO_KEYS, path)
+        if "path" not in items:
+            raise self.error(node, path, "missing key 'path' (a video file or an image glob)")
+        pnode = items["path"][1]
+        target = self.path_value(pnode, join(path, "path"))
+        pattern: str | None = None
+        if any(ch in str(target) for ch in "*?["):
+            pattern = str(target)
+            if not globbing.glob(pattern):
+                raise self.error(pnode, join(path, "path"),
+                                 f"no image matches {pattern!r}; expected a glob of image files "
+                                 "(relative to the scenario)")
+        elif target.is_dir():
+            raise self.error(pnode, join(path, "path"),
+                             f"{str(target)!r} is a folder; expected a video file or an image glob "
+                             "such as frames/*.png")
+        elif not target.is_file():
+            raise self.error(pnode, join(path, "path"),
+                             f"video file {str(target)!r} not found (paths are relative to the "
+                             "scenario)")
+        fps = self.number(items["fps"][1], join(path, "fps"), "positive") if "fps" in items else None
+        if pattern is not None and fps is None:
+            raise self.error(node, path, "an image sequence needs 'fps' (frames per second)")
+        truth = None
+        if "ground_truth" in items:
+            truth = self.existing_file(items["ground_truth"][1], join(path, "ground_truth"),
+                                       "ground-truth file")
+        return VideoReality(Path(target), pattern, fps, truth, self.source(node, path))
+
+    # -- synthetic --------------------------------------------------------------------------
+
+    def synthetic(self, node: Node, path: str, models: tuple[ObjectModel, ...],
+                  robot: RobotSpec | None) -> SyntheticReality:
+        items = self.mapping(node, path)
+        self.check_keys(items, SYNTHETIC_KEYS, path)
+        src = self.source(node, path)
+        dt = DEFAULT_REALITY_DT
+        if "dt" in items:
+            dt = self.number(items["dt"][1], join(path, "dt"), "positive")
+        offset = self.camera_offset(items, path)
+        appearance = DEFAULT_APPEARANCE
+        if "appearance" in items:
+            appearance = self.appearance(items["appearance"][1], join(path, "appearance"))
+        truth = RobotTruth(source=src)
+        if "robot" in items:
+            if robot is None:
+                raise self.error(items["robot"][0], join(path, "robot"),
+                                 "the world has no robot for reality.robot to describe")
+            truth = self.robot_truth(items["robot"][1], join(path, "robot"))
+        given: dict[str, TrueObject] = {}
+        if "objects" in items:
+            by_name = {m.name: m for m in models}
+            for obj in self.listed(items["objects"][1], join(path, "objects"),
+                                   lambda n, p, i: self.true_object(n, p, by_name)):
+                if obj.name in given:
+                    raise obj.source.error(f"a second reality object called {obj.name!r}")
+                given[obj.name] = obj
+        objects = []
+        for m in models:
+            if m.name in given:
+                objects.append(given.pop(m.name))
+                continue
+            if m.create is Creation.WHEN_SEEN:
+                raise m.source.error(
+                    f"object {m.name!r} is created when seen; reality.objects must say when and "
+                    "how it appears (a throw)")
+            objects.append(self.true_from_model(m, None, {}, src))
+        objects.extend(given.values())  # objects of reality only, in file order
+        return SyntheticReality(dt, offset, appearance, tuple(objects), truth, src)
+
+    def camera_offset(self, items: dict[str, tuple[Node, Node]], path: str) -> CameraOffset:
+        kw: dict[str, Any] = {"source": self.source(None, path)}
+        for key, field, rand in (("camera_offset", "position", "random_position"),
+                                 ("camera_offset_deg", "rotation_deg", "random_rotation")):
+            if key not in items:
+                continue
+            knode, vnode = items[key]
+            p = join(path, key)
+            if isinstance(vnode, yaml.SequenceNode):
+                kw[field] = self.vector(vnode, p, 3)
+            else:
+                kw[rand] = self.number(vnode, p, "nonnegative")
+            kw["source"] = self.source(knode, p)
+        return CameraOffset(**kw)
+
+    def appearance(self, node: Node, path: str) -> Appearance:
+        spec: dict[str, Callable[[Node, str], Any]] = {
+            "brightness": self.number,
+            "contrast": lambda n, p: self.number(n, p, "positive"),
+            "color_shift": lambda n, p: self.vector(n, p, 3),
+            "gradient": lambda n, p: self.number(n, p, "unit"),
+            "gradient_deg": self.number,
+            "blur": lambda n, p: self.number(n, p, "nonnegative"),
+            "noise": lambda n, p: self.number(n, p, "nonnegative"),
+            "texture_scale": lambda n, p: self.number(n, p, "positive"),
+            "texture_phase": lambda n, p: self.vector(n, p, 2),
+            "tint": lambda n, p: self.vector(n, p, 3),
+            "spin_marker": self.boolean,
+        }
+        kw = self.fields(node, path, spec)
+        for key in ("blur", "noise"):
+            limit = 20.0 if key == "blur" else 100.0
+            if kw.get(key, 0.0) > limit:
+                items = self.mapping(node, path)
+                raise self.error(items[key][1], join(path, key),
+                                 f"expected at most {limit:g}, got {kw[key]:g}")
+        for i, g in enumerate(kw.get("tint", ())):
+            if not 0 < g <= 4:
+                items = self.mapping(node, path)
+                raise self.error(items["tint"][1], join(join(path, "tint"), i),
+                                 f"expected a gain in (0, 4], got {g:g}")
+        return Appearance(**kw, source=self.source(node, path))
+
+    def robot_truth(self, node: Node, path: str) -> RobotTruth:
+        spec: dict[str, Callable[[Node, str], Any]] = {
+            "max_speed": lambda n, p: self.number(n, p, "positive"),
+            "max_accel": lambda n, p: self.number(n, p, "positive"),
+            "slip": lambda n, p: self.number(n, p, "unit"),
+            "slip_interval": lambda n, p: self.number(n, p, "positive"),
+        }
+        return RobotTruth(**self.fields(node, path, spec), source=self.source(node, path))
+
+    def throw(self, node: Node, path: str) -> Throw:
+        spec: dict[str, Callable[[Node, str], Any]] = {
+            "t": lambda n, p: self.range(n, p, "nonnegative"),
+            "x": self.range,
+            "y": self.range,
+            "speed": lambda n, p: self.range(n, p, "nonnegative"),
+            "heading_deg": self.range,
+        }
+        kw = self.fields(node, path, spec, required=("x", "y"))
+        return Throw(kw.get("t", Range.fixed(0.0)), kw["x"], kw["y"],
+                     kw.get("speed", Range.fixed(0.0)), kw.get("heading_deg", Range.fixed(0.0)),
+                     self.source(node, path))
+
+    def true_object(self, node: Node, path: str, models: dict[str, ObjectModel]) -> TrueObject:
+        """One ``reality.objects[i]``: the truth about a world object, or an object of reality only."""
+        items = self.mapping(node, path)
+        self.check_keys(items, TRUE_OBJECT_KEYS, path)
+        if "name" not in items:
+            raise self.error(node, path, "missing key 'name' (a world object's name, or a new name "
+                             "for an object that exists in reality only)")
+        name = self.string(items["name"][1], join(path, "name"))
+        model = models.get(name)
+        params: dict[str, Range] = {}
+        for key, check in (("restitution", "unit"), ("friction", "nonnegative"),
+                           ("rolling_resistance", "nonnegative"), ("mass", "positive"),
+                           ("drag", "nonnegative"), ("spin", "unit")):
+            if key in items:
+                params[key] = self.range(items[key][1], join(path, key), check)
+        if params.get("mass") is not None and params["mass"].low <= 0:
+            raise self.error(items["mass"][1], join(path, "mass"), "expected a positive mass")
+        look: dict[str, Any] = {}
+        if "radius" in items:
+            if model is not None:
+                raise self.error(items["radius"][0], join(path, "radius"),
+                                 f"{name!r} is a world object: its radius is the world's; remove "
+                                 "this key")
+            look["radius"] = self.number(items["radius"][1], join(path, "radius"), "positive")
+        if "color" in items:
+            look["color"] = self.color(items["color"][1], join(path, "color"))
+        if "texture" in items:
+            look["texture"] = self.texture(items["texture"][1], join(path, "texture"))
+        for key in ("position", "velocity"):
+            if key in items:
+                look[key] = self.vector(items[key][1], join(path, key), 2)
+        throw = self.throw(items["throw"][1], join(path, "throw")) if "throw" in items else None
+        src = self.source(node, path)
+        if model is not None:
+            if model.create is Creation.WHEN_SEEN and throw is None and "position" not in look:
+                raise self.error(node, path, f"object {name!r} is created when seen: give a throw "
+                                 "(when and how it appears) or a position")
+            return self.true_from_model(model, throw, params, src, look)
+        if "radius" not in look:
+            raise self.error(node, path, f"{name!r} is not a world object, so it exists in reality "
+                             "only: give its radius (and a colour)")
+        ball = self.build(Ball, node, path, {"name": name, **look})
+        return TrueObject(
+            name, ball, False,
+            params.get("restitution", Range.fixed(ball.restitution)),
+            params.get("friction", Range.fixed(ball.friction)),
+            params.get("rolling_resistance", Range.fixed(ball.rolling_resistance)),
+            params.get("mass", Range.fixed(ball.mass)),
+            params.get("drag", Range.fixed(DEFAULT_DRAG)),
+            params.get("spin", Range.fixed(DEFAULT_SPIN)),
+            throw, src)
+
+    def true_from_model(self, model: ObjectModel, throw: Throw | None, params: dict[str, Range],
+                        source: Source, look: dict[str, Any] | None = None) -> TrueObject:
+        """A declared object's truth: the model's values unless ``params`` say otherwise."""
+        ball = model.ball
+        if look:
+            ball = replace(ball, **look)
+        return TrueObject(
+            model.name, ball, True,
+            params.get("restitution", Range.fixed(model.ball.restitution)),
+            params.get("friction", Range.fixed(model.ball.friction)),
+            params.get("rolling_resistance", Range.fixed(model.ball.rolling_resistance)),
+            params.get("mass", Range.fixed(model.ball.mass)),
+            params.get("drag", Range.fixed(DEFAULT_DRAG)),
+            params.get("spin", Range.fixed(DEFAULT_SPIN)),
+            throw, source)

@@ -1,0 +1,311 @@
+"""Reading the ``camera`` and ``world`` sections (see ``docs/scenario.md``).
+
+The world becomes the imagination's :class:`~adapt.imagination.scene.SceneSpec`
+(with only the objects that are in the imagination from the start) plus one
+:class:`~adapt.scenario.records.ObjectModel` per declared object; the camera
+becomes an :class:`~adapt.geometry.Camera` at its starting pose and a
+:class:`~adapt.scenario.records.CameraMount`.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any, Callable
+
+import yaml
+
+from adapt.errors import ImaginationError
+from adapt.geometry import Camera
+from adapt.imagination.scene import (
+    BUILTIN_TEXTURES,
+    DEFAULT_DT,
+    Ball,
+    Floor,
+    Obstacle,
+    RobotSpec,
+    SceneSpec,
+    Wall,
+    check_convex_polygon,
+)
+from adapt.scenario.nodes import Node, NodeReader, join
+from adapt.scenario.records import (
+    MODEL_RANGE_PARAMETERS,
+    CameraMount,
+    Creation,
+    Mount,
+    ObjectModel,
+    Range,
+)
+
+__all__ = ["WorldReader", "CAMERA_KEYS", "WORLD_KEYS", "FLOOR_KEYS", "WALL_KEYS",
+           "OBSTACLE_KEYS", "OBJECT_KEYS", "ROBOT_KEYS"]
+
+CAMERA_KEYS = ("fx", "fy", "cx", "cy", "width", "height", "position", "look_at", "roll_deg",
+               "mount")
+WORLD_KEYS = ("floor", "walls", "obstacles", "objects", "robot", "gravity", "dt")
+FLOOR_KEYS = ("texture", "tile", "color", "extent")
+SURFACE_KEYS = ("name", "height", "texture", "tile", "color", "restitution", "friction")
+WALL_KEYS = ("name", "from", "to", "height", "texture", "tile", "color", "restitution", "friction")
+OBSTACLE_KEYS = ("name", "polygon", "height", "texture", "tile", "color", "restitution", "friction")
+OBJECT_KEYS = ("name", "radius", "mass", "restitution", "friction", "rolling_resistance",
+               "position", "velocity", "color", "texture", "create", "ranges")
+ROBOT_KEYS = ("name", "shape", "radius", "size", "position", "heading_deg", "max_speed",
+              "max_accel", "mass", "height", "color")
+
+
+class WorldReader(NodeReader):
+    """The ``camera`` and ``world`` sections."""
+
+    # -- values of the world ------------------------------------------------------------
+
+    def color(self, node: Node, path: str) -> tuple[int, int, int]:
+        """``[r, g, b]`` (0..255) or ``'#rrggbb'``."""
+        self.source(node, path)
+        if isinstance(node, yaml.ScalarNode):
+            value = self.scalar(node, path)
+            if isinstance(value, str) and len(value) == 7 and value.startswith("#"):
+                try:
+                    return (int(value[1:3], 16), int(value[3:5], 16), int(value[5:7], 16))
+                except ValueError:
+                    pass
+            raise self.error(node, path, f"expected [r, g, b] or '#rrggbb', got {value!r}")
+        rgb = self.vector(node, path, 3)
+        for i, c in enumerate(rgb):
+            if not 0 <= c <= 255:
+                raise self.error(node.value[i], join(path, i), f"expected 0..255, got {c:g}")
+        return (int(rgb[0]), int(rgb[1]), int(rgb[2]))
+
+    def texture(self, node: Node, path: str) -> str:
+        """A bundled texture name (``brick`` or ``builtin:brick``) or an image file."""
+        value = self.string(node, path)
+        if value.startswith("builtin:"):
+            name = value[len("builtin:"):]
+            if name not in BUILTIN_TEXTURES:
+                raise self.error(
+                    node, path,
+                    f"unknown builtin texture {name!r}; expected one of {', '.join(BUILTIN_TEXTURES)}",
+                )
+            return value
+        if value in BUILTIN_TEXTURES:
+            return f"builtin:{value}"
+        p = Path(value).expanduser()
+        if not p.is_absolute():
+            p = self.base / p
+        if not p.is_file():
+            raise self.error(
+                node, path,
+                f"texture file {str(p)!r} not found; expected an image file (relative to the "
+                f"scenario) or a bundled texture ({', '.join(BUILTIN_TEXTURES)})",
+            )
+        return str(p)
+
+    def polygon(self, node: Node, path: str) -> tuple[tuple[float, float], ...]:
+        """A convex polygon of ``[x, y]`` points."""
+        if not isinstance(node, yaml.SequenceNode):
+            raise self.error(node, path, f"expected a list of [x, y] points, got {self.describe(node)}")
+        pts = [self.vector(v, join(path, i), 2) for i, v in enumerate(node.value)]
+        try:
+            return check_convex_polygon("polygon", pts)  # type: ignore[arg-type]
+        except ImaginationError as exc:
+            raise self.error(node, path, str(exc).removeprefix("polygon: ")) from None
+
+    def build(self, cls: Callable[..., Any], node: Node, path: str, kwargs: dict[str, Any],
+              keymap: dict[str, str] | None = None) -> Any:
+        """``cls(**kwargs)``; an :class:`ImaginationError` naming a field
+        (``"radius: ..."``) is reported at that field's node."""
+        try:
+            return cls(**kwargs)
+        except ImaginationError as exc:
+            msg = str(exc)
+            field_name, _, rest = msg.partition(": ")
+            items = self.mapping(node, path) if isinstance(node, yaml.MappingNode) else {}
+            yaml_key = {v: k for k, v in (keymap or {}).items()}.get(field_name, field_name)
+            if yaml_key in items:
+                raise self.error(items[yaml_key][1], join(path, yaml_key), rest) from None
+            raise self.error(node, path, msg) from None
+
+    # -- the camera ------------------------------------------------------------------------
+
+    def camera(self, node: Node, path: str, robot: RobotSpec | None) -> tuple[Camera, CameraMount]:
+        """The camera at its starting pose, and how it is mounted."""
+        num = self.number
+        spec: dict[str, Callable[[Node, str], Any]] = {
+            "fx": lambda n, p: num(n, p, "positive"),
+            "fy": lambda n, p: num(n, p, "positive"),
+            "cx": num,
+            "cy": num,
+            "width": lambda n, p: self.integer(n, p, "positive"),
+            "height": lambda n, p: self.integer(n, p, "positive"),
+            "position": lambda n, p: self.vector(n, p, 3),
+            "look_at": lambda n, p: self.vector(n, p, 3),
+            "roll_deg": num,
+            "mount": lambda n, p: self.choice(n, p, [m.value for m in Mount]),
+        }
+        kw = self.fields(node, path, spec,
+                         required=("fx", "fy", "cx", "cy", "width", "height", "position", "look_at"))
+        items = self.mapping(node, path)
+        kind = Mount(kw.pop("mount", Mount.FIXED.value))
+        mount = CameraMount(kind, kw["position"], kw["look_at"], kw.get("roll_deg", 0.0),
+                            self.source(node, path))
+        if kind is Mount.ROBOT:
+            if robot is None:
+                raise self.error(items["mount"][1], join(path, "mount"),
+                                 "a camera on the robot needs a world.robot")
+            pos, target = mount.world_pose(robot.position, math.radians(robot.heading_deg))
+            kw["position"], kw["look_at"] = tuple(pos), tuple(target)
+        if kw["position"][2] <= 0:
+            key = "position"
+            raise self.error(items[key][1], join(path, key),
+                             f"the camera is {'on' if kw['position'][2] == 0 else 'below'} the "
+                             f"floor (z = {kw['position'][2]:g}); expected a height above 0")
+        try:
+            camera = Camera.look_at(**kw)
+        except ImaginationError as exc:
+            raise self.error(items["look_at"][1], join(path, "look_at"), str(exc)) from None
+        return camera, mount
+
+    # -- the world ----------------------------------------------------------------------------
+
+    def world(self, node: Node, path: str) -> tuple[SceneSpec, tuple[ObjectModel, ...]]:
+        """The imagination's starting scene and the models of every declared object."""
+        items = self.mapping(node, path)
+        self.check_keys(items, WORLD_KEYS, path)
+        kw: dict[str, Any] = {}
+        if "gravity" in items:
+            kw["gravity"] = self.number(items["gravity"][1], join(path, "gravity"), "positive")
+        kw["dt"] = DEFAULT_DT
+        if "dt" in items:
+            kw["dt"] = self.number(items["dt"][1], join(path, "dt"), "positive")
+        if "floor" in items:
+            kw["floor"] = self.floor(items["floor"][1], join(path, "floor"))
+
+        def listed(key: str, read: Callable[[Node, str, int], Any]) -> list[Any]:
+            return self.listed(items[key][1], join(path, key), read) if key in items else []
+
+        kw["walls"] = tuple(listed("walls", self.wall))
+        kw["obstacles"] = tuple(listed("obstacles", self.obstacle))
+        models = tuple(listed("objects", self.object_model))
+        seen: dict[str, str] = {}
+        for i, m in enumerate(models):
+            where = join(join(path, "objects"), i)
+            if m.name in seen:
+                raise self.error(items["objects"][1].value[i], where,
+                                 f"a second object called {m.name!r} (the first is {seen[m.name]})")
+            seen[m.name] = where
+        kw["balls"] = tuple(m.ball for m in models if m.create is Creation.AT_START)
+        if "robot" in items:
+            kw["robot"] = self.robot(items["robot"][1], join(path, "robot"))
+        try:
+            scene = SceneSpec(**kw)
+        except ImaginationError as exc:
+            raise self.error(node, path, str(exc)) from None
+        return scene, models
+
+    def floor(self, node: Node, path: str) -> Floor:
+        spec: dict[str, Callable[[Node, str], Any]] = {
+            "texture": self.texture,
+            "tile": lambda n, p: self.number(n, p, "positive"),
+            "color": self.color,
+            "extent": lambda n, p: self.vector(n, p, 4),
+        }
+        kw = self.fields(node, path, spec)
+        if "color" in kw and "texture" not in kw:
+            kw["texture"] = None
+        return self.build(Floor, node, path, kw)  # type: ignore[no-any-return]
+
+    def _surface_spec(self) -> dict[str, Callable[[Node, str], Any]]:
+        return {
+            "name": self.string,
+            "height": lambda n, p: self.number(n, p, "positive"),
+            "texture": self.texture,
+            "tile": lambda n, p: self.number(n, p, "positive"),
+            "color": self.color,
+            "restitution": lambda n, p: self.number(n, p, "unit"),
+            "friction": lambda n, p: self.number(n, p, "nonnegative"),
+        }
+
+    def wall(self, node: Node, path: str, index: int) -> Wall:
+        spec = self._surface_spec()
+        spec["from"] = lambda n, p: self.vector(n, p, 2)
+        spec["to"] = lambda n, p: self.vector(n, p, 2)
+        spec = {k: spec[k] for k in WALL_KEYS}
+        kw = self.fields(node, path, spec, required=("from", "to", "height"))
+        kw.setdefault("name", f"wall{index}")
+        kw["start"] = kw.pop("from")
+        kw["end"] = kw.pop("to")
+        return self.build(Wall, node, path, kw, {"from": "from", "to": "to"})  # type: ignore[no-any-return]
+
+    def obstacle(self, node: Node, path: str, index: int) -> Obstacle:
+        spec = self._surface_spec()
+        spec["polygon"] = self.polygon
+        spec = {k: spec[k] for k in OBSTACLE_KEYS}
+        kw = self.fields(node, path, spec, required=("polygon", "height"))
+        kw.setdefault("name", f"obstacle{index}")
+        return self.build(Obstacle, node, path, kw)  # type: ignore[no-any-return]
+
+    def object_model(self, node: Node, path: str, index: int) -> ObjectModel:
+        """One ``world.objects[i]``: a ball model and what is known of it."""
+        spec: dict[str, Callable[[Node, str], Any]] = {
+            "name": self.string,
+            "radius": lambda n, p: self.number(n, p, "positive"),
+            "mass": lambda n, p: self.number(n, p, "positive"),
+            "restitution": lambda n, p: self.number(n, p, "unit"),
+            "friction": lambda n, p: self.number(n, p, "nonnegative"),
+            "rolling_resistance": lambda n, p: self.number(n, p, "nonnegative"),
+            "position": lambda n, p: self.vector(n, p, 2),
+            "velocity": lambda n, p: self.vector(n, p, 2),
+            "color": self.color,
+            "texture": self.texture,
+            "create": lambda n, p: self.choice(n, p, [c.value for c in Creation]),
+            "ranges": self.model_ranges,
+        }
+        kw = self.fields(node, path, spec, required=("name",))
+        items = self.mapping(node, path)
+        create = Creation(kw.pop("create", Creation.AT_START.value))
+        ranges: dict[str, Range] = kw.pop("ranges", {})
+        if create is Creation.WHEN_SEEN:
+            for key in ("position", "velocity"):
+                if key in items:
+                    raise self.error(items[key][0], join(path, key),
+                                     "an object created when seen gets its "
+                                     f"{key} from perception; remove this key (or use "
+                                     "create: at_start)")
+        for name, r in ranges.items():
+            if name in kw:
+                if not r.low <= kw[name] <= r.high:
+                    raise self.error(items[name][1], join(path, name),
+                                     f"the nominal {name} {kw[name]:g} lies outside its range "
+                                     f"[{r.low:g}, {r.high:g}] (ranges.{name})")
+            else:
+                kw[name] = r.mid
+        ball = self.build(Ball, node, path, kw)
+        return ObjectModel(ball, create, MappingProxyType(ranges), self.source(node, path))
+
+    def model_ranges(self, node: Node, path: str) -> dict[str, Range]:
+        """``ranges: {restitution: [lo, hi], ...}``."""
+        items = self.mapping(node, path)
+        self.check_keys(items, MODEL_RANGE_PARAMETERS, path)
+        out = {}
+        for key, (_, v) in items.items():
+            check = "unit" if key == "restitution" else "nonnegative"
+            out[key] = self.range(v, join(path, key), check)
+        return out
+
+    def robot(self, node: Node, path: str) -> RobotSpec:
+        spec: dict[str, Callable[[Node, str], Any]] = {
+            "name": self.string,
+            "shape": lambda n, p: self.choice(n, p, ("disc", "box")),
+            "radius": lambda n, p: self.number(n, p, "positive"),
+            "size": lambda n, p: self.vector(n, p, 2),
+            "position": lambda n, p: self.vector(n, p, 2),
+            "heading_deg": self.number,
+            "max_speed": lambda n, p: self.number(n, p, "positive"),
+            "max_accel": lambda n, p: self.number(n, p, "positive"),
+            "mass": lambda n, p: self.number(n, p, "positive"),
+            "height": lambda n, p: self.number(n, p, "positive"),
+            "color": self.color,
+        }
+        kw = self.fields(node, path, spec, required=("max_speed", "max_accel"))
+        return self.build(RobotSpec, node, path, kw)  # type: ignore[no-any-return]

@@ -1,0 +1,36 @@
+"""RS schema networks: perceptual and motor schemas, the one place where symbols meet arrays.
+
+* :mod:`~adapt.schemas.spec` - what a schema type declares (kind, ports, parameters);
+* :mod:`~adapt.schemas.registry` - types by name (:data:`REGISTRY`);
+* :mod:`~adapt.schemas.base` - the :class:`Schema` base class and the frame loop's calls;
+* :mod:`~adapt.schemas.network` - :class:`SchemaNetwork`, the minimal subscene (a networkx DiGraph);
+* :mod:`~adapt.schemas.links` - the input-link and output-link layout (``docs/schemas.md``);
+* :mod:`~adapt.schemas.tracks` - difference regions followed over frames;
+* the types: :mod:`~adapt.schemas.background` (``scene-background``),
+  :mod:`~adapt.schemas.foreground` (``foreground-object``), :mod:`~adapt.schemas.drive` (``drive``).
+
+This package imports the engine (its I/O links), vision, the imagination (through
+:mod:`adapt.mirror`) and networkx; it never imports the reality or ground truth.
+"""
+
+from __future__ import annotations
+
+from adapt.schemas.base import Origin, Schema, Status
+from adapt.schemas.network import SchemaEvent, SchemaNetwork, check_settings
+from adapt.schemas.registry import REGISTRY, Registry
+from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
+
+__all__ = [
+    "Schema",
+    "Status",
+    "Origin",
+    "SchemaNetwork",
+    "SchemaEvent",
+    "check_settings",
+    "Registry",
+    "REGISTRY",
+    "SchemaSpec",
+    "SchemaKind",
+    "Port",
+    "Parameter",
+]

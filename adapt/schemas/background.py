@@ -1,0 +1,403 @@
+"""The Scene Background schema: keep the synthetic camera synchronised, report
+what the imagination does not explain.
+
+Every frame (paper section 4.1, Figure 3) it renders the imagination through
+the synthetic camera, computes the match-mediated difference against the
+real frame, corrects the synthetic camera with ``H_e`` (eq. 3, or the full
+pose from the floor's homography), and turns the difference into regions.
+A region that a schema monitors is *expected*; any other is *unexpected*,
+and the rules decide whether to spawn a perceptual schema for it.  Regions
+are followed over frames (:mod:`adapt.schemas.tracks`) so each has an age.
+
+Each region is reported with its bounding box, centroid and area (real-image
+pixels), its floor position (the bottom of its box back-projected onto the
+floor) and width on the floor (metres), and its age in frames.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from typing import TYPE_CHECKING, Any, Mapping
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from adapt.errors import VisionError
+from adapt.schemas.base import BBox, Schema, Status
+from adapt.schemas.links import Structure
+from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
+from adapt.schemas.tracks import RegionTracker, Track
+from adapt.vision.camera_correction import correct_pose, correct_rotation
+from adapt.vision.homography import corner_error
+from adapt.vision.matching import PreparedImage, prepare
+from adapt.vision.mmd import MMDResult, mmd
+from adapt.vision.regions import find_regions, to_input
+from adapt.vision.scale import image_scale
+
+if TYPE_CHECKING:  # pragma: no cover
+    from adapt.frames import Frame
+    from adapt.geometry import Camera
+    from adapt.schemas.network import SchemaNetwork
+
+__all__ = ["SceneBackground", "SCENE_BACKGROUND", "RegionReport"]
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class RegionReport:
+    """One tracked difference region as the input-link reports it."""
+
+    id: int
+    bbox: BBox
+    centroid: tuple[float, float]
+    area: int
+    age: int
+    expected: bool
+    owner: str | None
+    floor: tuple[float, float] | None
+    size: float | None
+    imagined: str | None = None
+
+    def as_json(self) -> dict[str, Any]:
+        """JSON form (trace and report)."""
+        return {"id": self.id, "bbox": list(self.bbox),
+                "centroid": [round(self.centroid[0], 2), round(self.centroid[1], 2)],
+                "area": self.area, "age": self.age, "expected": self.expected,
+                "owner": self.owner,
+                "floor": None if self.floor is None else [round(v, 4) for v in self.floor],
+                "size": None if self.size is None else round(self.size, 4),
+                "imagined": self.imagined}
+
+
+class SceneBackground(Schema):
+    """See the module docstring."""
+
+    def __init__(self, name: str, spec: SchemaSpec, parameters: Mapping[str, Any],
+                 network: "SchemaNetwork") -> None:
+        super().__init__(name, spec, parameters, network)
+        self.tracker = RegionTracker()
+        self.result: MMDResult | None = None
+        self.synthetic: NDArray[np.uint8] | None = None
+        self.labels: NDArray[np.int32] | None = None
+        self.regions: list[RegionReport] = []
+        self.pixel_error = math.nan
+        self.correction_deg = 0.0
+        self.corrections = 0
+        self.ms = 0.0
+        self._prepared_for: tuple[int, int] | None = None
+        self._background: PreparedImage | None = None
+        self._warped_labels: NDArray[np.uint16] | None = None
+        self._label_of: dict[str, int] = {}
+        self._robot_box: BBox | None = None
+
+    # -- perception ---------------------------------------------------------------------
+
+    def _prepared_synthetic(self, image: NDArray[np.uint8]) -> PreparedImage:
+        """The synthetic frame with the corners of the current background (computed once
+        per camera pose and scene)."""
+        mirror = self.network.mirror
+        key = (id(mirror.renderer), mirror.camera_changes)
+        if self._prepared_for != key or self._background is None:
+            self._background = prepare(mirror.background.image)
+            self._prepared_for = key
+        grey = prepare(image, corners=False).grey
+        return dataclasses.replace(self._background, image=image, grey=grey)
+
+    def perceive(self, frame: "Frame") -> None:
+        started = time.perf_counter()
+        mirror = self.network.mirror
+        rendered = mirror.render()
+        self.synthetic, self.labels = rendered.image, rendered.labels
+        self._label_of = {name: label for label, name in rendered.names.items()}
+        robot = mirror.scene.robot
+        self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
+        self._warped_labels = None
+        synthetic = self._prepared_synthetic(rendered.image)
+        res = mmd(frame.image, synthetic)
+        self.result = res
+        camera = mirror.camera
+        self.correction_deg = 0.0
+        if not res.aligned:
+            self.status = Status.LOST
+            self.message = res.alignment.reason
+            self.pixel_error = math.nan
+        else:
+            self.status = Status.RUNNING
+            self.message = ""
+            h = res.homography
+            assert h is not None
+            self.pixel_error = corner_error(h, np.eye(3), frame.image.shape)
+            if self.parameters["correct"] and self.pixel_error > self.parameters["tolerance"]:
+                new = self._corrected(camera, res)
+                if new is not None:
+                    self.correction_deg = _angle_deg(new.rotation @ camera.rotation.T)
+                    self.corrections += 1
+                    mirror.set_camera(new)
+        self.regions = self._regions(frame, res, camera)
+        self.ms = (time.perf_counter() - started) * 1000.0
+
+    def _corrected(self, camera: "Camera", res: MMDResult) -> "Camera | None":
+        h = res.homography
+        assert h is not None
+        gain = self.parameters["gain"]
+        if self.parameters["full_pose"]:
+            pts = res.matches.synthetic_points[res.alignment.inliers]
+            assert self.labels is not None
+            ix = np.clip(pts[:, 0].round().astype(int), 0, self.labels.shape[1] - 1)
+            iy = np.clip(pts[:, 1].round().astype(int), 0, self.labels.shape[0] - 1)
+            on_floor = self.labels[iy, ix] == 1
+            if on_floor.sum() >= 12:
+                try:
+                    return correct_pose(camera, h, pts[on_floor], gain=gain)
+                except VisionError:
+                    pass
+        try:
+            return correct_rotation(camera, h, gain=gain)
+        except VisionError:
+            return None
+
+    def _regions(self, frame: "Frame", res: MMDResult, camera: "Camera") -> list[RegionReport]:
+        if not res.aligned:
+            tracks = self.tracker.update([], frame.index)
+            return []
+        scale = image_scale(res.difference.shape)
+        found = to_input(find_regions(res.difference, threshold=self.parameters["threshold"],
+                                      min_area=max(1, int(round(self.parameters["min_area"]
+                                                               * scale * scale)))),
+                         res.frame)
+        tracks = self.tracker.update(found, frame.index)
+        monitored = self.network.monitored_boxes(exclude=self.name)
+        own = self._own_robot(res)
+        if own is not None:
+            monitored.append(own)
+        h_inv = np.linalg.inv(res.homography)  # type: ignore[arg-type]
+        out = []
+        for t in tracks:
+            owner = t.owner
+            if owner is not None and owner not in self.network:
+                t.owner = owner = None
+            if owner is None:
+                owner = _overlapping(t, monitored)
+            floor, size = _floor_of(t.region.bbox, h_inv, camera)
+            r = t.region
+            out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
+                                    owner, floor, size, self._imagined_in(r)))
+        return out
+
+    def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:
+        """The robot's own body in the real frame: the robot knows where it is, so a
+        difference there (its odometry slipped) is not an unexpected object."""
+        robot = self.network.mirror.scene.robot
+        if robot is None or self._robot_box is None or res.homography is None:
+            return None
+        x, y, w, h = self._robot_box
+        corners = np.array([[x, y, 1.0], [x + w, y, 1.0], [x, y + h, 1.0], [x + w, y + h, 1.0]])
+        p = corners @ res.homography.T
+        p = p[:, :2] / p[:, 2:]
+        x0, y0 = p.min(axis=0)
+        x1, y1 = p.max(axis=0)
+        m = 0.25 * max(x1 - x0, y1 - y0)
+        return robot.name, (int(x0 - m), int(y0 - m), int(x1 - x0 + 2 * m), int(y1 - y0 + 2 * m))
+
+    def _imagined_in(self, region: Any) -> str | None:
+        """The imagined moving object that covers the most of ``region`` (at least a tenth
+        of it), or None: the imagination's label image says which difference belongs to
+        which imagined object."""
+        from adapt.imagination import LABEL_BALL, LABEL_ROBOT
+
+        balls = {lab: n for n, lab in self._label_of.items() if LABEL_BALL <= lab < LABEL_ROBOT}
+        warped = self.warped_labels() if balls else None
+        if warped is None:
+            return None
+        x, y, w, h = region.bbox
+        patch = warped[y:y + h, x:x + w][region.silhouette[:h, :w]]
+        best, count = None, 0
+        for label, name in balls.items():
+            c = int(np.count_nonzero(patch == label))
+            if c > count:
+                best, count = name, c
+        return best if count >= 0.1 * max(region.area, 1) else None
+
+    def label_of(self, name: str) -> int | None:
+        """The label id of a moving object in this frame's render (None when not drawn)."""
+        return self._label_of.get(name)
+
+    def labels_except(self, name: str) -> list[int]:
+        """Label ids of the moving balls drawn this frame, but ``name``'s."""
+        from adapt.imagination import LABEL_BALL, LABEL_ROBOT
+
+        return [lab for n, lab in self._label_of.items()
+                if n != name and LABEL_BALL <= lab < LABEL_ROBOT]
+
+    def warped_labels(self) -> NDArray[np.uint16] | None:
+        """The synthetic label image warped into the real frame by ``H_e`` (nearest
+        neighbour; computed once per frame), or None without alignment."""
+        if self.result is None or not self.result.aligned or self.labels is None:
+            return None
+        if self._warped_labels is None:
+            h, w = self.labels.shape
+            self._warped_labels = cv2.warpPerspective(
+                self.labels.astype(np.uint16), self.result.homography, (w, h),
+                flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+        return self._warped_labels
+
+    def imagined_mask(self, label: int) -> NDArray[np.bool_] | None:
+        """Pixels of the real frame where the imagination shows object ``label``, or None
+        without alignment."""
+        warped = self.warped_labels()
+        return None if warped is None else warped == label
+
+    def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[np.float32] | None:
+        """How much the real image differs from the imagination's *background* (no moving
+        objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels, with the
+        frame's gain and bias; None without alignment.
+
+        This is the difference an object schema looks for its object in: the object
+        wherever it really is, whatever the imagination shows of it.  The MMD mask is not
+        applied: its Gaussians, centred on background corners matched next to the object,
+        would eat into the object's outline and bias its fitted position.
+        """
+        res = self.result
+        if res is None or not res.aligned:
+            return None
+        x, y, w, h = window
+        shift = np.array([[1.0, 0.0, -x], [0.0, 1.0, -y], [0.0, 0.0, 1.0]])
+        bg = self.network.mirror.background.image
+        warped = cv2.warpPerspective(bg, shift @ res.homography, (w, h), flags=cv2.INTER_LINEAR,
+                                     borderMode=cv2.BORDER_REPLICATE).astype(np.float32)
+        adjusted = warped * res.gain.astype(np.float32) + res.bias.astype(np.float32)
+        diff = np.abs(real[y:y + h, x:x + w].astype(np.float32) - adjusted)
+        return diff.max(axis=2) if diff.ndim == 3 else diff
+
+    def to_real(self, pixel: tuple[float, float]) -> tuple[float, float]:
+        """A synthetic pixel in the real frame (through ``H_e``; unchanged without it)."""
+        if self.result is None or not self.result.aligned:
+            return pixel
+        h = self.result.homography
+        assert h is not None
+        p = h @ np.array([pixel[0], pixel[1], 1.0])
+        return (float(p[0] / p[2]), float(p[1] / p[2]))
+
+    def pixels_to_synthetic(self, pixels: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Real pixels ``(N, 2)`` in the synthetic frame (through ``H_e^-1``)."""
+        if self.result is None or not self.result.aligned:
+            return np.asarray(pixels, float)
+        h_inv = np.linalg.inv(self.result.homography)  # type: ignore[arg-type]
+        p = np.c_[pixels, np.ones(len(pixels))] @ h_inv.T
+        return p[:, :2] / p[:, 2:]
+
+    def to_synthetic(self, pixel: tuple[float, float]) -> tuple[float, float]:
+        """A real pixel in the synthetic frame (through ``H_e^-1``)."""
+        if self.result is None or not self.result.aligned:
+            return pixel
+        p = np.linalg.inv(self.result.homography) @ np.array([pixel[0], pixel[1], 1.0])  # type: ignore[arg-type]
+        return (float(p[0] / p[2]), float(p[1] / p[2]))
+
+    def assign(self, region_id: int, owner: str) -> bool:
+        """Give the tracked region ``region_id`` to schema ``owner`` (it is expected from now on)."""
+        return self.tracker.assign(region_id, owner)
+
+    def release(self, owner: str) -> None:
+        """Forget the regions a removed schema owned."""
+        self.tracker.release(owner)
+
+    # -- the input-link -------------------------------------------------------------------
+
+    def write(self, node: Structure) -> None:
+        aligned = self.result is not None and self.result.aligned
+        node.set("aligned", aligned)
+        node.set("pixel-error", round(self.pixel_error, 2) if aligned else None)
+        node.set("inliers", 0 if self.result is None else self.result.n_inliers)
+        node.set("synchronised", aligned and self.pixel_error <= self.parameters["tolerance"])
+        unexpected = [r for r in self.regions if not r.expected]
+        node.set("unexpected", len(unexpected))
+        for r in self.regions:
+            c = node.child("region", r.id)
+            c.set("id", r.id)
+            c.set("expected", r.expected)
+            c.set("monitored-by", r.owner)
+            c.set("area", r.area)
+            x, y, w, h = r.bbox
+            c.set("x", x)
+            c.set("y", y)
+            c.set("width", w)
+            c.set("height", h)
+            c.set("centroid-x", round(r.centroid[0], 2))
+            c.set("centroid-y", round(r.centroid[1], 2))
+            c.set("floor-x", None if r.floor is None else round(r.floor[0], 4))
+            c.set("floor-y", None if r.floor is None else round(r.floor[1], 4))
+            c.set("size", None if r.size is None else round(r.size, 4))
+            c.set("imagined", r.imagined)
+            c.set("age", r.age)
+        node.keep_children("region", [r.id for r in self.regions])
+
+    def summary(self) -> dict[str, Any]:
+        out = super().summary()
+        aligned = self.result is not None and self.result.aligned
+        out.update({"aligned": aligned,
+                    "pixel_error": round(self.pixel_error, 3) if aligned else None,
+                    "inliers": 0 if self.result is None else self.result.n_inliers,
+                    "regions": len(self.regions),
+                    "unexpected": sum(not r.expected for r in self.regions)})
+        return out
+
+
+def _angle_deg(rotation: NDArray[np.float64]) -> float:
+    c = (float(np.trace(rotation)) - 1.0) / 2.0
+    return math.degrees(math.acos(max(-1.0, min(1.0, c))))
+
+
+def _overlapping(track: Track, monitored: list[tuple[str, BBox]]) -> str | None:
+    x, y, w, h = track.region.bbox
+    best, owner = 0.0, None
+    for name, (bx, by, bw, bh) in monitored:
+        ix = max(0, min(x + w, bx + bw) - max(x, bx))
+        iy = max(0, min(y + h, by + bh) - max(y, by))
+        share = ix * iy / max(w * h, 1)
+        if share > best:
+            best, owner = share, name
+    return owner if best >= 0.3 else None
+
+
+def _floor_of(bbox: BBox, h_inv: NDArray[np.float64], camera: "Camera"
+              ) -> tuple[tuple[float, float] | None, float | None]:
+    x, y, w, h = bbox
+    real = np.array([[x + w / 2.0, y + h, 1.0], [x, y + h, 1.0], [x + w, y + h, 1.0]])
+    syn = real @ h_inv.T
+    syn = syn[:, :2] / syn[:, 2:]
+    pts = camera.pixel_to_plane(syn, 0.0)
+    if not np.isfinite(pts).all():
+        return None, None
+    return (float(pts[0, 0]), float(pts[0, 1])), float(np.linalg.norm(pts[2, :2] - pts[1, :2]))
+
+
+def _make(name: str, parameters: Mapping[str, Any], network: "SchemaNetwork") -> SceneBackground:
+    return SceneBackground(name, SCENE_BACKGROUND, parameters, network)
+
+
+SCENE_BACKGROUND = SchemaSpec(
+    name="scene-background",
+    kind=SchemaKind.PERCEPTUAL,
+    doc=("Keeps the synthetic camera synchronised with the real one by MMD every frame "
+         "(paper eq. 3), and reports every difference region the imagination does not "
+         "explain, with its box, centroid, area, floor position and age."),
+    factory=_make,
+    provides=(Port("regions", "difference regions of the frame, tracked, expected or not"),
+              Port("camera", "the synchronised synthetic camera and H_e")),
+    parameters=(
+        Parameter("gain", float, 0.5, "fraction g of the camera correction applied per frame",
+                  low=0.0, high=1.0, low_open=True),
+        Parameter("tolerance", float, 0.5, "no correction below this pixel error", unit="px",
+                  low=0.0),
+        Parameter("correct", bool, True, "correct the synthetic camera (off: only compare)"),
+        Parameter("full_pose", bool, False,
+                  "correct the position too, from the floor's homography"),
+        Parameter("threshold", float, 30.0, "MMD difference that counts", unit="grey levels",
+                  low=0.0, high=255.0, low_open=True),
+        Parameter("min_area", int, 40, "smallest region reported, at 640x480 (scaled with the "
+                  "image's area)", unit="px", low=1),
+    ),
+    singleton=True,
+)

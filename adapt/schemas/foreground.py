@@ -1,0 +1,524 @@
+"""The foreground object schema: find one object, follow it, mirror it.
+
+Spawned by the rules for an unexpected difference region (or instantiated
+for a named object), it owns that object's part of the image and of the
+imagination (paper section 4.4, Figure 6):
+
+* **finding it.**  In a window around where the object should be (the
+  imagined body, the last sighting, or the region it was spawned for), the
+  real object is what differs from the imagination's *background*: the
+  background render warped by ``H_e``, with the frame's gain and bias, outside
+  the MMD mask.  The imagination's label image (warped by ``H_e``) says which
+  pixels other imagined objects cover; they are left out.  (Comparing with
+  the full render instead would hide the object wherever the imagined body
+  already covers it, and mistake background of the object's colour for the
+  object.)
+* **where it is.**  The blob's centroid, mapped into the synthetic camera by
+  ``H_e^-1``, is back-projected onto the horizontal plane at the object's
+  radius (the ground-plane assumption); a constant-velocity Kalman filter
+  (:mod:`adapt.kalman`) smooths position and estimates velocity.
+* **in the imagination.**  An object declared ``create: when_seen`` (or one
+  the scenario does not know) is created in the imagination after
+  ``confirm`` sightings, where it is perceived and with the estimated
+  velocity.  On every physics step the body is pulled towards the
+  observation with the paper's spring plus a damper,
+  ``a = k (p_real - p_sim) + c (v_real - v_sim)`` with ``c = 2 ζ sqrt(k)``
+  (``k = 0``: uncorrected, for comparison); ``p_real`` is the filtered
+  position extrapolated to the step's time.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any, Mapping
+
+import cv2
+import numpy as np
+
+from adapt.imagination import Ball
+from adapt.kalman import ConstantVelocityKF
+from adapt.schemas.base import BBox, Schema, Status
+from adapt.schemas.estimator import PARAMETERS, ParameterEstimator
+from adapt.schemas.links import Structure
+from adapt.schemas.predictor import Prediction, Predictor
+from adapt.schemas.silhouette import fit_ball
+from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
+
+if TYPE_CHECKING:  # pragma: no cover
+    from adapt.frames import Frame
+    from adapt.schemas.network import SchemaNetwork
+
+__all__ = ["ForegroundObject", "FOREGROUND_OBJECT", "Observation"]
+
+#: Colour of an object the scenario does not declare until its own is measured (BGR).
+UNKNOWN_COLOR = (128, 128, 128)
+#: A sighting whose fitted radius is off the object's by more than this fraction is refused.
+RADIUS_TOLERANCE = 0.25
+
+
+class Observation:
+    """One sighting: the blob in the real image and the floor position it gives."""
+
+    __slots__ = ("frame", "time", "bbox", "centroid", "area", "position")
+
+    def __init__(self, frame: int, time: float, bbox: BBox, centroid: tuple[float, float],
+                 area: int, position: tuple[float, float]) -> None:
+        self.frame = frame
+        self.time = time
+        self.bbox = bbox
+        self.centroid = centroid
+        self.area = area
+        self.position = position
+
+
+class ForegroundObject(Schema):
+    """See the module docstring."""
+
+    def __init__(self, name: str, spec: SchemaSpec, parameters: Mapping[str, Any],
+                 network: "SchemaNetwork") -> None:
+        super().__init__(name, spec, parameters, network)
+        self.object_name = str(parameters["object"]) or name
+        model = network.models.get(self.object_name)
+        self.declared = model is not None
+        self.ball: Ball | None = model.ball if model is not None else None
+        self.kf = ConstantVelocityKF(q=float(parameters["process_noise"]),
+                                     r=float(parameters["measurement_noise"]),
+                                     gate=float(parameters["gate"]))
+        self.last: Observation | None = None
+        self.sightings = 0
+        self.misses = 0
+        self.status = Status.WAITING
+        self.region = int(parameters["region"])
+        self._window: BBox | None = None
+        self._hooked = False
+        self._radii: list[float] = []
+        self.model = model
+        self.estimator: ParameterEstimator | None = None
+        self.prediction: Prediction | None = None
+        self.bounces_seen = 0
+        settings = network.predict
+        self.predictor = Predictor(settings.horizons, members=settings.ensemble,
+                                   catch_radius=self._catch_radius(), seed=network.rng)
+        if self.ball is not None:
+            self._start_estimator()
+        if self.region > 0 and network.background is not None:
+            track = network.background.tracker.get(self.region)
+            if track is not None:
+                self._window = track.region.bbox
+                network.background.assign(self.region, name)
+
+    # -- helpers ---------------------------------------------------------------------------
+
+    def _catch_radius(self) -> float:
+        """The confidence's scale: how close the robot must come (twice the radius without one)."""
+        from adapt.imagination.predict import intercept_reach
+
+        robot = self.network.mirror.scene.robot
+        ball = self.ball if self.ball is not None else Ball(self.body, radius=0.1)
+        return intercept_reach(ball, robot) if robot is not None else 2.0 * ball.radius
+
+    def _start_estimator(self) -> None:
+        assert self.ball is not None
+        ranges: dict[str, tuple[float, float]] = {}
+        if self.model is not None:
+            for name in PARAMETERS:
+                r = self.model.range(name)
+                ranges[name] = (r.low, r.high)
+        else:  # an object nobody described: anything plausible
+            ranges = {"restitution": (0.2, 0.95), "friction": (0.0, 1.0),
+                      "rolling_resistance": (0.0, 0.2)}
+        nominal = {name: float(getattr(self.ball, name)) for name in PARAMETERS}
+        self.estimator = ParameterEstimator(ranges, nominal=nominal,
+                                            scene=self.network.mirror.scene,
+                                            gravity=self.network.mirror.scene.gravity,
+                                            radius=self.ball.radius)
+        self.predictor.catch_radius = self._catch_radius()
+
+    @property
+    def body(self) -> str:
+        """The imagined body's name."""
+        return self.object_name
+
+    @property
+    def in_imagination(self) -> bool:
+        """True when the imagination has the body."""
+        return self.network.mirror.has_body(self.body)
+
+    def _radius(self) -> float:
+        return self.ball.radius if self.ball is not None else 0.1
+
+    def _imagined_real_box(self) -> tuple[tuple[float, float], float] | None:
+        """Centre (real pixels) and radius (pixels) of the imagined body, or None."""
+        mirror = self.network.mirror
+        if not self.in_imagination:
+            return None
+        x, y = mirror.world.position(self.body)
+        r = self._radius()
+        cam = mirror.camera
+        pc = cam.to_camera(np.array([[x, y, r]]))[0]
+        if pc[2] <= 1e-6:
+            return None
+        px = cam.fx * pc[0] / pc[2] + cam.cx
+        py = cam.fy * pc[1] / pc[2] + cam.cy
+        bg = self.network.background
+        centre = bg.to_real((px, py)) if bg is not None else (px, py)
+        return centre, cam.fx * r / pc[2]
+
+    def _predicted(self, frame: "Frame") -> tuple[tuple[float, float], float] | None:
+        """Where to look (real pixels) and how far (pixels)."""
+        imagined = self._imagined_real_box()
+        if imagined is not None and self.sightings > 0 and self.misses < 3:
+            centre, rpx = imagined
+            if self.last is not None:
+                # the imagined body may lag the real one: look around both
+                lx, ly = self.last.centroid
+                span = math.dist(centre, (lx, ly))
+                return ((centre[0] + lx) / 2.0, (centre[1] + ly) / 2.0), span / 2.0 + 3.0 * rpx + 8.0
+            return centre, 3.0 * rpx + 8.0
+        if self.last is not None:
+            x, y, w, h = self.last.bbox
+            grow = 1.0 + 0.5 * self.misses
+            return (x + w / 2.0, y + h / 2.0), max(w, h) * (1.5 * grow) + 16.0
+        if self._window is not None:
+            x, y, w, h = self._window
+            return (x + w / 2.0, y + h / 2.0), max(w, h) + 16.0
+        if imagined is not None:
+            centre, rpx = imagined
+            return centre, 4.0 * rpx + 16.0
+        return None
+
+    # -- perception ------------------------------------------------------------------------------
+
+    def perceive(self, frame: "Frame") -> None:
+        obs = self._observe(frame)
+        if obs is None:
+            self.misses += 1
+            self.kf.step(frame.time, None)
+            if self.sightings == 0:
+                self.status = Status.WAITING
+            elif self.misses > int(self.parameters["lost_after"]):
+                self.status = Status.LOST
+        else:
+            self.last = obs
+            self.sightings += 1
+            self.misses = 0
+            self.status = Status.RUNNING
+            self.kf.step(frame.time, obs.position)
+            if self.ball is not None and self.estimator is None:
+                self._start_estimator()
+            if self.estimator is not None:
+                self._learn(frame.time, obs.position)
+            self.predictor.residuals.observe(frame.time, obs.position,
+                                             0.5 * self.network.frame_interval)
+            if (not self.in_imagination and self.ball is not None
+                    and self.sightings >= int(self.parameters["confirm"])):
+                self._create_body(frame)
+            if not self._hooked and self.in_imagination:
+                self.network.mirror.add_hook(self.before_step)
+                self._hooked = True
+        if self.parameters["predict"] and frame.index % self.network.predict.every == 0:
+            self.prediction = self._predict()
+
+    def _learn(self, time: float, position: tuple[float, float]) -> None:
+        """Bounces and rolling: update the estimates, restart the filter after a bounce, and
+        give the imagined ball the estimated parameters."""
+        assert self.estimator is not None
+        bounce = self.estimator.observe(time, position)
+        if bounce is not None:
+            self.bounces_seen += 1
+            after = self.estimator.last_after
+            if after is not None:
+                t0, p0, v0 = after
+                p = p0 + v0 * (time - t0)
+                self.kf.reset(time, p, v0, self.estimator.noise, 0.1)
+            self.network.note(self, "bounce", {
+                "t": round(bounce.time, 4), "surface": bounce.surface,
+                "position": [round(v, 4) for v in bounce.position],
+                "restitution": None if bounce.restitution is None else round(bounce.restitution, 4),
+                "friction": None if bounce.friction is None else round(bounce.friction, 4)})
+        if self.parameters["adapt"] and self.in_imagination and self.ball is not None:
+            changes = {}
+            for name, est in self.estimator.estimates().items():
+                value = min(max(est.mean, 0.0), 1.0) if name == "restitution" else max(est.mean, 0.0)
+                if abs(value - float(getattr(self.ball, name))) > (0.002 if name ==
+                                                                    "rolling_resistance" else 0.01):
+                    changes[name] = value
+            if changes:
+                self.ball = replace(self.ball, **changes)
+                self.network.mirror.replace_ball(self.ball)
+
+    def estimates(self) -> dict[str, tuple[float, float]]:
+        """``(mean, std)`` of each estimated parameter (the model's values before any)."""
+        if self.estimator is None:
+            return {}
+        return {name: (e.mean, e.std) for name, e in self.estimator.estimates().items()}
+
+    def _predict(self) -> Prediction | None:
+        """Roll the imagination forward from the object's state (filtered while seen; the
+        imagined body's while it is not)."""
+        mirror = self.network.mirror
+        if not self.in_imagination:
+            return None
+        if self.kf.initialised and self.misses == 0:
+            position, velocity, vstd = self.kf.position, self.kf.velocity, self.kf.velocity_sigma
+        else:
+            position, velocity = mirror.world.position(self.body), mirror.world.velocity(self.body)
+            vstd = max(self.kf.velocity_sigma, 0.2)
+        return self.predictor.predict(mirror.world, self.body, position, velocity,
+                                      self.estimates(), velocity_std=vstd)
+
+    def _observe(self, frame: "Frame") -> Observation | None:
+        bg = self.network.background
+        if bg is None or bg.result is None or not bg.result.aligned:
+            return None
+        where = self._predicted(frame)
+        if where is None:
+            return None
+        (cx, cy), reach = where
+        h, w = frame.image.shape[:2]
+        x0, y0 = max(int(cx - reach), 0), max(int(cy - reach), 0)
+        x1, y1 = min(int(cx + reach) + 1, w), min(int(cy + reach) + 1, h)
+        if x0 >= x1 or y0 >= y1:
+            return None
+        d = bg.object_difference(frame.image, (x0, y0, x1 - x0, y1 - y0))
+        if d is None:
+            return None
+        diff = d > bg.parameters["threshold"]
+        for other in bg.labels_except(self.body):
+            imagined = bg.imagined_mask(other)
+            if imagined is not None:
+                diff &= ~imagined[y0:y1, x0:x1]
+        blob = diff.astype(np.uint8)
+        blob = cv2.morphologyEx(blob, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
+        n, labels, stats, cents = cv2.connectedComponentsWithStats(blob, connectivity=8)
+        if n <= 1:
+            return None
+        min_area = int(self.parameters["min_area"])
+        best, best_d = 0, math.inf
+        for i in range(1, n):
+            if stats[i, cv2.CC_STAT_AREA] < min_area:
+                continue
+            d = math.dist((cents[i][0] + x0, cents[i][1] + y0), (cx, cy))
+            # prefer large blobs near the prediction
+            score = d / math.sqrt(stats[i, cv2.CC_STAT_AREA])
+            if score < best_d:
+                best, best_d = i, score
+        if best == 0:
+            return None
+        bx, by, bw, bh, area = (int(v) for v in stats[best])
+        mask = labels[by:by + bh, bx:bx + bw] == best
+        bbox = (bx + x0, by + y0, bw, bh)
+        if bbox[0] == 0 or bbox[1] == 0 or bbox[0] + bw >= w:
+            return None  # cut by the image's edge: its outline would mislead the fit
+        cam = self.network.mirror.camera
+        free = fit_ball(mask, (bx + x0, by + y0), cam, radius=None,
+                        to_camera=bg.pixels_to_synthetic)
+        if free is None:
+            return None
+        if self.ball is None:
+            fit = free
+        else:
+            # a blob of the wrong size is not the ball (cut by the image's bottom, merged
+            # with something else, a fragment): do not let it move the estimate
+            if abs(free.radius - self.ball.radius) > RADIUS_TOLERANCE * self.ball.radius:
+                return None
+            fit = fit_ball(mask, (bx + x0, by + y0), cam, radius=self.ball.radius,
+                           to_camera=bg.pixels_to_synthetic)
+            if fit is None:
+                return None
+        if self.ball is None:
+            self._measure_unknown(frame, fit.radius, mask, bbox)
+        centre = (float(cents[best][0] + x0), float(cents[best][1] + y0))
+        return Observation(frame.index, frame.time, bbox, centre, area, fit.position)
+
+    def _measure_unknown(self, frame: "Frame", radius: float, mask: np.ndarray, bbox: BBox) -> None:
+        """An object the scenario does not declare gets its size and colour from its sightings:
+        the radius is the median of the first ``confirm`` fits, then it is fixed."""
+        self._radii.append(radius)
+        if len(self._radii) < int(self.parameters["confirm"]):
+            return
+        x, y, w, h = bbox
+        patch = frame.image[y:y + h, x:x + w][mask[:h, :w]].reshape(-1, 3)
+        # the lit side's colour: shading darkens most of a sphere, the highlight whitens a spot
+        bgr = (np.percentile(patch, 75, axis=0) if len(patch)
+               else np.array(UNKNOWN_COLOR, float))
+        self.ball = Ball(self.body, radius=float(np.median(self._radii)),
+                         color=(int(bgr[2]), int(bgr[1]), int(bgr[0])))
+
+    def _create_body(self, frame: "Frame") -> None:
+        mirror = self.network.mirror
+        ball = self.ball if self.ball is not None else Ball(self.body, radius=0.1)
+        mirror.add_ball(ball, self.kf.position, self.kf.velocity)
+        self.network.note(self, "created", {"body": self.body,
+                                            "position": [round(v, 4) for v in self.kf.position],
+                                            "velocity": [round(v, 4) for v in self.kf.velocity]})
+
+    # -- the spring ------------------------------------------------------------------------------
+
+    def before_step(self, time: float) -> None:
+        k = float(self.parameters["k"])
+        if k <= 0 or not self.kf.initialised or self.misses > 0:
+            return
+        world = self.network.mirror.world
+        if self.body not in world.names:
+            return
+        body = world.body(self.body)
+        dt = time - (self.kf.time or time)
+        vx, vy = self.kf.velocity
+        px, py = self.kf.position
+        px, py = px + vx * dt, py + vy * dt
+        c = 2.0 * float(self.parameters["damping"]) * math.sqrt(k)
+        ax = k * (px - body.position[0]) + c * (vx - body.velocity[0])
+        ay = k * (py - body.position[1]) + c * (vy - body.velocity[1])
+        world.apply_force(self.body, (body.mass * ax, body.mass * ay))
+
+    # -- the input-link and the image ------------------------------------------------------------
+
+    def monitored_box(self) -> BBox | None:
+        """The object's sighting and its imagined body, with room for their contact shadows
+        (a box half as wide again on each side, and as much again below)."""
+        boxes = []
+        if self.last is not None and self.misses <= int(self.parameters["lost_after"]):
+            boxes.append(self.last.bbox)
+        elif self._window is not None and self.sightings == 0:
+            boxes.append(self._window)
+        imagined = self._imagined_real_box()
+        if imagined is not None:
+            (cx, cy), r = imagined
+            boxes.append((int(cx - r) - 2, int(cy - r) - 2, int(2 * r) + 5, int(2 * r) + 5))
+        if not boxes:
+            return None
+        x0 = min(b[0] for b in boxes)
+        y0 = min(b[1] for b in boxes)
+        x1 = max(b[0] + b[2] for b in boxes)
+        y1 = max(b[1] + b[3] for b in boxes)
+        mx, my = (x1 - x0) // 2, (y1 - y0) // 2
+        return (x0 - mx, y0 - my // 2, (x1 - x0) + 2 * mx, (y1 - y0) + my // 2 + 2 * my)
+
+    def observed(self) -> tuple[float, float] | None:
+        """The filtered floor position when the object is seen in this frame."""
+        return self.kf.position if self.kf.initialised and self.misses == 0 else None
+
+    def imagined(self) -> tuple[float, float] | None:
+        """The imagined body's position, or None."""
+        return self.network.mirror.world.position(self.body) if self.in_imagination else None
+
+    def write(self, node: Structure) -> None:
+        node.set("object", self.object_name)
+        node.set("declared", self.declared)
+        node.set("seen", self.misses == 0 and self.sightings > 0)
+        node.set("frames-seen", self.sightings)
+        node.set("region", self.region if self.region > 0 else None)
+        est = self.kf.initialised
+        node.set("x", round(self.kf.position[0], 4) if est else None)
+        node.set("y", round(self.kf.position[1], 4) if est else None)
+        node.set("vx", round(self.kf.velocity[0], 4) if est else None)
+        node.set("vy", round(self.kf.velocity[1], 4) if est else None)
+        node.set("speed", round(math.hypot(*self.kf.velocity), 4) if est else None)
+        node.set("radius", round(self._radius(), 4) if self.ball is not None else None)
+        imagined = self.imagined()
+        node.set("imagined", imagined is not None)
+        node.set("imagined-x", None if imagined is None else round(imagined[0], 4))
+        node.set("imagined-y", None if imagined is None else round(imagined[1], 4))
+        error = None
+        if imagined is not None and est:
+            error = round(math.dist(imagined, self.kf.position), 4)
+        node.set("error", error)
+        node.set("bounces-seen", self.bounces_seen)
+        self._write_estimates(node)
+        self._write_prediction(node)
+
+    def _write_estimates(self, node: Structure) -> None:
+        if self.estimator is None:
+            node.keep_children("parameters", [])
+            return
+        p = node.child("parameters", 0)
+        consistent = True
+        for name, e in self.estimator.estimates().items():
+            key = name.replace("_", "-")
+            p.set(key, round(e.mean, 4))
+            p.set(f"{key}-std", round(e.std, 4))
+            p.set(f"{key}-observations", e.count)
+            consistent = consistent and e.surprise <= 3.0
+        node.set("consistent", consistent)
+
+    def _write_prediction(self, node: Structure) -> None:
+        pred = self.prediction
+        if pred is None:
+            node.set("confidence", None)
+            node.keep_children("prediction", [])
+            node.keep_children("contact", [])
+            return
+        for h in pred.horizons:
+            c = node.child("prediction", h.horizon)
+            c.set("horizon", h.horizon)
+            c.set("x", round(h.position[0], 4))
+            c.set("y", round(h.position[1], 4))
+            c.set("spread", round(h.spread, 4))
+            c.set("confidence", round(h.confidence, 3))
+            c.set("bounce", h.bounce)
+        node.keep_children("prediction", [h.horizon for h in pred.horizons])
+        node.set("confidence", round(pred.horizons[-1].confidence, 3))
+        upcoming = [c for c in pred.contacts if c.time > pred.time][:3]
+        for i, contact in enumerate(upcoming):
+            c = node.child("contact", i)
+            c.set("time", round(contact.time, 4))
+            c.set("in", round(contact.time - pred.time, 4))
+            c.set("x", round(contact.position[0], 4))
+            c.set("y", round(contact.position[1], 4))
+            c.set("surface", contact.surface)
+        node.keep_children("contact", list(range(len(upcoming))))
+
+    def stop(self) -> None:
+        if self._hooked:
+            self.network.mirror.remove_hook(self.before_step)
+            self._hooked = False
+
+    def summary(self) -> dict[str, Any]:
+        out = super().summary()
+        out.update({"object": self.object_name, "seen": self.misses == 0 and self.sightings > 0,
+                    "observed": None if self.observed() is None else
+                    [round(v, 4) for v in self.kf.position],
+                    "imagined": None if self.imagined() is None else
+                    [round(v, 4) for v in self.imagined()]})  # type: ignore[union-attr]
+        return out
+
+
+def _make(name: str, parameters: Mapping[str, Any], network: "SchemaNetwork") -> ForegroundObject:
+    return ForegroundObject(name, FOREGROUND_OBJECT, parameters, network)
+
+
+FOREGROUND_OBJECT = SchemaSpec(
+    name="foreground-object",
+    kind=SchemaKind.PERCEPTUAL,
+    doc=("Finds one object in the real image (what differs from the imagination's "
+         "background), fits its floor position from its silhouette, estimates its velocity, creates it in the imagination where it "
+         "is first perceived, and pulls the imagined body towards it on every physics step "
+         "(paper eq. 4 with a damper)."),
+    factory=_make,
+    provides=(Port("object", "the object's observed and imagined floor position and velocity"),),
+    consumes=(Port("regions", "difference regions and the synthetic camera's H_e"),),
+    parameters=(
+        Parameter("object", str, "", "the world object it monitors (empty: an object the "
+                  "scenario does not declare, named after the schema)"),
+        Parameter("region", int, 0, "the tracked difference region it was spawned for "
+                  "(0: none)", low=0),
+        Parameter("k", float, 632.0, "spring stiffness (acceleration per metre of error); "
+                  "0 leaves the imagination uncorrected", unit="1/s^2", low=0.0),
+        Parameter("damping", float, 1.0, "damping ratio of the spring (1: critical)", low=0.0),
+        Parameter("confirm", int, 2, "sightings before the object is created in the imagination",
+                  low=1),
+        Parameter("lost_after", int, 5, "frames without a sighting before it is lost", low=0),
+        Parameter("min_area", int, 12, "smallest blob taken for the object", unit="px", low=1),
+        Parameter("process_noise", float, 0.3, "Kalman white-acceleration density",
+                  unit="m^2/s^3", low=0.0, low_open=True),
+        Parameter("measurement_noise", float, 0.005, "Kalman position noise", unit="m",
+                  low=0.0, low_open=True),
+        Parameter("gate", float, 6.0, "innovation (sigmas) beyond which the filter restarts "
+                  "from the last two sightings (a bounce)", low=0.0, low_open=True),
+        Parameter("adapt", bool, True, "estimate restitution, friction and rolling resistance "
+                  "online and give them to the imagined body"),
+        Parameter("predict", bool, True, "predict at the scenario's horizons (predict section)"),
+    ),
+)

@@ -1,0 +1,172 @@
+"""The intercept motor schema: where the robot can meet a moving object, and going there.
+
+The paper's *Intercept Rolling Object* (Figure 2B): it uses what the object's
+perceptual schema predicts and what the robot can do.  Every frame it plans
+the **earliest point of the predicted trajectory the robot can reach in
+time** (:func:`adapt.imagination.predict.intercept`, with the robot's speed
+and acceleration limits and the catch reach), which is after a bounce when
+only that one is reachable, and reports the plan on the input-link with the
+prediction's confidence at the meeting time.  It drives like the ``drive``
+schema (``^x ^y`` or ``^stop yes``): the rules decide when to commit to a
+plan (a confident one) and when to re-plan (``^plan-shift``, the distance
+between the plan and the target they gave, grows); they also see when the
+robot cannot reach the object in time (``^reachable no``) and do not chase.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Mapping
+
+import numpy as np
+
+from adapt.imagination.predict import intercept, intercept_reach
+from adapt.schemas.drive import Drive
+from adapt.schemas.links import Structure
+from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
+
+if TYPE_CHECKING:  # pragma: no cover
+    from adapt.schemas.foreground import ForegroundObject
+    from adapt.schemas.network import SchemaNetwork
+
+__all__ = ["Intercept", "INTERCEPT", "Plan", "CATCH_SLACK"]
+
+#: Touching is at exactly the reach; this much more (metres) counts as caught too.
+CATCH_SLACK = 0.02
+
+
+@dataclass(frozen=True, slots=True)
+class Plan:
+    """Where and when the robot can first meet the object.
+
+    ``time`` is the meeting's world time, ``position`` the object's there
+    (the robot's target), ``after_bounce`` whether the object touches
+    something before, ``confidence`` the prediction's at that horizon.
+    """
+
+    time: float
+    position: tuple[float, float]
+    after_bounce: bool
+    confidence: float
+    travel: float
+
+
+class Intercept(Drive):
+    """See the module docstring."""
+
+    def __init__(self, name: str, spec: SchemaSpec, parameters: Mapping[str, Any],
+                 network: "SchemaNetwork") -> None:
+        super().__init__(name, spec, parameters, network)
+        self.object_name = str(parameters["object"])
+        self.plan: Plan | None = None
+        self.reachable: bool | None = None
+
+    def watched(self) -> "ForegroundObject | None":
+        """The perceptual schema of the object (None while there is none)."""
+        from adapt.schemas.foreground import ForegroundObject
+
+        for s in self.network.ordered():
+            if isinstance(s, ForegroundObject) and s.object_name == self.object_name:
+                return s
+        return None
+
+    def act(self, time: float) -> None:
+        self._plan(time)
+        super().act(time)
+
+    def _plan(self, time: float) -> None:
+        obj = self.watched()
+        pose = self.network.mirror.robot_pose()
+        pred = None if obj is None else obj.prediction
+        if obj is None or pred is None or pose is None or obj.ball is None:
+            self.plan, self.reachable = None, None
+            return
+        (x, y), _ = pose
+        reach = intercept_reach(obj.ball, self.robot) * float(self.parameters["reach"])
+        hit = intercept(pred.trajectory, (x, y), self.robot.max_speed * float(self.parameters["speed"]),
+                        self.robot.max_accel, reach=reach, start=time)
+        if hit is None:
+            self.plan, self.reachable = None, False
+            return
+        ahead = hit.time - pred.time
+        horizons = [h.horizon for h in pred.horizons]
+        confs = [h.confidence for h in pred.horizons]
+        conf = float(np.interp(ahead, horizons, confs)) if ahead >= horizons[0] else confs[0]
+        after = any(pred.time < c.time <= hit.time for c in pred.contacts)
+        self.plan = Plan(hit.time, hit.position, after, conf, hit.travel)
+        self.reachable = True
+
+    def plan_shift(self) -> float | None:
+        """Distance between the plan and the commanded target, metres."""
+        if self.plan is None or self.target is None:
+            return None
+        return math.dist(self.plan.position, self.target)
+
+    def write(self, node: Structure) -> None:
+        super().write(node)
+        node.set("object", self.object_name)
+        obj = self.watched()
+        node.set("reach", None if obj is None or obj.ball is None
+                 else round(intercept_reach(obj.ball, self.robot), 4))
+        node.set("reachable", None if self.reachable is None else self.reachable)
+        p = self.plan
+        node.set("plan-x", None if p is None else round(p.position[0], 4))
+        node.set("plan-y", None if p is None else round(p.position[1], 4))
+        node.set("plan-time", None if p is None else round(p.time, 4))
+        node.set("plan-in", None if p is None else round(p.time - self.network.time, 4))
+        node.set("plan-confidence", None if p is None else round(p.confidence, 3))
+        node.set("after-bounce", None if p is None else p.after_bounce)
+        shift = self.plan_shift()
+        node.set("plan-shift", None if shift is None else round(shift, 4))
+        d = self.object_distance()
+        node.set("object-distance", None if d is None else round(d, 4))
+        node.set("caught", None if d is None or obj is None or obj.ball is None
+                 else d <= intercept_reach(obj.ball, self.robot) + CATCH_SLACK)
+
+    def object_distance(self) -> float | None:
+        """How far the robot is from the object: the sighting when there is one this frame,
+        else the imagined body (a ball at the robot's feet is below its camera's view)."""
+        obj = self.watched()
+        pose = self.network.mirror.robot_pose()
+        if obj is None or pose is None:
+            return None
+        where = obj.observed() or obj.imagined()
+        return None if where is None else math.dist(where, pose[0])
+
+    def summary(self) -> dict[str, Any]:
+        out = super().summary()
+        p = self.plan
+        out["plan"] = None if p is None else {
+            "t": round(p.time, 4), "position": [round(v, 4) for v in p.position],
+            "after_bounce": p.after_bounce, "confidence": round(p.confidence, 3)}
+        out["reachable"] = self.reachable
+        return out
+
+
+def _make(name: str, parameters: Mapping[str, Any], network: "SchemaNetwork") -> Intercept:
+    return Intercept(name, INTERCEPT, parameters, network)
+
+
+INTERCEPT = SchemaSpec(
+    name="intercept",
+    kind=SchemaKind.MOTOR,
+    doc=("Plans, every frame, the earliest point of an object's predicted path the robot can "
+         "reach in time (after a bounce when that is the one it can reach), reports it with "
+         "the prediction's confidence there, and drives the robot to the point the rules "
+         "commit to."),
+    factory=_make,
+    consumes=(Port("object", "the object's prediction"),
+              Port("camera", "the synchronised camera (the robot's own pose)")),
+    parameters=(
+        Parameter("object", str, "ball", "the world object to intercept"),
+        Parameter("tolerance", float, 0.05, "arrived when this close to the target", unit="m",
+                  low=0.0, low_open=True),
+        Parameter("speed", float, 1.0, "fraction of the robot's max_speed to use", low=0.0,
+                  high=1.0, low_open=True),
+        Parameter("timeout", float, 30.0, "give up a target after this long", unit="s",
+                  low=0.0, low_open=True),
+        Parameter("reach", float, 0.8, "plan to come this fraction of the catch reach close "
+                  "(a margin for error)", low=0.0, high=1.0),
+    ),
+)

@@ -1,0 +1,209 @@
+"""Where a ball is, from its silhouette: exact under perspective.
+
+A sphere of radius ``r`` whose centre ``C`` is at distance ``D`` from the
+camera centre ``O`` is seen as the cone of rays ``v`` with
+``angle(v, C - O) = asin(r / D)``.  :func:`fit_ball` finds the floor
+position ``(x, y)`` of a ball resting on the floor (centre at height ``r``),
+and ``r`` itself when it is unknown, by Gauss-Newton on those angles for the
+rays of the silhouette's *upper* outline: a contact shadow on the floor only
+adds to the lower part of the silhouette, and points that disagree with the
+cone (shadow, occlusion) are dropped and the fit repeated.
+
+:func:`upper_outline` extracts the outline, :func:`silhouette_circle` a first
+guess (a circle fitted to it).
+
+Examples
+--------
+>>> from adapt.geometry import Camera
+>>> cam = Camera.look_at(fx=525, fy=525, cx=319.5, cy=239.5, width=640, height=480,
+...                      position=(0, -0.6, 0.6), look_at=(0, 3, 0.3))
+>>> yy, xx = np.mgrid[0:480, 0:640]
+>>> rays = cam.pixel_ray(np.c_[xx.ravel(), yy.ravel()])
+>>> c = np.array([0.8, 1.2, 0.15])
+>>> to_c = (c - cam.position) / np.linalg.norm(c - cam.position)
+>>> inside = rays @ to_c >= np.cos(np.arcsin(0.15 / np.linalg.norm(c - cam.position)))
+>>> mask = inside.reshape(480, 640)
+>>> fit = fit_ball(mask, (0, 0), cam, radius=None)
+>>> [round(v, 2) for v in (*fit.position, fit.radius)]
+[0.8, 1.2, 0.15]
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from adapt.geometry import Camera
+
+__all__ = ["BallFit", "fit_ball", "upper_outline", "silhouette_circle"]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, slots=True)
+class BallFit:
+    """A ball found from its silhouette.
+
+    ``position`` is the floor ``(x, y)`` of its centre, ``radius`` its radius
+    (metres), ``rms_deg`` the RMS angular residual of the outline points used,
+    ``points`` how many were used.
+    """
+
+    position: tuple[float, float]
+    radius: float
+    rms_deg: float
+    points: int
+
+
+def upper_outline(mask: NDArray[np.bool_]) -> FloatArray:
+    """``(x, y)`` of the upper edge of every column of ``mask`` (column order): the
+    top-most pixel's centre moved up half a pixel, to the boundary itself."""
+    cols = np.flatnonzero(mask.any(axis=0))
+    if len(cols) == 0:
+        return np.zeros((0, 2))
+    tops = mask[:, cols].argmax(axis=0).astype(np.float64) - 0.5
+    return np.c_[cols.astype(np.float64), tops]
+
+
+def _circle(pts: FloatArray) -> tuple[float, float, float] | None:
+    a = np.c_[2 * pts[:, 0], 2 * pts[:, 1], np.ones(len(pts))]
+    b = pts[:, 0] ** 2 + pts[:, 1] ** 2
+    sol, *_ = np.linalg.lstsq(a, b, rcond=None)
+    cx, cy, c = (float(v) for v in sol)
+    r2 = c + cx * cx + cy * cy
+    return (cx, cy, math.sqrt(r2)) if r2 > 0 else None
+
+
+def silhouette_circle(mask: NDArray[np.bool_]) -> tuple[float, float, float] | None:
+    """Centre ``(x, y)`` and radius (pixels) of a circle fitted to the upper outline,
+    robustly (outline points below the centre or far from the circle are dropped).
+
+    Examples
+    --------
+    >>> yy, xx = np.mgrid[0:60, 0:60]
+    >>> disc = (xx - 30) ** 2 + (yy - 25) ** 2 <= 15 ** 2
+    >>> disc[30:45, 5:55] = True                        # a "shadow" below the centre
+    >>> [round(v) for v in silhouette_circle(disc)]
+    [30, 25, 15]
+    """
+    pts = upper_outline(mask)
+    if len(pts) < 6:
+        return None
+    # start from the middle of the outline: the top of a ball, away from what lies beside it
+    lo, hi = np.percentile(pts[:, 0], [20, 80])
+    keep = (pts[:, 0] >= lo) & (pts[:, 0] <= hi)
+    if keep.sum() < 6:
+        keep = np.ones(len(pts), bool)
+    fit = None
+    for _ in range(5):
+        if keep.sum() < 6:
+            break
+        found = _circle(pts[keep])
+        if found is None:
+            break
+        fit = found
+        cx, cy, r = fit
+        resid = np.abs(np.hypot(pts[:, 0] - cx, pts[:, 1] - cy) - r)
+        new = (pts[:, 1] <= cy) & (resid <= max(1.0, 2.5 * float(np.median(resid[keep]))))
+        if np.array_equal(new, keep):
+            break
+        keep = new
+    return fit
+
+
+def fit_ball(mask: NDArray[np.bool_], offset: tuple[int, int], camera: Camera, *,
+             radius: float | None, to_camera: Callable[[FloatArray], FloatArray] | None = None,
+             iterations: int = 12) -> BallFit | None:
+    """The floor position (and radius, when ``radius`` is None) of a ball from its silhouette.
+
+    Parameters
+    ----------
+    mask : (h, w) bool ndarray
+        The silhouette (a contact shadow below it does no harm).
+    offset : (x, y)
+        Where ``mask``'s top-left pixel is in the image.
+    camera : Camera
+        The camera the image is seen through.
+    radius : float or None
+        The ball's radius, or None to estimate it.
+    to_camera : callable, optional
+        Maps image pixels ``(N, 2)`` into ``camera``'s pixels (for an image
+        that ``camera`` sees through a homography).
+
+    Returns
+    -------
+    BallFit or None
+        None when the outline is too short or the fit does not converge.
+    """
+    circle = silhouette_circle(mask)
+    pts = upper_outline(mask)
+    if circle is None or len(pts) < 6:
+        return None
+    cx, cy, _ = circle
+    pts = pts[pts[:, 1] <= cy + 0.5]
+    if len(pts) < 6:
+        return None
+    pix = pts + np.array([offset[0], offset[1]], float)
+    centre_pix = np.array([[cx + offset[0], cy + offset[1]]])
+    if to_camera is not None:
+        pix = to_camera(pix)
+        centre_pix = to_camera(centre_pix)
+    rays = camera.pixel_ray(pix)
+    origin = camera.position
+    # first guess: the circle's centre ray; radius from the circle's angular size
+    u = camera.pixel_ray(centre_pix)[0]
+    ang = float(np.median(np.arccos(np.clip(rays @ u, -1.0, 1.0))))
+    sin_a = math.sin(ang)
+    if radius is None:
+        if sin_a - u[2] <= 1e-6:
+            return None
+        d = origin[2] / (sin_a - u[2])
+        r0 = d * sin_a
+    else:
+        r0 = radius
+        if abs(u[2]) < 1e-9:
+            return None
+        d = (r0 - origin[2]) / u[2]
+    c0 = origin + d * u
+    params = np.array([c0[0], c0[1], r0] if radius is None else [c0[0], c0[1]], float)
+
+    def residuals(p: FloatArray, use: NDArray[np.bool_]) -> FloatArray:
+        r = p[2] if radius is None else radius
+        centre = np.array([p[0], p[1], r])
+        dvec = centre - origin
+        dist = float(np.linalg.norm(dvec))
+        if dist <= r:
+            return np.full(int(use.sum()), 10.0)
+        w = dvec / dist
+        return np.arccos(np.clip(rays[use] @ w, -1.0, 1.0)) - math.asin(r / dist)
+
+    use = np.ones(len(rays), bool)
+    for _ in range(3):
+        for _ in range(iterations):
+            f = residuals(params, use)
+            jac = np.empty((len(f), len(params)))
+            for k in range(len(params)):
+                step = np.zeros_like(params)
+                step[k] = 1e-6
+                jac[:, k] = (residuals(params + step, use) - f) / 1e-6
+            delta, *_ = np.linalg.lstsq(jac, -f, rcond=None)
+            params = params + delta
+            if radius is None and params[2] <= 1e-3:
+                return None
+            if float(np.abs(delta).max()) < 1e-7:
+                break
+        resid = np.abs(residuals(params, np.ones(len(rays), bool)))
+        keep = resid <= max(np.radians(0.15), 3.0 * float(np.median(resid[use])))
+        if keep.sum() < 6 or np.array_equal(keep, use):
+            break
+        use = keep
+    f = residuals(params, use)
+    if not np.isfinite(params).all():
+        return None
+    r = float(params[2]) if radius is None else float(radius)
+    return BallFit((float(params[0]), float(params[1])), r,
+                   float(np.degrees(np.sqrt(np.mean(f**2)))), int(use.sum()))

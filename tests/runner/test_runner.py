@@ -1,0 +1,153 @@
+"""The runner's loop on a test reality: synchronisation, bottom-up spawning, outputs,
+determinism, interrupts and failures."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from adapt.errors import RunError
+from adapt.imagination import Ball
+from adapt.runner import Runner
+from adapt.scenario import OutputSettings, Scenario
+
+from .conftest import room
+from .sources import RenderedSource
+
+TURN = (0.012, -0.018, 0.01)  # about 6 px at 320x240
+QUIET = OutputSettings(video=False, figures=False)
+
+
+def source(sc: Scenario, frames: int = 60, **kw: object) -> RenderedSource:
+    return RenderedSource(sc.scene, sc.camera, frames=frames, turn=kw.pop("turn", TURN), **kw)  # type: ignore[arg-type]
+
+
+def frames_of(out: Path) -> list[dict]:
+    return json.loads((out / "report.json").read_text())["frames"]
+
+
+def test_the_background_synchronises_and_the_mmd_goes_quiet(scenario: Scenario, tmp_path: Path) -> None:
+    res = Runner(scenario, source=source(scenario, 40), out=tmp_path,
+                 outputs=QUIET).run()
+    frames = frames_of(tmp_path)
+    errors = [f["mmd"]["pixel_error"] for f in frames if f.get("mmd", {}).get("aligned")]
+    assert errors[0] > 3.0, errors[:3]
+    assert max(errors[-10:]) < 0.5, errors[-10:]
+    assert all(f["unexpected_regions"] == 0 for f in frames[-10:])
+    assert res.summary["events"]["instantiated"] == 1 and "spawned" not in res.summary["events"]
+    assert frames[-1]["schemas"] == ["background"]
+
+
+def test_an_object_in_reality_only_gets_one_schema_and_a_body_where_it_is(tmp_path: Path) -> None:
+    sc = room()
+    stranger = Ball("stranger", radius=0.12, position=(0.7, 1.4), color=(30, 200, 40))
+    res = Runner(sc, source=source(sc, 50, extra=[(12, stranger)]), out=tmp_path,
+                 outputs=QUIET).run()
+    assert res.summary["events"].get("spawned") == 1
+    frames = frames_of(tmp_path)
+    spawned_at = next(f["index"] for f in frames if len(f["schemas"]) == 2)
+    assert 12 + 2 <= spawned_at <= 12 + 8   # it persisted a few frames first
+    (name,) = [n for n in frames[-1]["schemas"] if n != "background"]
+    seen = frames[-1]["objects"][name]
+    assert seen["imagined"] is not None
+    assert abs(seen["imagined"][0] - 0.7) < 0.02 and abs(seen["imagined"][1] - 1.4) < 0.02
+    # once it is monitored, its region is expected: nothing unexpected is left
+    assert all(f["unexpected_regions"] == 0 for f in frames[-15:])
+    trace = [json.loads(line) for line in (tmp_path / "trace.jsonl").read_text().splitlines()]
+    kinds = [r["event"] for r in trace if r["kind"] == "schema"]
+    assert kinds.count("spawned") == 1 and kinds.count("created") == 1
+
+
+def test_sensor_noise_spawns_nothing(tmp_path: Path) -> None:
+    sc = room()
+    res = Runner(sc, source=source(sc, 40, noise=6.0), out=None).run()
+    assert "spawned" not in res.summary["events"]
+
+
+def test_a_declared_object_is_created_when_seen_and_named_by_the_goal() -> None:
+    sc = room(objects="  objects:\n    - {name: ball, radius: 0.11, create: when_seen, "
+                      "color: [230, 60, 30]}\n",
+              extra="reality:\n  objects: [{name: ball, throw: {t: 0.3, x: 0, y: 1}}]\n")
+    sc = replace(sc, goals=(replace(sc.goals[0], attributes=(("object", "ball"),)),))
+    assert sc.scene.balls == ()  # not in the imagination at the start
+    ball = Ball("ball", radius=0.11, position=(-0.4, 1.6), color=(230, 60, 30))
+    runner = Runner(sc, source=source(sc, 40, extra=[(8, ball)]), out=None)
+    res = runner.run()
+    assert res.summary["schemas"] == ["background", "ball"]
+    assert res.summary["events"]["spawned"] == 1 and res.summary["events"]["created"] == 1
+    x, y = runner.mirror.world.position("ball")
+    assert abs(x + 0.4) < 0.025 and abs(y - 1.6) < 0.025  # 320x240: a pixel is ~7 mm here
+
+
+def test_the_same_seed_gives_the_same_report(tmp_path: Path) -> None:
+    sc = room()
+    stranger = Ball("stranger", radius=0.12, position=(0.7, 1.4), color=(30, 200, 40))
+    outs = []
+    for k in range(2):
+        out = tmp_path / str(k)
+        Runner(sc, source=source(sc, 30, extra=[(5, stranger)]), out=out,
+               outputs=QUIET).run()
+        frames = frames_of(out)
+        for f in frames:
+            f["mmd"].pop("ms", None)
+        outs.append(frames)
+    assert outs[0] == outs[1]
+
+
+def test_an_interrupted_run_leaves_complete_outputs(tmp_path: Path) -> None:
+    sc = room()
+    res = Runner(sc, source=source(sc, 30, interrupt_at=7), out=tmp_path,
+                 outputs=OutputSettings(figures=False)).run()
+    assert res.interrupted
+    report = json.loads((tmp_path / "report.json").read_text())
+    assert len(report["frames"]) == 7 and report["summary"]["interrupted"] is True
+    lines = (tmp_path / "trace.jsonl").read_text().splitlines()
+    footer = [json.loads(x) for x in lines if '"kind":"footer"' in x]
+    assert len(footer) == 1 and footer[0]["stop_reason"] == "interrupted"
+    assert (tmp_path / "mmd.mp4").stat().st_size > 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mmd.mp4", "report.json", "trace.jsonl"]
+
+
+def test_a_failed_run_leaves_a_valid_report_and_raises(tmp_path: Path) -> None:
+    sc = room()
+    with pytest.raises(RuntimeError, match="cable"):
+        Runner(sc, source=source(sc, 30, fail_at=4), out=tmp_path,
+               outputs=QUIET).run()
+    report = json.loads((tmp_path / "report.json").read_text())
+    assert len(report["frames"]) == 4 and "cable" in report["summary"]["error"]
+
+
+def test_report_keys_are_the_contract(tmp_path: Path) -> None:
+    sc = room()
+    Runner(sc, source=source(sc, 5), out=tmp_path,
+           outputs=QUIET).run()
+    report = json.loads((tmp_path / "report.json").read_text())
+    for key in ("scenario", "seed", "fps", "frames", "summary"):
+        assert key in report
+    for f in report["frames"]:
+        assert {"index", "t", "schemas", "unexpected_regions", "objects",
+                "predictions"} <= set(f)
+
+
+def test_frames_of_the_wrong_size_are_refused() -> None:
+    sc = room()
+    src = source(sc, 5)
+    src.true_camera = src.true_camera.__class__(100, 100, 50, 50, 100, 80,
+                                                src.true_camera.rotation, src.true_camera.position)
+    with pytest.raises(RunError, match="100x80 but the scenario's camera is 320x240"):
+        Runner(sc, source=src, out=None)
+
+
+def test_outputs_never_replace_inputs(tmp_path: Path) -> None:
+    sc = room()
+    (tmp_path / "report.json").write_text("{}")
+    sc = replace(sc, path=tmp_path / "report.json")
+    with pytest.raises(RunError, match="would replace an input"):
+        Runner(sc, source=source(sc, 3), out=tmp_path)
+    f = tmp_path / "file"
+    f.write_text("x")
+    with pytest.raises(RunError, match="is a file"):
+        Runner(room(), source=source(room(), 3), out=f)

@@ -1,0 +1,96 @@
+"""docs/scenario.md and the reader stay in step: every documented table lists exactly the
+keys the reader accepts, and the documented defaults are the records' defaults."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+import yaml
+
+from adapt.imagination.scene import Ball, Floor, Obstacle, RobotSpec, Wall
+from adapt.scenario import TOP_KEYS, Appearance, OutputSettings, PredictSettings, RunSettings
+from adapt.scenario import reality as R
+from adapt.scenario import run as RUN
+from adapt.scenario import world as W
+
+DOC = Path(__file__).resolve().parents[2] / "docs" / "scenario.md"
+
+#: heading -> (keys the reader accepts, record whose field defaults the doc must show,
+#:             key -> field name where they differ)
+TABLES = {
+    "Top level": (TOP_KEYS, None, {}),
+    "`camera`": (W.CAMERA_KEYS, None, {}),
+    "`world`": (W.WORLD_KEYS, None, {}),
+    "`world.floor`": (W.FLOOR_KEYS, Floor, {}),
+    "`world.walls[i]`": (W.WALL_KEYS, Wall, {}),
+    "`world.obstacles[i]`": (W.OBSTACLE_KEYS, Obstacle, {}),
+    "`world.objects[i]` (balls)": (W.OBJECT_KEYS, Ball, {}),
+    "`world.robot`": (W.ROBOT_KEYS, RobotSpec, {}),
+    "`reality` with `kind: synthetic` (the default)": (R.SYNTHETIC_KEYS, None, {}),
+    "`reality.appearance`": (R.APPEARANCE_KEYS, Appearance, {}),
+    "`reality.robot`": (R.REALITY_ROBOT_KEYS, None, {}),
+    "`reality.objects[i]`": (R.TRUE_OBJECT_KEYS, None, {}),
+    "`reality.objects[i].throw`": (R.THROW_KEYS, None, {}),
+    "`reality` with `kind: video`": (R.VIDEO_KEYS, None, {}),
+    "`run`": (RUN.RUN_KEYS, RunSettings, {}),
+    "`predict`": (RUN.PREDICT_KEYS, PredictSettings, {}),
+    "`outputs`": (RUN.OUTPUT_KEYS, OutputSettings, {}),
+}
+
+
+def tables() -> dict[str, list[tuple[str, str]]]:
+    """heading -> [(key, default cell)] of the first table under it."""
+    out: dict[str, list[tuple[str, str]]] = {}
+    heading = None
+    for line in DOC.read_text(encoding="utf-8").splitlines():
+        m = re.match(r"#+ (.*)", line)
+        if m:
+            heading = m.group(1).strip()
+            continue
+        if heading and line.startswith("| `"):
+            cells = [c.strip() for c in line.strip("|").split("|")]
+            keys = re.findall(r"`([^`]+)`", cells[0])
+            default = cells[2] if len(cells) > 2 else ""
+            for key in keys:
+                out.setdefault(heading, []).append((key, default))
+    return out
+
+
+@pytest.mark.parametrize("heading", sorted(TABLES))
+def test_every_documented_table_lists_the_readers_keys(heading: str) -> None:
+    found = tables()
+    assert heading in found, f"docs/scenario.md has no table under {heading!r}"
+    documented = [k for k, _ in found[heading]]
+    keys, _, _ = TABLES[heading]
+    assert sorted(set(documented)) == sorted(keys), heading
+
+
+@pytest.mark.parametrize("heading", sorted(h for h, v in TABLES.items() if v[1] is not None))
+def test_documented_defaults_are_the_records_defaults(heading: str) -> None:
+    keys, record, rename = TABLES[heading]
+    fields = record.__dataclass_fields__  # type: ignore[union-attr]
+    checked = 0
+    for key, cell in tables()[heading]:
+        name = rename.get(key, key)
+        if name not in fields or fields[name].default is fields[name].default_factory:
+            continue
+        default = fields[name].default
+        text = cell.strip("`")
+        try:
+            value = yaml.safe_load(text.replace("`", ""))
+        except yaml.YAMLError:
+            continue
+        if isinstance(default, tuple):
+            default = list(default)
+        if isinstance(value, (int, float)) and isinstance(default, (int, float)) \
+                and not isinstance(default, bool):
+            assert abs(float(value) - float(default)) < 1e-9, (heading, key, cell, default)
+            checked += 1
+        elif isinstance(value, (bool, list)) and isinstance(default, (bool, list)):
+            assert value == default, (heading, key, cell, default)
+            checked += 1
+        elif isinstance(value, str) and isinstance(default, str) and value in (default, f"'{default}'"):
+            checked += 1
+    assert checked >= 1, f"no default of {heading} could be compared"

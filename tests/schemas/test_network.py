@@ -1,0 +1,163 @@
+"""The schema network: instantiation, parameters, ports and order, commands from the rules,
+statuses on the input-link, events."""
+
+from __future__ import annotations
+
+from types import MappingProxyType
+
+import pytest
+
+from adapt.engine import Agent
+from adapt.errors import ScenarioError, SchemaError
+from adapt.geometry import Camera
+from adapt.imagination import RobotSpec, SceneSpec
+from adapt.mirror import Mirror
+from adapt.schemas import REGISTRY, Origin, SchemaNetwork, Status, check_settings
+from adapt.scenario import SchemaSettings, Source
+
+CAM = Camera.look_at(fx=200, fy=200, cx=80, cy=60, width=160, height=120,
+                     position=(0, -2, 1), look_at=(0, 1, 0))
+
+
+def network(robot: bool = True) -> SchemaNetwork:
+    scene = SceneSpec(robot=RobotSpec(position=(0.0, -1.0), max_speed=1.0, max_accel=2.0)
+                      if robot else None)
+    return SchemaNetwork(Mirror(scene, CAM))
+
+
+def test_instantiation_connects_ports_and_orders_providers_first() -> None:
+    net = network()
+    events = []
+    net.listeners.append(events.append)
+    drive = net.instantiate("drive")
+    fo = net.instantiate("foreground-object", origin=Origin.BOTTOM_UP)
+    bg = net.instantiate("scene-background")
+    # the provider comes first, then the consumers in creation order
+    assert net.names == [bg.name, drive.name, fo.name] == ["scene-background", "drive-1",
+                                                           "foreground-object-1"]
+    edges = {(a, b, d["port"]) for a, b, d in net.graph.edges(data=True)}
+    assert edges == {(bg.name, drive.name, "camera"), (bg.name, fo.name, "regions")}
+    assert [e.kind for e in events] == ["instantiated", "spawned", "instantiated"]
+    assert fo.origin is Origin.BOTTOM_UP and drive.status is Status.IDLE
+    sub = net.subscene()
+    assert {n["name"] for n in sub["nodes"]} == {bg.name, drive.name, fo.name}
+    net.remove(fo.name)
+    assert fo.name not in net and events[-1].kind == "removed"
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda n: n.instantiate("scene-backgrund"), "did you mean 'scene-background'"),
+    (lambda n: n.instantiate("drive", parameters={"speeed": 1}), "unknown parameter 'speeed'"),
+    (lambda n: n.instantiate("drive", parameters={"speed": 2}), "at most 1"),
+    (lambda n: n.instantiate("foreground-object", parameters={"object": "nothing"}),
+     "no object called 'nothing'"),
+])
+def test_bad_instantiations(call, message: str) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(SchemaError, match=message):
+        call(network())
+
+
+def test_singletons_names_and_robots() -> None:
+    net = network()
+    net.instantiate("scene-background")
+    with pytest.raises(SchemaError, match="only one"):
+        net.instantiate("scene-background")
+    net.instantiate("drive", "go")
+    with pytest.raises(SchemaError, match="already exists"):
+        net.instantiate("drive", "go")
+    with pytest.raises(SchemaError, match="no robot"):
+        network(robot=False).instantiate("drive")
+
+
+def test_scenario_settings_are_checked_with_positions() -> None:
+    src = Source("s.yaml", 7, 3, "schemas.drive", "  drive: {speed: 3}")
+    good = SchemaSettings("drive", MappingProxyType({"speed": 0.5}), src,
+                          MappingProxyType({"speed": src}))
+    assert check_settings([good]) == {"drive": {"speed": 0.5}}
+    bad = SchemaSettings("drive", MappingProxyType({"speed": 3}), src,
+                         MappingProxyType({"speed": Source("s.yaml", 7, 19, "schemas.drive.speed")}))
+    with pytest.raises(ScenarioError) as info:
+        check_settings([bad])
+    assert str(info.value).startswith("s.yaml:7:19: schemas.drive.speed: expected at most 1")
+    unknown = SchemaSettings("driv", MappingProxyType({}), src)
+    with pytest.raises(ScenarioError, match="did you mean 'drive'"):
+        check_settings([unknown])
+    # the scenario's values sit between the defaults and the rules' own
+    net = SchemaNetwork(Mirror(SceneSpec(robot=RobotSpec(max_speed=1, max_accel=1)), CAM),
+                        settings=[good])
+    assert net.instantiate("drive").parameters["speed"] == 0.5
+    assert net.instantiate("drive", parameters={"speed": 0.25}).parameters["speed"] == 0.25
+
+
+RULES = """
+sp {propose*make (state <s> ^superstate nil ^io.input-link <in> ^io.output-link <out>)
+   -(<in> ^schema.type drive) -(<out> ^instantiate)
+-->  (<s> ^operator <o> + =) (<o> ^name make)}
+sp {apply*make (state <s> ^operator.name make ^io.output-link <out>)
+-->  (<out> ^instantiate <c>) (<c> ^type drive ^name mover ^speed 0.5)
+     (<out> ^instantiate <d>) (<d> ^type nonsense)}
+sp {propose*go (state <s> ^superstate nil ^io.input-link.schema <m> ^io.output-link <out>)
+   (<m> ^name mover ^status idle) -(<out> ^command)
+-->  (<s> ^operator <o> + =) (<o> ^name go)}
+sp {apply*go (state <s> ^operator.name go ^io.output-link <out>)
+-->  (<out> ^command <c>) (<c> ^schema mover ^x 0.5 ^y -1.0)}
+sp {seen (state <s> ^io.output-link.<v> <c>) (<c> ^status <st>)
+-->  (write <v> | | <st> (crlf))}
+sp {wait (state <s> ^superstate nil -^operator.name wait) --> (<s> ^operator <o> + <) (<o> ^name wait)}
+"""
+
+
+def test_rules_drive_the_network_through_the_links() -> None:
+    net = network()
+    agent = Agent(seed=1)
+    agent.load_text(RULES)
+    agent.on_input(net.write_input)
+    agent.on_output(net.on_output)
+    out = []
+    agent.on_write(out.append)
+    for frame in range(8):
+        agent.run(2, footer=False)
+        net.act(frame / 30)
+    text = "".join(out)
+    assert "instantiate complete" in text and "instantiate error" in text
+    assert "command complete" in text
+    mover = net["mover"]
+    assert mover.parameters["speed"] == 0.5 and mover.status is Status.EXECUTING
+    assert mover.target == (0.5, -1.0)
+    # the error says what was wrong
+    msgs = [w.value for w in agent.wm if w.attr == "message"]
+    assert any("unknown schema type 'nonsense'" in str(m) for m in msgs)
+    # the input-link shows the schema and the robot
+    schema_ids = [w.value for w in agent.wm if w.attr == "schema" and w.id == agent.input_link]
+    assert len(schema_ids) == 1
+    assert any(w.attr == "robot" for w in agent.wm if w.id == agent.input_link)
+
+
+def test_the_drive_schema_reaches_its_target_and_refuses_obstacles() -> None:
+    from adapt.imagination import Obstacle
+
+    scene = SceneSpec(robot=RobotSpec(position=(0.0, 0.0), max_speed=1.0, max_accel=2.0),
+                      obstacles=(Obstacle("box", ((2, 2), (3, 2), (3, 3), (2, 3)), 0.5),))
+    mirror = Mirror(scene, CAM)
+    net = SchemaNetwork(mirror)
+    d = net.instantiate("drive")
+    assert d.command({"x": 1.0, "y": 0.5}) is None
+    t = 0.0
+    while d.status is Status.EXECUTING and t < 5:
+        net.act(t)
+        t += 1 / 30
+        mirror.step_to(t)
+    assert d.status is Status.COMPLETE
+    x, y = mirror.world.position(scene.robot.name)  # type: ignore[union-attr]
+    assert abs(x - 1.0) < 0.06 and abs(y - 0.5) < 0.06
+    assert d.command({"x": 2.5, "y": 2.5}) is None and d.status is Status.FAILED
+    assert "inside obstacle 'box'" in d.message
+    assert "needs ^x and ^y" in str(d.command({"x": 1}))
+    assert d.command({"stop": "yes"}) is None and d.status is Status.IDLE
+
+
+def test_the_registry_lists_every_builtin_type() -> None:
+    assert REGISTRY.names() == ["drive", "foreground-object", "intercept", "scene-background"]
+    for spec in REGISTRY:
+        data = spec.as_json()
+        assert data["name"] == spec.name and data["parameters"]

@@ -1,0 +1,140 @@
+"""Region tracking, the input-link structures and the ball's silhouette fit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from adapt.engine import Agent
+from adapt.engine.symbols import format_symbol
+from adapt.geometry import Camera
+from adapt.schemas.links import Structure
+from adapt.schemas.silhouette import fit_ball, silhouette_circle
+from adapt.schemas.tracks import RegionTracker
+from adapt.vision.regions import Region
+
+
+def region(x: int, y: int, w: int = 10, h: int = 10) -> Region:
+    return Region((x, y, w, h), (x + w / 2, y + h / 2), w * h, 50.0, np.ones((h, w), bool))
+
+
+def test_tracks_keep_ids_count_ages_and_survive_short_misses() -> None:
+    t = RegionTracker(max_misses=2)
+    (a,) = t.update([region(10, 10)], 0)
+    t.update([region(12, 11)], 1)
+    assert (a.id, a.age) == (1, 2)
+    t.update([], 2)
+    t.update([], 3)
+    assert t.get(1) is not None and t.get(1).misses == 2  # type: ignore[union-attr]
+    (b,) = t.update([region(14, 12)], 4)
+    assert b.id == 1 and b.age == 3
+    for k in range(5, 8):
+        t.update([], k)
+    assert t.get(1) is None
+    (c,) = t.update([region(14, 12)], 8)
+    assert c.id == 2  # ids are never reused
+
+
+def test_two_regions_do_not_swap_ids() -> None:
+    t = RegionTracker()
+    t.update([region(10, 10), region(100, 10)], 0)
+    out = t.update([region(103, 11), region(12, 9)], 1)
+    assert [k.id for k in out] == [2, 1]
+
+
+def test_assigned_tracks_remember_their_owner() -> None:
+    t = RegionTracker()
+    (a,) = t.update([region(10, 10)], 0)
+    assert t.assign(a.id, "ball") and not t.assign(99, "ball")
+    t.update([region(11, 10)], 1)
+    assert t.get(a.id).owner == "ball"  # type: ignore[union-attr]
+    t.release("ball")
+    assert t.get(a.id).owner is None  # type: ignore[union-attr]
+
+
+def test_structures_change_only_what_changed() -> None:
+    agent = Agent()
+    values = iter([(1.5, [1, 2]), (1.5, [2]), (2.5, [2, 3])])
+    root: list[Structure] = []
+
+    def sense(w):  # type: ignore[no-untyped-def]
+        if not root:
+            root.append(Structure.under(w, w.input_link, "thing"))
+        s = root[0]
+        s.bind(w)
+        x, kids = next(values, (2.5, [2, 3]))
+        s.set("x", x)
+        s.set("flag", x > 2)
+        for k in kids:
+            s.child("part", k).set("k", k)
+        s.keep_children("part", kids)
+
+    agent.on_input(sense)
+    agent.run(1)
+    first = {(w.attr, format_symbol(w.value)): w.timetag for w in agent.wm}
+    agent.run(1)
+    second = {(w.attr, format_symbol(w.value)): w.timetag for w in agent.wm}
+    assert second[("x", "1.500000")] == first[("x", "1.500000")]   # unchanged: same timetag
+    assert ("k", "1") not in second and ("k", "2") in second       # part 1 removed, part 2 kept
+    agent.run(1)
+    third = {(w.attr, format_symbol(w.value)) for w in agent.wm}
+    assert ("flag", "yes") in third and ("flag", "no") not in third and ("x", "2.500000") in third
+
+
+CAM = Camera.look_at(fx=525, fy=525, cx=319.5, cy=239.5, width=640, height=480,
+                     position=(0, -0.6, 0.6), look_at=(0, 3, 0.3))
+
+
+def sphere_mask(center: tuple[float, float], radius: float, cam: Camera = CAM) -> np.ndarray:
+    yy, xx = np.mgrid[0:cam.height, 0:cam.width]
+    rays = cam.pixel_ray(np.c_[xx.ravel() + 0.0, yy.ravel() + 0.0])
+    c = np.array([center[0], center[1], radius])
+    d = c - cam.position
+    dist = np.linalg.norm(d)
+    inside = rays @ (d / dist) >= np.cos(np.arcsin(radius / dist))
+    return inside.reshape(cam.height, cam.width)
+
+
+@settings(max_examples=25, deadline=None)
+@given(x=st.floats(-1.2, 1.2), y=st.floats(0.4, 2.6), r=st.floats(0.06, 0.2))
+def test_a_ball_is_found_from_its_silhouette(x: float, y: float, r: float) -> None:
+    mask = sphere_mask((x, y), r)
+    ys, xs = np.nonzero(mask)
+    assume(len(xs) > 0 and xs.min() > 0 and ys.min() > 0 and xs.max() < 639 and ys.max() < 479)
+    crop = mask[ys.min():ys.max() + 1, xs.min():xs.max() + 1]
+    known = fit_ball(crop, (int(xs.min()), int(ys.min())), CAM, radius=r)
+    free = fit_ball(crop, (int(xs.min()), int(ys.min())), CAM, radius=None)
+    assert known is not None and free is not None
+    # a pixel subtends ~ distance / 525 m: stay within about two pixels' worth
+    tol = 2.5 * np.hypot(x, y + 0.6) / 525 + 0.002
+    assert abs(known.position[0] - x) < tol and abs(known.position[1] - y) < 3 * tol
+    assert abs(free.radius - r) < 0.1 * r + 0.003
+
+
+def test_a_shadow_below_the_ball_does_not_move_it() -> None:
+    mask = sphere_mask((0.3, 1.2), 0.12)
+    ys, xs = np.nonzero(mask)
+    shadow = mask.copy()
+    bottom = ys.max()
+    shadow[bottom - 12:bottom + 8, xs.min() - 25:xs.max() + 10] = True
+    a = fit_ball(mask[ys.min():bottom + 9, xs.min() - 25:xs.max() + 11],
+                 (int(xs.min()) - 25, int(ys.min())), CAM, radius=0.12)
+    b = fit_ball(shadow[ys.min():bottom + 9, xs.min() - 25:xs.max() + 11],
+                 (int(xs.min()) - 25, int(ys.min())), CAM, radius=0.12)
+    assert a is not None and b is not None
+    assert np.hypot(a.position[0] - b.position[0], a.position[1] - b.position[1]) < 0.005
+
+
+def test_too_little_outline_is_no_fit() -> None:
+    assert silhouette_circle(np.zeros((5, 5), bool)) is None
+    assert fit_ball(np.ones((3, 3), bool), (0, 0), CAM, radius=0.1) is None
+
+
+@pytest.mark.parametrize("r", [8.0, 20.0, 45.0])
+def test_circle_of_a_disc(r: float) -> None:
+    yy, xx = np.mgrid[0:120, 0:120]
+    disc = (xx - 60.3) ** 2 + (yy - 58.7) ** 2 <= r * r
+    cx, cy, rr = silhouette_circle(disc)  # type: ignore[misc]
+    assert abs(cx - 60.3) < 0.6 and abs(cy - 58.7) < 0.8 and abs(rr - r) < 0.8
