@@ -77,7 +77,7 @@ class TraceWriter:
     """
 
     def __init__(self, sink: Any, *, level: int = 5, files: Iterable[str] = (),
-                 seed: int = 1, version: str = "0.1.0") -> None:
+                 seed: int | None = 1, version: str = "0.1.0") -> None:
         if not 1 <= level <= 5:
             raise ValueError(f"trace level must be 1..5, not {level}")
         if isinstance(sink, (str, os.PathLike)):
