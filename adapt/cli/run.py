@@ -93,7 +93,7 @@ def _run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else Path("runs") / Path(args.scenario).stem
     bar = _ProgressLine(sys.stderr) if sys.stderr.isatty() and not args.quiet else None
 
-    closed = []
+    closed = []  # type: ignore[var-annotated]
 
     def on_write(text: str) -> None:
         if args.quiet or args.json or closed:
@@ -164,7 +164,7 @@ def _print_summary(result: Any, sc: Any) -> None:
     if conf and conf.get("within_reach") is not None:
         print(f"confident predictions ({conf['threshold']} at {conf['horizon']:g} s): "
               f"{100 * conf['within_reach']:.0f}% of {conf['confident']} within the catch reach")
-    for key, path in result.outputs.items():
+    for path in result.outputs.values():
         print(f"wrote {path}")
 
 

@@ -327,8 +327,8 @@ class World:
             p = points[0].point_a if arbiter.shapes[0] is a else points[0].point_b
             pos = (float(p[0]), float(p[1]))
         else:
-            pos = (float(a.body.position[0]), float(a.body.position[1]))
-        v = a.body.velocity
+            pos = (float(a.body.position[0]), float(a.body.position[1]))  # type: ignore[union-attr]
+        v = a.body.velocity  # type: ignore[union-attr]
         self.contacts.append(Contact(time, ball, surface, pos, float(math.hypot(v[0], v[1]))))
 
     # -- balls at run time ------------------------------------------------------

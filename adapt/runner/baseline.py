@@ -88,7 +88,7 @@ class Baseline:
             times = np.linspace(time, time + self.plan, 91)
             path = Trajectory("baseline", times, p[None, :] + (times - time)[:, None] * v[None, :],
                               np.tile(v, (len(times), 1)), ())
-            hit = intercept(path, self.robot.position, self.robot.max_speed, self.robot.max_accel,
+            hit = intercept(path, self.robot.position, self.robot.max_speed, self.robot.max_accel,  # type: ignore[arg-type]
                             reach=self.reach, start=time)
             if hit is not None:
                 self.target = hit.position

@@ -47,10 +47,10 @@ from adapt.geometry import Camera
 from adapt.mirror import Mirror
 from adapt.runner.baseline import Baseline
 from adapt.runner.evaluation import Evaluation
-from adapt.runner.twin import UncorrectedTwin
 from adapt.runner.figures import Paths, Snapshot, Snapshots
 from adapt.runner.panels import CAPTION, side_by_side
 from adapt.runner.report import ReportWriter
+from adapt.runner.twin import UncorrectedTwin
 from adapt.scenario import Mount, OutputSettings, Scenario
 from adapt.schemas import REGISTRY, Registry, SchemaEvent, SchemaNetwork
 from adapt.seeds import Streams
@@ -417,11 +417,11 @@ class Runner:
                 sighting = s.last.position if s.last is not None and s.misses == 0 else None
                 b.step(self.network.time, sighting)
                 baseline[name] = b.predictions()
-        for b in self.mirror.scene.balls:
-            if self.mirror.has_body(b.name):
-                p = self.mirror.world.position(b.name)
-                out.setdefault(b.name, {"observed": None, "imagined": None})
-                out[b.name]["imagined"] = [round(p[0], 4), round(p[1], 4)]
+        for ball in self.mirror.scene.balls:
+            if self.mirror.has_body(ball.name):
+                p = self.mirror.world.position(ball.name)
+                out.setdefault(ball.name, {"observed": None, "imagined": None})
+                out[ball.name]["imagined"] = [round(p[0], 4), round(p[1], 4)]
         return out, preds, contacts, baseline
 
     def _record(self, frame: Frame) -> dict[str, Any]:

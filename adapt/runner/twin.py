@@ -22,8 +22,8 @@ from __future__ import annotations
 
 from typing import Sequence
 
-from adapt.imagination import Ball, Renderer, RenderResult, SceneSpec, World
 from adapt.geometry import Camera
+from adapt.imagination import Ball, Renderer, RenderResult, SceneSpec, World
 
 __all__ = ["UncorrectedTwin"]
 

@@ -271,8 +271,8 @@ class SceneBackground(Schema):
             return None
         if self._warped_labels is None:
             h, w = self.labels.shape
-            self._warped_labels = cv2.warpPerspective(
-                self.labels.astype(np.uint16), self.result.homography, (w, h),
+            self._warped_labels = cv2.warpPerspective(  # type: ignore[assignment]
+                self.labels.astype(np.uint16), self.result.homography, (w, h),  # type: ignore[arg-type]
                 flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
         return self._warped_labels
 

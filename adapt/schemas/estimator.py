@@ -275,7 +275,7 @@ class ParameterEstimator:
         dv = vb - va
         tc = float(np.dot(pa - pb, dv) / np.dot(dv, dv)) if np.dot(dv, dv) > 1e-12 else 0.0
         contact = pb + vb * tc
-        found = nearest_surface(self.scene, contact)
+        found = nearest_surface(self.scene, contact)  # type: ignore[arg-type]
         if found is None or found[1] > 3.0 * self.radius + 0.05:
             return None
         name, _, n, e_surf, mu_surf = found

@@ -234,7 +234,7 @@ class ForegroundObject(Schema):
             if after is not None:
                 t0, p0, v0 = after
                 p = p0 + v0 * (time - t0)
-                self.kf.reset(time, p, v0, self.estimator.noise, 0.1)
+                self.kf.reset(time, p, v0, self.estimator.noise, 0.1)  # type: ignore[arg-type]
             self.network.note(self, "bounce", {
                 "t": round(bounce.time, 4), "surface": bounce.surface,
                 "position": [round(v, 4) for v in bounce.position],
@@ -248,7 +248,7 @@ class ForegroundObject(Schema):
                                                                     "rolling_resistance" else 0.01):
                     changes[name] = value
             if changes:
-                self.ball = replace(self.ball, **changes)
+                self.ball = replace(self.ball, **changes)  # type: ignore[arg-type]
                 self.network.mirror.replace_ball(self.ball)
 
     def estimates(self) -> dict[str, tuple[float, float]]:
@@ -302,11 +302,11 @@ class ForegroundObject(Schema):
         for i in range(1, n):
             if stats[i, cv2.CC_STAT_AREA] < min_area:
                 continue
-            d = math.dist((cents[i][0] + x0, cents[i][1] + y0), (cx, cy))
+            d = math.dist((cents[i][0] + x0, cents[i][1] + y0), (cx, cy))  # type: ignore[assignment]
             # prefer large blobs near the prediction
             score = d / math.sqrt(stats[i, cv2.CC_STAT_AREA])
             if score < best_d:
-                best, best_d = i, score
+                best, best_d = i, score  # type: ignore[assignment]
         if best == 0:
             return None
         bx, by, bw, bh, area = (int(v) for v in stats[best])
@@ -326,7 +326,7 @@ class ForegroundObject(Schema):
             # with something else, a fragment): do not let it move the estimate
             if abs(free.radius - self.ball.radius) > RADIUS_TOLERANCE * self.ball.radius:
                 return None
-            fit = fit_ball(mask, (bx + x0, by + y0), cam, radius=self.ball.radius,
+            fit = fit_ball(mask, (bx + x0, by + y0), cam, radius=self.ball.radius,  # type: ignore[assignment]
                            to_camera=bg.pixels_to_synthetic)
             if fit is None:
                 return None

@@ -216,7 +216,7 @@ class Predictor:
                 changes[key] = min(max(mean, 0.0), 1.0)
             elif key in ("friction", "rolling_resistance"):
                 changes[key] = max(mean, 0.0)
-        nominal_ball = replace(ball, **changes)
+        nominal_ball = replace(ball, **changes)  # type: ignore[arg-type]
         nominal_scene = replace(scene, robot=None,
                                 balls=tuple(nominal_ball if b.name == body else b
                                             for b in scene.balls))
