@@ -91,13 +91,13 @@ def report(name: str, ms: dict[str, float]) -> None:
 def new_pose(runs: int) -> float:
     sc = load_scenario(ROOT / "scenarios" / "bouncing-ball.yaml")
     base = Renderer(sc.scene, sc.camera)
-    base.background  # textures prepared once
+    _ = base.background  # textures prepared once
     rng = np.random.default_rng(0)
     times = []
     for _ in range(runs):
         cam = sc.camera.with_rotation(rotation_exp(rng.normal(0, 0.01, 3)) @ sc.camera.rotation)
         t = time.perf_counter()
-        base.with_camera(cam).background
+        _ = base.with_camera(cam).background
         times.append(time.perf_counter() - t)
     return 1000.0 * statistics.median(times)
 

@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import ImaginationError
-from adapt.imagination.scene import Ball, RobotSpec, SceneSpec, Vec2
+from adapt.imagination.scene import Ball, RobotSpec, Vec2
 from adapt.imagination.world import MAX_STEPS, BodyState, Contact, World, WorldState
 
 __all__ = [

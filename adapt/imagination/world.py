@@ -410,7 +410,8 @@ class World:
             raise ImaginationError(f"cannot set {sorted(unknown)} of a ball; expected restitution, "
                                    "friction, rolling_resistance or mass")
         old = next(b for b in self.scene.balls if b.name == name)
-        new = replace(old, **values)  # validates the values
+        changes: dict[str, Any] = dict(values)
+        new = replace(old, **changes)  # validates the values
         shape, joints = self._parts[name]
         if (new.rolling_resistance > 0) != bool(joints):
             body = self._balls[name]

@@ -87,7 +87,7 @@ class SceneBackground(Schema):
         self.correction_deg = 0.0
         self.corrections = 0
         self.ms = 0.0
-        self._prepared_for: tuple[int, int] | None = None
+        self._prepared_for: tuple[int, int, int] | None = None
         self._background: PreparedImage | None = None
         self._warped_labels: NDArray[np.uint16] | None = None
         self._label_of: dict[str, int] = {}
@@ -282,7 +282,7 @@ class SceneBackground(Schema):
         warped = self.warped_labels()
         return None if warped is None else warped == label
 
-    def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[np.uint8] | None:
+    def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[Any] | None:
         """How much the real image differs from the imagination's *background* (no moving
         objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels (the largest
         over the channels), with the frame's gain and bias; None without alignment.

@@ -27,8 +27,8 @@ from __future__ import annotations
 
 import difflib
 import time
-from time import perf_counter
 from dataclasses import dataclass, field
+from time import perf_counter
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Mapping, Sequence
 
 import networkx as nx
