@@ -166,5 +166,5 @@ def _print_outcome(o: Any, out: Path) -> None:
                   f"{v['n']} runs")
     for e in doc["errors"][:3]:
         print(f"failed x{e['runs']}: {e['error']}")
-    for key, path in o.outputs.items():
+    for path in o.outputs.values():
         print(f"wrote {path}")

@@ -103,8 +103,11 @@ def _per_object(summary: Mapping[str, Any], key: str, target: Any) -> float | No
     table = summary.get(key)
     if not isinstance(table, Mapping):
         return None
-    medians = {name: _number(_get(table, name, "median")) for name in table}
-    medians = {k: v for k, v in medians.items() if v is not None}
+    medians: dict[str, float] = {}
+    for name in table:
+        v = _number(_get(table, name, "median"))
+        if v is not None:
+            medians[str(name)] = v
     if not medians:
         return None
     if isinstance(target, str) and target in medians:

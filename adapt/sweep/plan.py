@@ -115,7 +115,7 @@ def fingerprint(scenario: Scenario, text: bytes, max_frames: int | None) -> str:
             h.update(Path(rf).read_bytes())
         except OSError:
             h.update(b"<unreadable>")
-    h.update(f"\0max_frames={max_frames}".encode("utf-8"))
+    h.update(f"\0max_frames={max_frames}".encode())
     return h.hexdigest()[:16]
 
 

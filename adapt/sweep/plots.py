@@ -28,8 +28,8 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from adapt.files import write_atomic
-from adapt.sweep.grid import Axis
 from adapt.sweep.aggregate import metric_names
+from adapt.sweep.grid import Axis
 from adapt.sweep.metrics import BASELINE, TIMING, is_flag, label, peer_of
 
 __all__ = ["write_plots", "MAX_ERROR_PANELS"]
@@ -163,7 +163,8 @@ def _errors(ok: Sequence[Mapping[str, Any]], axes: Sequence[Axis], names: Sequen
             path: Path, title: str) -> Path:
     fig, grid = _figure(1 + len(axes), len(names), title)
     for col, name in enumerate(names):
-        series = [name] + ([peer_of(name)] if _has(ok, peer_of(name)) else [])
+        peer = peer_of(name)
+        series = [name] + ([peer] if peer is not None and _has(ok, peer) else [])
         ax = grid[0][col]
         data = [[float(r["metrics"][s]) for r in ok if s in r["metrics"]] for s in series]
         labels = ["mirror" if peer_of(s) else "baseline" if s.startswith(BASELINE) else "runs"
