@@ -156,14 +156,24 @@ def _print_outcome(o: Any, out: Path) -> None:
               "out of sweep.json")
     doc = json.loads(o.outputs["sweep"].read_text(encoding="utf-8"))
     overall = doc["overall"]
-    for name, r in overall["rates"].items():
-        if r["n"]:
-            print(f"{name}: {100 * r['rate']:.0f}% of {r['n']} runs (95% Wilson interval "
-                  f"{100 * r['low']:.0f}-{100 * r['high']:.0f}%)")
-    for name, v in overall["values"].items():
-        if v.get("n") and not name.endswith(("frames", "wall_s")):
-            print(f"{name}: median {v['median']:g} (p10 {v['p10']:g}, p90 {v['p90']:g}) over "
-                  f"{v['n']} runs")
+    rates, values = overall["rates"], overall["values"]
+
+    def pct(r: dict[str, Any]) -> str:
+        return f"{100 * r['rate']:.0f}% ({100 * r['low']:.0f}-{100 * r['high']:.0f}%)"
+
+    def spread(v: dict[str, Any]) -> str:
+        return f"{v['median']:.4g} (p10 {v['p10']:.4g}, p90 {v['p90']:.4g})"
+
+    for name, r in rates.items():
+        peer = rates.get(f"baseline_{name}")
+        if r["n"] and not name.startswith("baseline_"):
+            print(f"{name}: {pct(r)} of {r['n']} runs (95% Wilson interval)"
+                  + (f"; baseline {pct(peer)}" if peer and peer["n"] else ""))
+    for name, v in values.items():
+        peer = values.get(f"baseline_{name}")
+        if v.get("n") and not name.startswith("baseline_") and name not in ("frames", "wall_s"):
+            print(f"{name}: median {spread(v)} over {v['n']} runs"
+                  + (f"; baseline {spread(peer)}" if peer and peer.get("n") else ""))
     for e in doc["errors"][:3]:
         print(f"failed x{e['runs']}: {e['error']}")
     for path in o.outputs.values():

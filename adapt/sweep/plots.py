@@ -14,7 +14,8 @@
     against the parameter.
 
 A numeric parameter is drawn on a number line; any other (a list, a name)
-as categories in the order given.  Every file is written atomically.
+as categories in the order given; a ``--set`` with one value is a setting,
+not a swept parameter, and gets no panel.  Every file is written atomically.
 """
 
 from __future__ import annotations
@@ -52,6 +53,7 @@ def write_plots(records: Sequence[Mapping[str, Any]], axes: Sequence[Axis],
         return out
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
+    axes = [a for a in axes if len(a.items) > 1]  # a single value is a setting, not a sweep
     names = metric_names(ok)
     flags = [n for n in names if is_flag(n)]
     if flags:
@@ -133,7 +135,7 @@ def _rates(ok: Sequence[Mapping[str, Any]], axes: Sequence[Axis], flags: Sequenc
                 text = "mirror (caught)"
             elif name == "baseline_caught":
                 text = "baseline (caught)"
-            shift = (j - (len(flags) - 1) / 2) * 0.012 * span
+            shift = (j - (len(flags) - 1) / 2) * 0.02 * span
             px, py, lo, hi = [], [], [], []
             for x, rs in zip(xs, groups):
                 got = [bool(r["metrics"][name]) for r in rs if name in r.get("metrics", {})]
@@ -154,6 +156,7 @@ def _rates(ok: Sequence[Mapping[str, Any]], axes: Sequence[Axis], flags: Sequenc
         ax.set_xlabel("" if axis is None else axis.path)
         if ticks is not None:
             ax.set_xticks(xs, ticks, rotation=20 if axis is not None else 0)
+            ax.set_xlim(-0.5, len(xs) - 0.5)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="best")
     return _save(fig, path)
@@ -212,7 +215,7 @@ def _against(ax: Any, ok: Sequence[Mapping[str, Any]], axis: Axis, series: Seque
         colour, marker, text = _style(s)
         if len(series) == 1:
             colour, text = OTHER, "median, quartiles"
-        shift = (j - (len(series) - 1) / 2) * 0.015 * span
+        shift = (j - (len(series) - 1) / 2) * 0.02 * span
         px, py, lo, hi = [], [], [], []
         for x, rs in zip(xs, groups):
             vals = [float(r["metrics"][s]) for r in rs if s in r.get("metrics", {})]
@@ -231,6 +234,7 @@ def _against(ax: Any, ok: Sequence[Mapping[str, Any]], axis: Axis, series: Seque
     ax.ticklabel_format(axis="y", useOffset=False)
     if ticks is not None:
         ax.set_xticks(xs, ticks, rotation=20)
+        ax.set_xlim(-0.5, len(xs) - 0.5)
     ax.grid(alpha=0.3)
     if legend:
         ax.legend(fontsize=7, loc="best")
