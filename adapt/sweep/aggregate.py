@@ -44,8 +44,8 @@ from adapt.sweep.grid import Axis
 from adapt.sweep.metrics import TIMING, is_flag, order_key, peer_of
 from adapt.sweep.stats import DIGITS, describe, rate
 
-__all__ = ["cell_stats", "summarise", "csv_text", "metric_names", "deterministic", "cell_id",
-           "INTERVALS"]
+__all__ = ["cell_stats", "summarise", "csv_text", "metric_names", "deterministic", "is_timing",
+           "cell_id", "INTERVALS"]
 
 #: What the intervals in ``sweep.json`` are.
 INTERVALS = {"rates": "Wilson score interval, 95 %",
@@ -183,17 +183,34 @@ def deterministic(record: Mapping[str, Any]) -> dict[str, Any]:
     """The part of a record that depends only on the run's seed and overrides (its key,
     status, error, metrics and summary without timings); for comparing sweeps.
 
+    Timings are found by name at any depth of the summary (:func:`is_timing`).
+
     >>> deterministic({"key": "k", "status": "ok", "error": None, "worker": {"pid": 1},
-    ...                "metrics": {"frames": 3, "wall_s": 1.0}, "summary": {"wall_s": 1.0}})
-    {'key': 'k', 'status': 'ok', 'error': None, 'metrics': {'frames': 3}, 'summary': {}}
+    ...                "metrics": {"frames": 3, "wall_s": 1.0},
+    ...                "summary": {"wall_s": 1.0, "rollouts": {"simulated_s": 2.0, "wall_s": 0.1}}})
+    {'key': 'k', 'status': 'ok', 'error': None, 'metrics': {'frames': 3}, 'summary': {'rollouts': {'simulated_s': 2.0}}}
     """
-    summary = record.get("summary") or {}
     return {"key": record["key"], "status": record.get("status"), "error": record.get("error"),
             "metrics": {k: v for k, v in (record.get("metrics") or {}).items()
                         if k not in TIMING},
-            "summary": {k: v for k, v in summary.items() if k not in _SUMMARY_TIMING}}
+            "summary": _untimed(record.get("summary") or {})}
 
 
-#: Summary keys that measure the machine (see ``docs/runner.md``).
-_SUMMARY_TIMING = frozenset({"wall_s", "frames_per_s", "stage_ms", "stage_share",
-                             "mmd_ms_median"})
+def is_timing(key: str) -> bool:
+    """True for a summary key that measures the machine, not the run: ``wall_s``,
+    ``frames_per_s``, ``times_real_time``, ``stage_share`` and every ``..._ms`` or
+    ``..._ms_...`` key (``stage_ms``, ``schema_ms``, ``mmd_ms_median``).
+
+    >>> [k for k in ("wall_s", "simulated_s", "stage_ms", "mmd_ms_median", "frames") if is_timing(k)]
+    ['wall_s', 'stage_ms', 'mmd_ms_median']
+    """
+    return key in _TIMING_KEYS or key.endswith("_ms") or "_ms_" in key
+
+
+def _untimed(value: Any) -> Any:
+    if isinstance(value, Mapping):
+        return {k: _untimed(v) for k, v in value.items() if not is_timing(str(k))}
+    return value
+
+
+_TIMING_KEYS = frozenset({"wall_s", "frames_per_s", "times_real_time", "stage_share"})
