@@ -9,20 +9,21 @@ Three ways of running the same N runs are timed, interleaved over ``--rounds`` r
 their medians compared:
 
 ``loop``
-    a plain loop in this process: ``run_task(spec)`` for every run, nothing else (the same
-    function a worker runs, with OpenCV on one thread as in a worker);
+    a plain loop in a process of its own (no Dask in it): ``run_task(spec)`` for every run,
+    nothing else (the same function a worker runs, with OpenCV on one thread as in a worker);
 ``1 worker``, ``2 workers``
-    ``run_sweep`` on an embedded local cluster of 1 or 2 worker processes: submitting,
-    running, sending every record back, appending it to ``runs.jsonl`` and writing
-    ``sweep.json`` and ``runs.csv`` (no figures).
+    ``run_sweep`` on an embedded local cluster of 1 or 2 worker processes (one cluster alive at
+    a time): submitting, running, sending every record back, appending it to ``runs.jsonl``
+    and writing ``sweep.json`` and ``runs.csv`` (no figures).
 
-Besides wall time, the CPU time every process spends is counted (this process, which holds the
-client and the embedded scheduler, plus the worker processes, through psutil): on a shared
+Besides wall time, the CPU time every process spends is counted (the loop's process; for a
+sweep this process, which holds the client and the embedded scheduler, plus the worker
+processes, through psutil): on a shared
 machine CPU time is far less disturbed by other jobs than wall time, so the overhead per task is
 also given as CPU, ``(CPU_1worker - CPU_loop) / N``.
 
-Every process is warmed up first (one run each), so the figures are of the steady state;
-starting the cluster and the first run in a fresh worker (imports, textures) are printed
+Every process is warmed up first (one run each, untimed), so the figures are of the steady
+state; starting a cluster and the first run in a fresh worker (imports, textures) are printed
 apart.  Printed: the speed-up 2 workers / 1 worker (target >= 1.7x on 2 cores) and the
 overhead per task of 1 worker against the loop, ``(T_1worker - T_loop) / N``, in
 milliseconds and as a share of a run (target <= 5 %).
@@ -31,11 +32,13 @@ milliseconds and as a share of a run (target <= 5 %).
 from __future__ import annotations
 
 import argparse
+import multiprocessing
 import os
 import statistics
 import sys
 import tempfile
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -47,9 +50,18 @@ import psutil  # noqa: E402  (installed with dask[distributed])
 from adapt.sweep.cluster import connect  # noqa: E402
 from adapt.sweep.plan import make_plan  # noqa: E402
 from adapt.sweep.session import run_sweep  # noqa: E402
-from adapt.sweep.task import run_task  # noqa: E402
+from adapt.sweep.task import RunSpec, run_task  # noqa: E402
 
 SCENARIO = ROOT / "scenarios" / "unexpected-object.yaml"
+
+
+def _loop(specs: list[RunSpec]) -> tuple[float, float]:
+    """In the loop's own process: run ``specs`` one after the other; (wall s, CPU s)."""
+    cv2.setNumThreads(1)  # as in a worker: one core per run
+    c0, t0 = time.process_time(), time.perf_counter()
+    for spec in specs:
+        run_task(spec)
+    return time.perf_counter() - t0, time.process_time() - c0
 
 
 def main() -> None:
@@ -62,56 +74,43 @@ def main() -> None:
     if args.quick:
         args.runs, args.rounds = 8, 1
     plan = make_plan(SCENARIO, seeds=f"1-{args.runs}", max_frames=args.frames)
-    warm = make_plan(SCENARIO, seeds="1000-1001", max_frames=args.frames).runs
-    cv2.setNumThreads(1)  # as in a worker: one core per run
+    warm = list(make_plan(SCENARIO, seeds="1000-1001", max_frames=args.frames).runs)
     print(f"{args.runs} runs of {SCENARIO.name}, {args.frames} frames each; "
           f"{args.rounds} round(s), medians; load average {_load()}")
 
-    t0 = time.perf_counter()
-    run_task(warm[0])
-    print(f"first run in this process (imports, textures): {time.perf_counter() - t0:.2f} s")
-
     times: dict[str, list[float]] = {"loop": [], "1 worker": [], "2 workers": []}
     cpu: dict[str, list[float]] = {k: [] for k in times}
-    clusters = {}
-    stack = []
-    for n in (1, 2):
-        t0 = time.perf_counter()
-        cm = connect(workers=n)
-        conn = cm.__enter__()
-        stack.append(cm)
-        started = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        conn.client.gather(conn.client.map(run_task, warm[:n], pure=False))
-        print(f"{n} worker(s): cluster started in {started:.2f} s, first run per worker "
-              f"{time.perf_counter() - t0:.2f} s")
-        clusters[n] = conn
     me = psutil.Process()
-    try:
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        wall, _ = pool.submit(_loop, warm[:1]).result()
+        print(f"loop process: first run (imports, textures) {wall:.2f} s")
         for r in range(args.rounds):
-            c0 = _cpu([me])
-            t0 = time.perf_counter()
-            for spec in plan.runs:
-                run_task(spec)
-            times["loop"].append(time.perf_counter() - t0)
-            cpu["loop"].append(_cpu([me]) - c0)
+            wall, used = pool.submit(_loop, list(plan.runs)).result()
+            times["loop"].append(wall)
+            cpu["loop"].append(used)
             for n, name in ((1, "1 worker"), (2, "2 workers")):
-                client = clusters[n].client
-                procs = [me] + [psutil.Process(p) for p in client.run(os.getpid).values()]
-                with tempfile.TemporaryDirectory() as d:
-                    c0 = _cpu(procs)
+                # one cluster at a time, started and warmed up (one run per worker) untimed
+                t0 = time.perf_counter()
+                with connect(workers=n) as conn:
+                    client = conn.client
+                    started = time.perf_counter() - t0
                     t0 = time.perf_counter()
-                    out = run_sweep(plan, d, client=client, plots=False)
-                    times[name].append(time.perf_counter() - t0)
-                    cpu[name].append(_cpu(procs) - c0)
+                    client.gather(client.map(run_task, warm[:n], pure=False))
+                    if r == 0:
+                        print(f"{name}: cluster started in {started:.2f} s, first run per "
+                              f"worker {time.perf_counter() - t0:.2f} s")
+                    procs = [me] + [psutil.Process(p) for p in client.run(os.getpid).values()]
+                    with tempfile.TemporaryDirectory() as d:
+                        c0 = _cpu(procs)
+                        t0 = time.perf_counter()
+                        out = run_sweep(plan, d, client=client, plots=False)
+                        times[name].append(time.perf_counter() - t0)
+                        cpu[name].append(_cpu(procs) - c0)
                     assert out.ok == args.runs, (out.ok, out.failed, out.lost)
             print(f"round {r + 1}: " + ", ".join(f"{k} {v[-1]:.2f} s" for k, v in times.items())
                   + f"; speed-up {times['1 worker'][-1] / times['2 workers'][-1]:.2f}x, "
                   f"1 worker / loop {times['1 worker'][-1] / times['loop'][-1]:.3f}; "
                   f"load {_load()}")
-    finally:
-        for cm in reversed(stack):
-            cm.__exit__(None, None, None)
     med = {k: statistics.median(v) for k, v in times.items()}
     per_run = med["loop"] / args.runs
     overhead = (med["1 worker"] - med["loop"]) / args.runs
