@@ -1,6 +1,6 @@
 """Speed-up of a sweep from 1 to 2 Dask workers, and its cost per task (figures, not tests).
 
-Run ``python bench/sweep.py`` (about four minutes; ``--quick``: one round of 8 runs).  The
+Run ``python bench/sweep.py`` (about four minutes on a quiet machine; ``--quick``: one round).  The
 machine's load average is printed before and after: on a shared machine other jobs take cores
 from the workers, and the per-round ratios show how much.  The
 runs are ``scenarios/unexpected-object.yaml`` (640x480, the Fig. 5 scene: a ball of reality
@@ -66,9 +66,9 @@ def _loop(specs: list[RunSpec]) -> tuple[float, float]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--runs", type=int, default=12, help="runs per measurement (default 12)")
+    ap.add_argument("--runs", type=int, default=8, help="runs per measurement (default 8)")
     ap.add_argument("--frames", type=int, default=30, help="frames per run (default 30)")
-    ap.add_argument("--rounds", type=int, default=5, help="interleaved rounds (default 5)")
+    ap.add_argument("--rounds", type=int, default=8, help="interleaved rounds (default 8)")
     ap.add_argument("--quick", action="store_true", help="8 runs, 1 round")
     args = ap.parse_args()
     if args.quick:
@@ -109,8 +109,9 @@ def main() -> None:
                     assert out.ok == args.runs, (out.ok, out.failed, out.lost)
             print(f"round {r + 1}: " + ", ".join(f"{k} {v[-1]:.2f} s" for k, v in times.items())
                   + f"; speed-up {times['1 worker'][-1] / times['2 workers'][-1]:.2f}x, "
-                  f"1 worker / loop {times['1 worker'][-1] / times['loop'][-1]:.3f}; "
-                  f"load {_load()}")
+                  f"1 worker / loop {times['1 worker'][-1] / times['loop'][-1]:.3f}; cores "
+                  "obtained " + "/".join(f"{cpu[k][-1] / times[k][-1]:.2f}" for k in times)
+                  + f"; load {_load()}")
     med = {k: statistics.median(v) for k, v in times.items()}
     per_run = med["loop"] / args.runs
     overhead = (med["1 worker"] - med["loop"]) / args.runs
@@ -135,6 +136,9 @@ def main() -> None:
     print(f"overhead per task, 1 worker vs loop, CPU: {1000 * cpu_over:+.1f} ms = "
           f"{100 * cpu_over / (cmed['loop'] / args.runs):+.1f} % of a run's CPU")
     print(f"2 workers vs loop: {med['loop'] / med['2 workers']:.2f}x; load average {_load()}")
+    print("cores obtained (CPU s / wall s, medians over rounds): " + ", ".join(
+        f"{k} {statistics.median(c / t for c, t in zip(cpu[k], times[k])):.2f}" for k in times)
+        + " (2 workers on an idle 2-core machine: about 2)")
 
 
 def _cpu(procs: list[psutil.Process]) -> float:

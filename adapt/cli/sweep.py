@@ -27,7 +27,7 @@ def register(sub: Any) -> None:
         "sweep", help="run a scenario over many seeds and a parameter grid, on Dask",
         description="Run SCENARIO once per seed and per combination of the --set values, on an "
         "embedded local Dask cluster or on a Dask scheduler; write runs.jsonl (as runs finish), "
-        "sweep.json (rates with 95%% Wilson intervals, medians, percentiles per grid cell), "
+        "sweep.json (rates with 95% Wilson intervals, medians, percentiles per grid cell), "
         "runs.csv and figures/. Running it again with the same --out resumes.",
         epilog="Example: adapt sweep scenarios/room.yaml --seeds 1-200 "
         "--set world.objects.ball.restitution=0.6:0.9:0.1 --set "
