@@ -35,7 +35,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import Any, Callable, Iterator
+from typing import Any, Callable, Iterable, Iterator
 
 from adapt.errors import SweepError
 from adapt.files import write_atomic
@@ -146,7 +146,7 @@ def run_sweep(plan: Plan, out: str | Path, *, workers: int | None = None,
         finished = {k for k, r in have.items() if k in keys and (
             r.get("status") == "ok" or (r.get("status") == "failed" and not retry_failed))}
         todo = [r for r in plan.runs if r.key not in finished]
-        state = _State(plan, log, len(plan.runs) - len(todo), on_progress)
+        state = _State(plan, log, todo, on_progress)
         interrupted = False
         where = ""
         left = 0
@@ -168,12 +168,12 @@ def run_sweep(plan: Plan, out: str | Path, *, workers: int | None = None,
 class _State:
     """Counts over the plan while the sweep runs."""
 
-    def __init__(self, plan: Plan, log: RunLog, skipped: int,
+    def __init__(self, plan: Plan, log: RunLog, todo: list[RunSpec],
                  on_progress: Callable[[Progress], None] | None) -> None:
         self.plan = plan
         self.log = log
-        self.skipped = skipped
-        keys = {r.key for r in plan.runs}
+        self.skipped = len(plan.runs) - len(todo)
+        keys = {r.key for r in plan.runs} - {r.key for r in todo}  # a retried run is to go
         self.status = {k: str(r.get("status")) for k, r in latest(log.records).items()
                        if k in keys}
         self.ran = 0
@@ -190,12 +190,8 @@ class _State:
         self.ran += 1
 
     def counts(self) -> dict[str, int]:
-        out = {"ok": 0, "failed": 0, "lost": 0}
-        for status in self.status.values():
-            if status in out:
-                out[status] += 1
-        out["remaining"] = len(self.plan.runs) - out["ok"] - out["failed"] - out["lost"]
-        return out
+        """ok, failed, lost and remaining over the plan (a run to retry counts as to go)."""
+        return _counts(self.status.values(), len(self.plan.runs))
 
     def report(self, counts: dict[str, int] | None = None) -> None:
         if self.on_progress is None:
@@ -320,6 +316,15 @@ def _no_interrupt() -> Iterator[None]:
         signal.signal(signal.SIGINT, old)
 
 
+def _counts(statuses: Iterable[str], total: int) -> dict[str, int]:
+    out = {"ok": 0, "failed": 0, "lost": 0}
+    for status in statuses:
+        if status in out:
+            out[status] += 1
+    out["remaining"] = total - out["ok"] - out["failed"] - out["lost"]
+    return out
+
+
 def _refuse_inputs(plan: Plan, folder: Path) -> None:
     scenario = plan.scenario.resolve()
     for name in ("runs.jsonl", "sweep.json", "runs.csv"):
@@ -344,8 +349,8 @@ def _finish(plan: Plan, folder: Path, log: RunLog, state: _State, interrupted: b
     have = latest(log.records)
     keys = {r.key for r in plan.runs}
     records = [have[r.key] for r in plan.runs if r.key in have]
-    c = state.counts()
-    state.report(c)
+    state.report()
+    c = _counts((str(r.get("status")) for r in records), len(plan.runs))
     outputs: dict[str, Path] = {}
     figures: dict[str, Path] = {}
     if plots:
