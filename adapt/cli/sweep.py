@@ -175,6 +175,6 @@ def _print_outcome(o: Any, out: Path) -> None:
             print(f"{name}: median {spread(v)} over {v['n']} runs"
                   + (f"; baseline {spread(peer)}" if peer and peer.get("n") else ""))
     for e in doc["errors"][:3]:
-        print(f"failed x{e['runs']}: {e['error']}")
+        print(f"{e['runs']} run{'s' * (e['runs'] != 1)} not finished: {e['error']}")
     for path in o.outputs.values():
         print(f"wrote {path}")

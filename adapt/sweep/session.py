@@ -226,6 +226,14 @@ def _probe(conn: Any, plan: Plan, status: Callable[[str], None]) -> None:
     except Exception as exc:
         raise SweepError(f"the workers cannot run adapt ({type(exc).__name__}: {exc}); "
                          "install adapt in the workers' environment (docs/sweeps.md)") from None
+    try:  # a task goes through the scheduler, which must read it too
+        client.submit(probe, str(plan.scenario), pure=False).result()
+    except Exception as exc:
+        first = str(exc).split("\n")[0].split(". ")[0]
+        raise SweepError(f"a task of adapt's cannot go through the scheduler "
+                         f"({type(exc).__name__}: {first}); the scheduler's environment needs "
+                         "adapt too: pip install 'adapt[sweep]' where it runs "
+                         "(docs/sweeps.md)") from None
     blind = sorted(addr for addr, info in found.items() if not info["scenario"])
     if blind:
         raise SweepError(f"{len(blind)} worker(s) cannot see the scenario {plan.scenario} "

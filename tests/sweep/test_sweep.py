@@ -117,7 +117,7 @@ def test_a_failing_run_is_recorded_and_the_sweep_goes_on(two_workers: Any, tmp_p
     assert all(r["error"].startswith("RealityError: frame 0") for r in failed)
     assert "Traceback" in failed[0]["traceback"]
     out = capsys.readouterr().out
-    assert "3 ok, 3 failed" in out and "failed x3: RealityError" in out
+    assert "3 ok, 3 failed" in out and "3 runs not finished: RealityError" in out
     doc = json.loads((tmp_path / "sweep.json").read_text())
     assert doc["errors"][0]["runs"] == 3
     assert [c["failed"] for c in doc["cells"]] == [0, 3]
