@@ -22,6 +22,10 @@ processes, through psutil): on a shared
 machine CPU time is far less disturbed by other jobs than wall time, so the overhead per task is
 also given as CPU, ``(CPU_1worker - CPU_loop) / N``.
 
+The speed-up needs the machine's 2 cores: the ``cores obtained`` (CPU seconds over wall
+seconds) of each configuration show how much of them other jobs left, and the CPU time of 2
+workers over 1 worker for the same runs bounds the speed-up on 2 whole cores (2 divided by it).
+
 Every process is warmed up first (one run each, untimed), so the figures are of the steady
 state; starting a cluster and the first run in a fresh worker (imports, textures) are printed
 apart.  Printed: the speed-up 2 workers / 1 worker (target >= 1.7x on 2 cores) and the
@@ -136,6 +140,9 @@ def main() -> None:
     print(f"overhead per task, 1 worker vs loop, CPU: {1000 * cpu_over:+.1f} ms = "
           f"{100 * cpu_over / (cmed['loop'] / args.runs):+.1f} % of a run's CPU")
     print(f"2 workers vs loop: {med['loop'] / med['2 workers']:.2f}x; load average {_load()}")
+    extra = statistics.median(b / a for a, b in zip(cpu["1 worker"], cpu["2 workers"]))
+    print(f"CPU time of 2 workers / 1 worker for the same runs (median of the rounds): {extra:.3f}"
+          f"; so on 2 whole cores the speed-up is at most {2 / extra:.2f}x")
     print("cores obtained (CPU s / wall s, medians over rounds): " + ", ".join(
         f"{k} {statistics.median(c / t for c, t in zip(cpu[k], times[k])):.2f}" for k in times)
         + " (2 workers on an idle 2-core machine: about 2)")
