@@ -37,7 +37,8 @@ __all__ = ["require_dask", "connect", "Connection", "default_workers", "INSTALL"
 
 #: Dask's setting that starts workers with ``MALLOC_TRIM_THRESHOLD_=65536``.  Any explicit trim
 #: threshold turns glibc's dynamic mmap threshold off, so every image buffer of a run (a 640x480
-#: frame is 0.9 MB) is mapped and faulted in afresh: runs were 1.7-2x slower (bench/sweep.py).
+#: frame is 0.9 MB) is mapped and faulted in afresh: runs took 1.6-2.1x as long
+#: (docs/performance.md, "Sweeps").
 #: The embedded cluster leaves it unset; docs/sweeps.md says how to do so on a cluster.
 NO_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
 
