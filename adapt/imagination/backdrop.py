@@ -351,7 +351,14 @@ def _draw_atlas(
 
 
 def _set(roi: NDArray[Any], value: float | tuple[float, ...], mask: NDArray[np.uint8]) -> None:
-    """``roi[mask] = value`` in place, by two masked OpenCV operations (no allocation)."""
+    """``roi[mask] = value`` in place, by two masked OpenCV operations (no allocation).
+
+    A region of four pixels or fewer is set with numpy: OpenCV takes a 4x1 array
+    for a scalar, and adds a Python number to it as an array of another type.
+    """
+    if roi.shape[0] * roi.shape[1] <= 4:
+        roi[mask.astype(bool)] = value
+        return
     cv2.bitwise_and(roi, 0, dst=roi, mask=mask)  # type: ignore[call-overload]
     cv2.add(roi, value, dst=roi, mask=mask)  # type: ignore[call-overload]
 

@@ -282,6 +282,14 @@ class SceneBackground(Schema):
         warped = self.warped_labels()
         return None if warped is None else warped == label
 
+    def difference_with(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8]
+                        ) -> NDArray[Any] | None:
+        """The whole frame's difference (grey levels, no mask) between the real image and
+        another synthetic image of this frame's camera (an uncorrected imagination, say),
+        through this frame's ``H_e``, gain and bias; None without alignment."""
+        h, w = real.shape[:2]
+        return self._difference(real, synthetic, (0, 0, w, h))
+
     def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[Any] | None:
         """How much the real image differs from the imagination's *background* (no moving
         objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels (the largest
@@ -292,12 +300,16 @@ class SceneBackground(Schema):
         applied: its Gaussians, centred on background corners matched next to the object,
         would eat into the object's outline and bias its fitted position.
         """
+        return self._difference(real, self.network.mirror.background.image, window)
+
+    def _difference(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8],
+                    window: BBox) -> NDArray[Any] | None:
         res = self.result
         if res is None or not res.aligned:
             return None
         x, y, w, h = window
         shift = np.array([[1.0, 0.0, -x], [0.0, 1.0, -y], [0.0, 0.0, 1.0]])
-        bg = self.network.mirror.background.image
+        bg = synthetic
         warped = cv2.warpPerspective(bg, shift @ res.homography, (w, h), flags=cv2.INTER_LINEAR,
                                      borderMode=cv2.BORDER_REPLICATE)
         part = np.ascontiguousarray(real[y:y + h, x:x + w])
