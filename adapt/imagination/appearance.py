@@ -156,9 +156,11 @@ def texel_matrix(surface: Surface) -> FloatArray | None:
 
 
 def level_matrix(k: int) -> FloatArray:
-    """Level-0 pixel coordinates to level-``k`` ones (``(c + 0.5) / 2**k - 0.5``)."""
+    """Level-0 pixel coordinates to level-``k`` ones (``c / 2**k``: a level of
+    :func:`~adapt.imagination.texture.mip_levels` is ``cv2.pyrDown`` of the one
+    before, whose pixel ``i`` is centred on pixel ``2 i`` of its source)."""
     f = 2.0 ** -k
-    return np.array([[f, 0.0, 0.5 * f - 0.5], [0.0, f, 0.5 * f - 0.5], [0.0, 0.0, 1.0]])
+    return np.array([[f, 0.0, 0.0], [0.0, f, 0.0], [0.0, 0.0, 1.0]])
 
 
 def _clip_to_rect(poly: Sequence[tuple[float, float]], e: Extent) -> list[tuple[float, float]]:

@@ -130,8 +130,8 @@ def mip_levels(image: NDArray[np.uint8], max_levels: int = 8) -> tuple[NDArray[n
     """A read-only mip pyramid of ``image``: level ``k`` is ``cv2.pyrDown``
     applied ``k`` times, down to about 8 pixels a side.
 
-    The centre of pixel ``i`` of level ``k`` lies at ``(i + 0.5) * 2**k - 0.5``
-    in level-0 pixels.
+    The centre of pixel ``i`` of level ``k`` lies at ``i * 2**k`` in level-0
+    pixels (``cv2.pyrDown`` centres its pixel ``i`` on pixel ``2 i`` of its source).
 
     Examples
     --------
