@@ -164,9 +164,11 @@ class Mirror:
     def background(self) -> RenderResult:
         """The static background through the current camera (with the learned sky)."""
         bg = self._renderer.background
-        key = (id(self._renderer), self._renderer.backdrop.version, self.appearance.sky_version)
-        if self._background is not None and self._background[0] == key:
-            return self._background[1]
+        # the renderer itself, not its id: a new renderer may reuse a freed one's id
+        key = (self._renderer, self._renderer.backdrop.version, self.appearance.sky_version)
+        cached = self._background
+        if cached is not None and cached[0][0] is key[0] and cached[0][1:] == key[1:]:
+            return cached[1]
         image = self.appearance.composite(bg.image, bg.labels, self.camera)
         if image is not bg.image:
             image.setflags(write=False)

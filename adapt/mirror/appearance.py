@@ -643,7 +643,7 @@ class AppearanceModel:
                 continue
             t = plane.texture()
             if t.mask.any():
-                renderer.set_appearance(name, t.image, t.mask, extent=t.extent)
+                renderer.set_appearance(name, t.image, t.mask, extent=t.extent, aligned=True)
             plane.dirty = False
             plane.drift = 0.0
             changed.append(name)

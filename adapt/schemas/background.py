@@ -54,7 +54,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import VisionError
-from adapt.mirror.structure import structure_homography
+from adapt.mirror.structure import face_labels, structure_homography
 from adapt.schemas.base import BBox, Schema, Status
 from adapt.schemas.links import Structure
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
@@ -79,6 +79,8 @@ __all__ = ["SceneBackground", "SCENE_BACKGROUND", "RegionReport", "AppearanceSta
 STRUCTURE_ITERATIONS = 3
 #: The structure's fit margin (pixels at 640x480): twice the last error, within these bounds.
 STRUCTURE_MARGIN = (2.0, 24.0)
+#: Below this fit margin (pixels at 640x480) small surfaces are fitted to their own pixels.
+STRUCTURE_OWN_COLOURS = 6.0
 #: A structure error (pixels at 640x480) accepted once it stops falling.
 STRUCTURE_ACCEPT = 1.5
 #: Frames without alignment, once learned, before the structure is aligned again.
@@ -244,8 +246,14 @@ class SceneBackground(Schema):
         self.correction_deg = 0.0
         for _ in range(STRUCTURE_ITERATIONS):
             cam = mirror.camera
-            hom = structure_homography(frame.image, mirror.background.labels, (cam.cx, cam.cy),
-                                       margin=self._margin)
+            bg = mirror.background
+            labels = face_labels(bg.labels, mirror.renderer.surfaces, cam)
+            # While the error is large, small surfaces take the scenario's colours
+            # (fitted to their own pixels they would hide the offset); once it is
+            # small, their own pixels say their colour best.
+            coarse = self._margin > STRUCTURE_OWN_COLOURS * scale
+            hom = structure_homography(frame.image, labels, (cam.cx, cam.cy), margin=self._margin,
+                                       reference=bg.image if coarse else None)
             if hom is None:
                 self._margin = STRUCTURE_MARGIN[1] * scale
                 self.structure_error = math.nan
