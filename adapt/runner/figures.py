@@ -9,7 +9,10 @@
 * ``camera.png`` -- the camera loop's pixel error over the run, and the
   synthetic camera's error against the true camera when there is ground truth;
 * ``floor.png`` -- the floor plan: walls, obstacles, and the observed,
-  imagined and true paths of every object, and the robot's path.
+  imagined and true paths of every object, and the robot's path;
+* ``appearance.png`` -- for runs whose Scene Background learned the surfaces'
+  look: the real frame it learned from, the render before and after
+  learning, and how far each differs from the real frame.
 
 The data come from :class:`Snapshots` (a few frames kept by reference) and
 :class:`Paths` (decimated series), so nothing grows with the run's length.
@@ -188,10 +191,34 @@ def write_figures(runner: "Runner", folder: Path) -> dict[str, Path]:
             folder / "unexpected.png", rows,
             title="Unexpected object: found (red), then monitored by a spawned schema (cyan) "
                   "(paper Fig. 5)")
+    bg = runner.network.background
+    if bg is not None and bg.first_look is not None:
+        floor = runner.mirror.appearance.texture("floor")
+        out["appearance"] = _appearance_strip(bg.first_look, floor, folder / "appearance.png")
     if runner.series.time:
         out["camera"] = _camera_plot(runner, folder / "camera.png")
         out["floor"] = _floor_plot(runner, folder / "floor.png")
     return out
+
+
+def _appearance_strip(look: tuple[int, float, NDArray[np.uint8], NDArray[np.uint8],
+                                  NDArray[np.uint8]], floor: Any, path: Path) -> Path:
+    """The real frame, the render before and after learning its look, their
+    differences, and the floor's learned image at the end of the run."""
+    index, t, real, before, after = look
+
+    def differs(render: NDArray[np.uint8]) -> NDArray[np.float32]:
+        return np.abs(real.astype(np.float32) - render.astype(np.float32)).max(axis=2)
+
+    d0, d1 = differs(before), differs(after)
+    rows = [[Panel(f"frame {index} (t={t:.2f} s)\nreal", real),
+             Panel("render: the scenario's look", before),
+             Panel("render: the learned look", after)],
+            [Panel("the floor's learned image, end of run\n(black: never seen)",
+                   floor.preview(640) if floor is not None else np.zeros(real.shape[:2], np.uint8)),
+             Panel(f"|real - render| before, 0-80 (mean {d0.mean():.1f})", d0, vmin=0.0, vmax=80.0),
+             Panel(f"|real - render| after, 0-80 (mean {d1.mean():.1f})", d1, vmin=0.0, vmax=80.0)]]
+    return write_strip(path, rows, title="The surfaces' look, learned from the camera")
 
 
 def _camera_plot(runner: "Runner", path: Path) -> Path:

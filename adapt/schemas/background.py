@@ -164,6 +164,10 @@ class SceneBackground(Schema):
         self._unaligned = 0
         self._traced_passes = 0
         self._traced_frame = -TRACE_EVERY
+        #: The frame the look was first learned from: ``(index, time, real, render
+        #: before, render after)`` (references), for the figures; None before.
+        self.first_look: tuple[int, float, NDArray[np.uint8], NDArray[np.uint8],
+                               NDArray[np.uint8]] | None = None
 
     # -- perception ---------------------------------------------------------------------
 
@@ -300,9 +304,14 @@ class SceneBackground(Schema):
     def _learn(self, frame: "Frame", labels: NDArray[np.int32], *, fresh: bool) -> None:
         """One learning pass of the mirror's appearance model on ``frame``."""
         p = self.parameters
-        learned = self.network.mirror.learn_appearance(
+        mirror = self.network.mirror
+        before = mirror.render().image if self.first_look is None else None
+        learned = mirror.learn_appearance(
             frame.image, labels, exclude=self._exclusion(frame.image.shape),
             rate=p["learn_rate"], gate=None if fresh else p["learn_gate"])
+        if before is not None:
+            self.first_look = (frame.index, frame.time, frame.image, before,
+                               mirror.render().image)
         self.learning = learned
         self.learn_ms = learned.ms
         self.learn_passes += 1
