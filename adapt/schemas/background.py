@@ -295,6 +295,8 @@ class SceneBackground(Schema):
                 self.network.mirror.appearance.forget()
             return
         self._unaligned = 0
+        if self.learning is not None:
+            return  # learned this frame already (the structure's first look)
         self._since_learn += 1
         synchronised = self.pixel_error <= self.parameters["tolerance"] or not self.parameters["correct"]
         if synchronised and self._since_learn >= self.parameters["learn_every"] \

@@ -61,6 +61,7 @@ class Trial:
     network: SchemaNetwork | None = None
     background: SceneBackground | None = None
     images: dict[int, np.ndarray] = field(default_factory=dict)  # kept real frames
+    renders: dict[int, np.ndarray] = field(default_factory=dict)  # the mirror's render then
     cameras: dict[int, Camera] = field(default_factory=dict)  # synthetic camera per kept frame
     true_cameras: dict[int, Camera] = field(default_factory=dict)
     wall_s: float = 0.0
@@ -150,6 +151,7 @@ def run_background(scenario: Scenario, *, frames: int | None = None, keep: tuple
                 ball, radius, bg.learn_ms, ms))
             if frame.index in keep:
                 trial.images[frame.index] = frame.image
+                trial.renders[frame.index] = mirror.render().image
                 trial.cameras[frame.index] = mirror.camera
                 trial.true_cameras[frame.index] = true_cam
             mirror.step_to(frame.time + 1.0 / fps)
