@@ -73,7 +73,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.schemas.network import SchemaNetwork
 
 __all__ = ["SceneBackground", "SCENE_BACKGROUND", "RegionReport", "AppearanceStage",
-           "STRUCTURE_ITERATIONS", "STRUCTURE_ACCEPT", "REACQUIRE_AFTER"]
+           "STRUCTURE_ITERATIONS", "STRUCTURE_ACCEPT", "REACQUIRE_AFTER", "TRACE_EVERY",
+           "TRACE_EVERY_MAX"]
 
 #: Fit-align-correct rounds per frame while the camera is aligned to the structure.
 STRUCTURE_ITERATIONS = 3
@@ -87,8 +88,11 @@ STRUCTURE_ACCEPT = 1.5
 REACQUIRE_AFTER = 10
 #: Pixels (at 640x480) around monitored boxes, regions and differences that are never learned.
 EXCLUDE_PAD = 6
-#: A trace record of the learned look is written at most every this many frames.
+#: A trace record of the learned look: at its first learning, then when it has
+#: changed and TRACE_EVERY frames have passed, the wait doubling after each record
+#: up to TRACE_EVERY_MAX frames (a long run's trace holds a few dozen of them).
 TRACE_EVERY = 30
+TRACE_EVERY_MAX = 1800
 #: Largest side of a texture preview in the trace, pixels.
 PREVIEW_SIDE = 160
 
@@ -164,6 +168,7 @@ class SceneBackground(Schema):
         self._unaligned = 0
         self._traced_passes = 0
         self._traced_frame = -TRACE_EVERY
+        self._trace_wait = TRACE_EVERY
         #: The frame the look was first learned from: ``(index, time, real, render
         #: before, render after)`` (references), for the figures; None before.
         self.first_look: tuple[int, float, NDArray[np.uint8], NDArray[np.uint8],
@@ -340,14 +345,17 @@ class SceneBackground(Schema):
 
     def appearance_record(self, frame_index: int) -> dict[str, Any] | None:
         """A trace record of the learned look, when it changed since the last one
-        (at most once per :data:`TRACE_EVERY` frames, and at the first learning):
+        (at the first learning, then at most once per :data:`TRACE_EVERY` frames,
+        the wait doubling after each record up to :data:`TRACE_EVERY_MAX`):
         per surface its coverage, size and a small PNG preview (a data URI,
         transparent where unseen).  None otherwise."""
         model = self.network.mirror.appearance
         if self.learn_passes == self._traced_passes or not model.learned:
             return None
-        if self._traced_passes and frame_index - self._traced_frame < TRACE_EVERY:
+        if self._traced_passes and frame_index - self._traced_frame < self._trace_wait:
             return None
+        if self._traced_passes:
+            self._trace_wait = min(2 * self._trace_wait, TRACE_EVERY_MAX)
         self._traced_passes = self.learn_passes
         self._traced_frame = frame_index
         surfaces = []
