@@ -37,12 +37,12 @@ lighting).  The caller excludes what a schema monitors and every unexpected
 region.
 
 **Resolution.**  A surface's image is made when it is first seen, covering
-its polygon's extent (an unbounded floor: what is seen of it, with a margin,
-growing as more is seen), at the resolution the view needs: the camera's
-pixels per metre where the surface is nearest, at most
-:data:`MAX_PIXELS_PER_METRE` and :data:`MAX_SURFACE_PIXELS` pixels.  A sky
-face has the camera's resolution at its centre, at most :data:`MAX_SKY_SIDE`
-pixels a side.
+what is seen of it with a margin of :data:`SEEN_MARGIN` (cut to its
+polygon's extent; it grows, on the same pixel grid, as more is seen), at the
+resolution the view needs: the camera's pixels per metre where the surface is
+nearest, at most :data:`MAX_PIXELS_PER_METRE` and :data:`MAX_SURFACE_PIXELS`
+pixels.  A sky face has half the camera's resolution at its centre (the sky
+beyond a room is smooth), at most :data:`MAX_SKY_SIDE` pixels a side.
 
 Invariants: the model never changes a renderer by itself; :meth:`apply`
 hands each surface changed since the last call to
@@ -107,7 +107,7 @@ __all__ = [
     "MAX_SURFACE_PIXELS",
     "MAX_SKY_SIDE",
     "FLOOR_REACH",
-    "FLOOR_MARGIN",
+    "SEEN_MARGIN",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -118,13 +118,13 @@ MAX_PIXELS_PER_METRE = 400.0
 #: Coarsest resolution of a learned surface image, pixels per metre.
 MIN_PIXELS_PER_METRE = 20.0
 #: Most pixels of one learned surface image.
-MAX_SURFACE_PIXELS = 2_000_000
+MAX_SURFACE_PIXELS = 500_000
 #: Largest side of a sky face's image, pixels.
 MAX_SKY_SIDE = 1024
 #: An unbounded floor is learned at most this far (metres) from the camera.
 FLOOR_REACH = 10.0
-#: Metres added around what is seen of an unbounded floor when its image is made or grown.
-FLOOR_MARGIN = 1.0
+#: Metres added around what is seen of a surface when its image is made or grown.
+SEEN_MARGIN = 0.5
 #: Fewer seen frame pixels than this on a label: nothing is learned there.
 MIN_SEEN_PIXELS = 25
 #: The file that lists a saved model's planes, and its ``format`` value.
@@ -506,7 +506,7 @@ class AppearanceModel:
             if plane is None:
                 plane = self._new_surface(surface, camera, face)
                 self._planes[surface.name] = plane
-            elif surface.polygon is None:
+            else:
                 assert isinstance(plane, _SurfacePlane)
                 plane = self._grow(plane, camera, face)
             assert isinstance(plane, _SurfacePlane)
@@ -573,7 +573,7 @@ class AppearanceModel:
         return n_fresh + n_old, n_fresh
 
     def _sky_side(self, camera: Camera) -> int:
-        n = int(round(2.0 * max(camera.fx, camera.fy)))
+        n = int(round(max(camera.fx, camera.fy)))  # a 90-degree face at half the camera's resolution
         return max(16, min(MAX_SKY_SIDE, n + n % 2))
 
     def _resolution(self, surface: Surface, camera: Camera, face: FloatArray) -> float:
@@ -588,29 +588,35 @@ class AppearanceModel:
         ppm = min(ppm, math.sqrt(self.max_surface_pixels / (w_m * h_m)))
         return (max(1, int(math.ceil(w_m * ppm))), max(1, int(math.ceil(h_m * ppm))))
 
-    def _floor_extent(self, camera: Camera, face: FloatArray) -> Extent:
-        cx, cy = float(camera.position[0]), float(camera.position[1])
-        r = FLOOR_REACH
-        lo = np.maximum(face.min(axis=0) - FLOOR_MARGIN, (cx - r, cy - r))
-        hi = np.minimum(face.max(axis=0) + FLOOR_MARGIN, (cx + r, cy + r))
-        lo = np.clip(lo, -MAX_COORDINATE, MAX_COORDINATE)
-        hi = np.clip(hi, -MAX_COORDINATE, MAX_COORDINATE)
+    def _seen_extent(self, surface: Surface, camera: Camera, face: FloatArray) -> Extent:
+        """What is seen of ``surface`` (face coordinates ``face``), with a margin of
+        :data:`SEEN_MARGIN`, cut to the surface (an unbounded floor: to
+        :data:`FLOOR_REACH` around the camera)."""
+        lo = face.min(axis=0) - SEEN_MARGIN
+        hi = face.max(axis=0) + SEEN_MARGIN
+        e = surface.extent
+        if e is None:
+            cx, cy, r = float(camera.position[0]), float(camera.position[1]), FLOOR_REACH
+            e = (cx - r, cy - r, cx + r, cy + r)
+        lo = np.clip(np.maximum(lo, (e[0], e[1])), -MAX_COORDINATE, MAX_COORDINATE)
+        hi = np.clip(np.minimum(hi, (e[2], e[3])), -MAX_COORDINATE, MAX_COORDINATE)
         return (float(lo[0]), float(lo[1]), float(max(hi[0], lo[0] + 0.01)),
                 float(max(hi[1], lo[1] + 0.01)))
 
     def _new_surface(self, surface: Surface, camera: Camera, face: FloatArray) -> _SurfacePlane:
-        extent = surface.extent if surface.polygon is not None else self._floor_extent(camera, face)
-        assert extent is not None
+        extent = self._seen_extent(surface, camera, face)
         return _SurfacePlane(surface, extent,
                              self._size(extent, self._resolution(surface, camera, face)))
 
     def _grow(self, plane: _SurfacePlane, camera: Camera, face: FloatArray) -> _SurfacePlane:
-        """An unbounded floor's plane covering ``face`` too (the same pixel grid)."""
+        """The surface's plane covering ``face`` too (on the same pixel grid)."""
         e = plane.extent
         lo, hi = face.min(axis=0), face.max(axis=0)
-        if lo[0] >= e[0] and lo[1] >= e[1] and hi[0] <= e[2] and hi[1] <= e[3]:
+        tol = 1e-9
+        if lo[0] >= e[0] - tol and lo[1] >= e[1] - tol and hi[0] <= e[2] + tol \
+                and hi[1] <= e[3] + tol:
             return plane
-        want = self._floor_extent(camera, face)
+        want = self._seen_extent(plane.surface, camera, face)
         w, h = plane.size
         px, py = (e[2] - e[0]) / w, (e[3] - e[1]) / h  # metres per pixel
         left = max(0, int(math.ceil((e[0] - min(want[0], e[0])) / px)))
@@ -675,20 +681,32 @@ class AppearanceModel:
         w, h = camera.width, camera.height
         view = np.zeros((h, w, 3), np.uint8)
         valid = np.zeros((h, w), np.uint8)
-        xs = np.arange(w, dtype=np.float64)[None, :]
-        ys = np.arange(h, dtype=np.float64)[:, None]
         for plane in faces:
-            t = plane.texture()
             hom = plane.to_pixels(camera)  # face pixels -> camera pixels
             inv = np.linalg.inv(hom)
-            ahead = (inv[2, 0] * xs + inv[2, 1] * ys + inv[2, 2]) > 0  # rays on the face's side
-            bgra = cv2.cvtColor(t.image, cv2.COLOR_BGR2BGRA)
-            bgra[:, :, 3] = t.mask.view(np.uint8) * np.uint8(255)
+            seen = cv2.compare(plane.count, 0, cv2.CMP_GT)
+            bgra = cv2.cvtColor(cv2.convertScaleAbs(plane.image), cv2.COLOR_BGR2BGRA)
+            bgra[:, :, 3] = seen
             warped = cv2.warpPerspective(bgra, hom, (w, h), flags=cv2.INTER_LINEAR,
                                          borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-            use = (warped[:, :, 3] == 255) & ahead
-            view[use] = warped[:, :, :3][use]
-            valid[use] = 255
+            # At the edge of what was seen, a pixel mixes seen and unseen (black,
+            # transparent) texels: its colour is the seen ones' (the mix over its alpha).
+            alpha = warped[:, :, 3]
+            use = cv2.compare(alpha, 64, cv2.CMP_GE)
+            edge = cv2.bitwise_and(use, cv2.compare(alpha, 255, cv2.CMP_LT))
+            if cv2.countNonZero(edge):
+                ys, xs = np.nonzero(edge)
+                mix = warped[ys, xs, :3].astype(np.float32) * (255.0 / alpha[ys, xs, None])
+                warped[ys, xs, :3] = np.clip(mix + 0.5, 0, 255).astype(np.uint8)
+            # only the rays on the face's side (a half-plane of the image; its
+            # corners say whether it cuts the image at all)
+            if min(inv[2, 0] * x + inv[2, 1] * y + inv[2, 2] for x in (0, w) for y in (0, h)) <= 0:
+                xs = np.arange(w, dtype=np.float64)[None, :]
+                ys = np.arange(h, dtype=np.float64)[:, None]
+                ahead = (inv[2, 0] * xs + inv[2, 1] * ys + inv[2, 2]) > 0
+                cv2.bitwise_and(use, ahead.view(np.uint8) * np.uint8(255), dst=use)
+            cv2.copyTo(cv2.cvtColor(warped, cv2.COLOR_BGRA2BGR), use, view)
+            cv2.bitwise_or(valid, use, dst=valid)
         self._sky_cache = (key, view, valid)
         return view, valid
 
@@ -722,7 +740,7 @@ class AppearanceModel:
                 written.append(_write(out / f"{stem}{suffix}", data.tobytes()))
             entries.append({"name": name, "kind": "sky" if t.sky else "surface",
                             "image": f"{stem}.png", "mask": f"{stem}.mask.png",
-                            "extent": [round(v, 9) for v in t.extent],
+                            "extent": list(t.extent),
                             "pixels_per_metre": [round(v, 3) for v in t.pixels_per_metre],
                             "coverage": round(t.coverage, 4), "updates": t.updates})
         index = {"format": FORMAT, "version": VERSION, "surfaces": entries}
