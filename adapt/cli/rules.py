@@ -14,7 +14,7 @@ import sys
 
 from adapt.errors import AdaptError, RuleError
 
-__all__ = ["register", "run_command", "check_command"]
+__all__ = ["register", "run_command", "check_command", "info_command"]
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -35,6 +35,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     run.add_argument("--matcher", choices=("rete", "naive"), default="rete",
                      help="the Rete matcher (default) or the brute-force one (for checking)")
     run.set_defaults(func=run_command)
+
+    info = rsub.add_parser("info", help="say which engine is installed (compiled or pure Python)")
+    info.set_defaults(func=info_command)
 
     check = rsub.add_parser("check", help="parse and lint rule files")
     check.add_argument("files", nargs="+", metavar="FILE")
@@ -86,6 +89,15 @@ def run_command(args: argparse.Namespace) -> int:
     for message in report.messages:
         if message.startswith("Warning") or message.startswith("Error"):
             print(message.strip(), file=sys.stderr)
+    return 0
+
+
+def info_command(args: argparse.Namespace) -> int:
+    """Print which engine runs: the mypyc-compiled modules or the pure-Python source."""
+    from adapt import __version__
+    from adapt.engine import engine_build
+
+    print(f"adapt {__version__}, engine: {engine_build()}")
     return 0
 
 

@@ -292,6 +292,29 @@ class _SkyPlane(_Plane):
         return _sky_to_pixels(self.name, self.size[0], camera)
 
 
+def _halved(plane: _SurfacePlane) -> _SurfacePlane:
+    """The same surface's plane at half the resolution over (about) the same extent: an
+    odd last row or column is made whole by growing the extent by one texel."""
+    e = plane.extent
+    w, h = plane.size
+    px, py = (e[2] - e[0]) / w, (e[3] - e[1]) / h
+    ew, eh = w + w % 2, h + h % 2
+    image = cv2.copyMakeBorder(plane.image, h % 2, 0, 0, w % 2, cv2.BORDER_CONSTANT, value=0)
+    count = cv2.copyMakeBorder(plane.count, h % 2, 0, 0, w % 2, cv2.BORDER_CONSTANT, value=0)
+    # rows run down from t_max: a new row is added at the top, at t_max + py
+    extent = (e[0], e[1], e[2] + (w % 2) * px, e[3] + (h % 2) * py)
+    out = _SurfacePlane(plane.surface, extent, (ew // 2, eh // 2))
+    seen = (count > 0).astype(np.float32)
+    weight = cv2.resize(seen, out.size, interpolation=cv2.INTER_AREA)
+    total = cv2.resize(image * seen[:, :, None], out.size, interpolation=cv2.INTER_AREA)
+    ok = weight > 0
+    out.image[ok] = total[ok] / weight[ok][:, None]
+    out.count[ok] = np.maximum(1, cv2.resize(count, out.size, interpolation=cv2.INTER_NEAREST)[ok])
+    out.updates = plane.updates
+    out.dirty = True
+    return out
+
+
 def _inside(surface: Surface, extent: Extent, size: tuple[int, int]) -> NDArray[np.uint8] | None:
     """Surface-image pixels inside the surface's polygon, 255 (None: all of them)."""
     poly = surface.polygon
@@ -617,15 +640,20 @@ class AppearanceModel:
                 and hi[1] <= e[3] + tol:
             return plane
         want = self._seen_extent(plane.surface, camera, face)
-        w, h = plane.size
-        px, py = (e[2] - e[0]) / w, (e[3] - e[1]) / h  # metres per pixel
-        left = max(0, int(math.ceil((e[0] - min(want[0], e[0])) / px)))
-        right = max(0, int(math.ceil((max(want[2], e[2]) - e[2]) / px)))
-        below = max(0, int(math.ceil((e[1] - min(want[1], e[1])) / py)))
-        above = max(0, int(math.ceil((max(want[3], e[3]) - e[3]) / py)))
-        nw, nh = w + left + right, h + below + above
-        if nw * nh > self.max_surface_pixels:
-            return plane  # as large as it may be: keep learning what it covers
+        for _ in range(8):
+            e = plane.extent
+            w, h = plane.size
+            px, py = (e[2] - e[0]) / w, (e[3] - e[1]) / h  # metres per pixel
+            left = max(0, int(math.ceil((e[0] - min(want[0], e[0])) / px - 1e-6)))
+            right = max(0, int(math.ceil((max(want[2], e[2]) - e[2]) / px - 1e-6)))
+            below = max(0, int(math.ceil((e[1] - min(want[1], e[1])) / py - 1e-6)))
+            above = max(0, int(math.ceil((max(want[3], e[3]) - e[3]) / py - 1e-6)))
+            nw, nh = w + left + right, h + below + above
+            if nw * nh <= self.max_surface_pixels:
+                break
+            plane = _halved(plane)  # too many texels: half the resolution, all it knew kept
+        else:  # pragma: no cover - eight halvings cover any reach
+            return plane
         grown = _SurfacePlane(plane.surface, (e[0] - left * px, e[1] - below * py,
                                               e[2] + right * px, e[3] + above * py), (nw, nh))
         # rows run down from t_max: the old image starts `above` rows down

@@ -170,13 +170,16 @@ def test_an_unbounded_floor_grows_as_more_of_it_is_seen() -> None:
     a = renderer.render()
     model.learn(a.image, first, a.labels)
     e1 = model.texture("floor").extent  # type: ignore[union-attr]
+    ppm1 = model.texture("floor").pixels_per_metre[0]  # type: ignore[union-attr]
     probe = np.array([[0.2, 1.5, 0.0]])  # a floor point the first camera saw
     value = _texel(model, probe)
     b = renderer.with_camera(second).render()
     model.learn(b.image, second, b.labels)
     e2 = model.texture("floor").extent  # type: ignore[union-attr]
     assert e2[0] <= e1[0] and e2[2] > e1[2] + 5.0 and e2[2] >= 6.5
-    assert np.array_equal(_texel(model, probe), value)  # what was learned stayed where it was
+    # what was learned stayed where it was (at half the resolution: 2x2 texels averaged)
+    assert model.texture("floor").pixels_per_metre[0] < 0.6 * ppm1  # type: ignore[union-attr]
+    assert np.abs(_texel(model, probe).astype(int) - value.astype(int)).max() <= 12
 
 
 def _texel(model: AppearanceModel, world: np.ndarray) -> np.ndarray:
