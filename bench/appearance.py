@@ -72,7 +72,7 @@ def cost(overrides: list[str], label: str, rounds: int = 15) -> None:
         t2 = time.perf_counter()
         mirror.appearance.apply(mirror.renderer, force=True)  # worst case: every surface
         t3 = time.perf_counter()
-        mirror.background  # the next frame's new background: its render, the sky
+        _ = mirror.background  # the next frame's new background: its render, the sky
         t4 = time.perf_counter()
         peer.append(t1 - t0)
         learn.append(t2 - t1)

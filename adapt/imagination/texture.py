@@ -162,6 +162,7 @@ def _halve(image: NDArray[np.uint8]) -> NDArray[np.uint8]:
     """Averages of 2 x 2 pixels (an odd last row or column repeated)."""
     h, w = image.shape[:2]
     if h % 2 or w % 2:
-        image = cv2.copyMakeBorder(image, 0, h % 2, 0, w % 2, cv2.BORDER_REPLICATE)
+        image = np.asarray(cv2.copyMakeBorder(image, 0, h % 2, 0, w % 2, cv2.BORDER_REPLICATE),
+                           np.uint8)
         h, w = image.shape[:2]
     return np.asarray(cv2.resize(image, (w // 2, h // 2), interpolation=cv2.INTER_AREA), np.uint8)

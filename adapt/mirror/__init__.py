@@ -52,12 +52,10 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import replace
+from pathlib import Path
 from typing import Any, Callable, Sequence
 
 import numpy as np
-
-from pathlib import Path
-
 from numpy.typing import NDArray
 
 from adapt.geometry import Camera

@@ -253,8 +253,8 @@ class _Plane:
         raise NotImplementedError
 
     def texture(self) -> LearnedTexture:
-        seen = cv2.compare(self.count, 0, cv2.CMP_GT)
-        image = cv2.copyTo(cv2.convertScaleAbs(self.image), seen)  # zero where unseen
+        seen = cv2.compare(self.count, 0, cv2.CMP_GT)  # type: ignore[call-overload]
+        image = np.asarray(cv2.copyTo(cv2.convertScaleAbs(self.image), seen), np.uint8)  # zero where unseen
         mask = seen > 0
         image.setflags(write=False)
         mask.setflags(write=False)
@@ -465,7 +465,7 @@ class AppearanceModel:
         present = np.unique(labels[::_SAMPLE, ::_SAMPLE]).tolist()
         # The frame and the regions get a border of _PAD replicated pixels, so
         # that the texels at the frame's edge are learned too (renders sample them).
-        pad = cv2.copyMakeBorder(image, _PAD, _PAD, _PAD, _PAD, cv2.BORDER_REPLICATE)
+        pad = np.asarray(cv2.copyMakeBorder(image, _PAD, _PAD, _PAD, _PAD, cv2.BORDER_REPLICATE), np.uint8)
         shift = np.array([[1.0, 0.0, _PAD], [0.0, 1.0, _PAD], [0.0, 0.0, 1.0]])
         done: dict[str, int] = {}
         new = 0
@@ -567,7 +567,7 @@ class AppearanceModel:
                                       borderMode=cv2.BORDER_REPLICATE)
         img = plane.image[y0:y1, x0:x1]
         cnt = plane.count[y0:y1, x0:x1]
-        unseen = cv2.compare(cnt, 0, cv2.CMP_EQ)
+        unseen = cv2.compare(cnt, 0, cv2.CMP_EQ)  # type: ignore[call-overload]
         fresh = cv2.bitwise_and(seen, unseen)
         old = cv2.bitwise_and(seen, cv2.bitwise_not(unseen))
         n_old = cv2.countNonZero(old)
@@ -576,7 +576,8 @@ class AppearanceModel:
         if n_old and gate is not None:
             b, g, r = cv2.split(cv2.absdiff(cv2.convertScaleAbs(img), sampled))
             worst = cv2.max(cv2.max(b, g), r)
-            cv2.bitwise_and(old, cv2.compare(worst, float(gate), cv2.CMP_LE), dst=old)
+            cv2.bitwise_and(old, cv2.compare(worst, float(gate), cv2.CMP_LE),  # type: ignore[call-overload]
+                            dst=old)
             n_old = cv2.countNonZero(old)
         if n_old:
             # the mean change, not the mean |change|: sensor noise averages out, a drift does not
@@ -588,7 +589,7 @@ class AppearanceModel:
             cv2.accumulateWeighted(sampled, img, 1.0, mask=fresh)
         if n_fresh + n_old == 0:
             return None
-        cv2.add(cnt, 1, dst=cnt, mask=cv2.bitwise_or(fresh, old))
+        cv2.add(cnt, 1, dst=cnt, mask=cv2.bitwise_or(fresh, old))  # type: ignore[call-overload]
         plane.updates += 1
         plane.drift += drift
         if n_fresh or plane.drift >= _DRIFT:
@@ -693,7 +694,8 @@ class AppearanceModel:
         if not faces:
             return image
         view, valid = self._sky_view(camera, faces)
-        where = cv2.bitwise_and(valid, cv2.compare(labels.astype(np.int32), LABEL_SKY, cv2.CMP_EQ))
+        sky = cv2.compare(labels.astype(np.int32), LABEL_SKY, cv2.CMP_EQ)  # type: ignore[call-overload]
+        where = cv2.bitwise_and(valid, sky)
         if not cv2.countNonZero(where):
             return image
         out = image.copy()
@@ -712,7 +714,7 @@ class AppearanceModel:
         for plane in faces:
             hom = plane.to_pixels(camera)  # face pixels -> camera pixels
             inv = np.linalg.inv(hom)
-            seen = cv2.compare(plane.count, 0, cv2.CMP_GT)
+            seen = cv2.compare(plane.count, 0, cv2.CMP_GT)  # type: ignore[call-overload]
             bgra = cv2.cvtColor(cv2.convertScaleAbs(plane.image), cv2.COLOR_BGR2BGRA)
             bgra[:, :, 3] = seen
             warped = cv2.warpPerspective(bgra, hom, (w, h), flags=cv2.INTER_LINEAR,
@@ -720,8 +722,9 @@ class AppearanceModel:
             # At the edge of what was seen, a pixel mixes seen and unseen (black,
             # transparent) texels: its colour is the seen ones' (the mix over its alpha).
             alpha = warped[:, :, 3]
-            use = cv2.compare(alpha, 64, cv2.CMP_GE)
-            edge = cv2.bitwise_and(use, cv2.compare(alpha, 255, cv2.CMP_LT))
+            use = cv2.compare(alpha, 64, cv2.CMP_GE)  # type: ignore[call-overload]
+            partial = cv2.compare(alpha, 255, cv2.CMP_LT)  # type: ignore[call-overload]
+            edge = cv2.bitwise_and(use, partial)
             if cv2.countNonZero(edge):
                 ys, xs = np.nonzero(edge)
                 mix = warped[ys, xs, :3].astype(np.float32) * (255.0 / alpha[ys, xs, None])
@@ -729,9 +732,9 @@ class AppearanceModel:
             # only the rays on the face's side (a half-plane of the image; its
             # corners say whether it cuts the image at all)
             if min(inv[2, 0] * x + inv[2, 1] * y + inv[2, 2] for x in (0, w) for y in (0, h)) <= 0:
-                xs = np.arange(w, dtype=np.float64)[None, :]
-                ys = np.arange(h, dtype=np.float64)[:, None]
-                ahead = (inv[2, 0] * xs + inv[2, 1] * ys + inv[2, 2]) > 0
+                cols = np.arange(w, dtype=np.float64)[None, :]
+                rows = np.arange(h, dtype=np.float64)[:, None]
+                ahead = (inv[2, 0] * cols + inv[2, 1] * rows + inv[2, 2]) > 0
                 cv2.bitwise_and(use, ahead.view(np.uint8) * np.uint8(255), dst=use)
             cv2.copyTo(cv2.cvtColor(warped, cv2.COLOR_BGRA2BGR), use, view)
             cv2.bitwise_or(valid, use, dst=valid)

@@ -253,19 +253,20 @@ def align_structure(flat: NDArray[np.uint8], real: NDArray[np.uint8],
     a, b = _grey(flat), _grey(real)
     if f0 < 1.0:
         size = (max(8, int(round(w * f0))), max(8, int(round(h * f0))))
-        a = cv2.resize(a, size, interpolation=cv2.INTER_AREA)
-        b = cv2.resize(b, size, interpolation=cv2.INTER_AREA)
+        a = np.asarray(cv2.resize(a, size, interpolation=cv2.INTER_AREA), np.float32)
+        b = np.asarray(cv2.resize(b, size, interpolation=cv2.INTER_AREA), np.float32)
         f0 = size[0] / w
     pyramid = [(a, b)]
     for _ in range(levels - 1):
         if min(pyramid[-1][0].shape) < 32:
             break
-        pyramid.append((cv2.pyrDown(pyramid[-1][0]), cv2.pyrDown(pyramid[-1][1])))
+        pyramid.append((np.asarray(cv2.pyrDown(pyramid[-1][0]), np.float32),
+                        np.asarray(cv2.pyrDown(pyramid[-1][1]), np.float32)))
     cx, cy = float(centre[0]), float(centre[1])
     # Work in coordinates centred on the principal point, so Euclidean = rotation.
     to_centred = np.array([[1.0, 0.0, -cx], [0.0, 1.0, -cy], [0.0, 0.0, 1.0]])
-    blurred = [(cv2.GaussianBlur(ga, (0, 0), blur), cv2.GaussianBlur(gb, (0, 0), blur))
-               for ga, gb in pyramid]
+    blurred = [(np.asarray(cv2.GaussianBlur(ga, (0, 0), blur), np.float32),
+                np.asarray(cv2.GaussianBlur(gb, (0, 0), blur), np.float32)) for ga, gb in pyramid]
     starts = [np.eye(3)]
     # A second start: the shift phase correlation finds at the coarsest level
     # (it reaches offsets far beyond the alignment's own basin).
@@ -286,8 +287,8 @@ def align_structure(flat: NDArray[np.uint8], real: NDArray[np.uint8],
             ci = np.linalg.inv(c)
             lw = c @ warp @ ci
             try:
-                score, m = cv2.findTransformECC(ga, gb, lw[:2].astype(np.float32),
-                                                cv2.MOTION_EUCLIDEAN, criteria, None, 1)
+                score, m = cv2.findTransformECC(  # type: ignore[call-overload]
+                    ga, gb, lw[:2].astype(np.float32), cv2.MOTION_EUCLIDEAN, criteria, None, 1)
             except cv2.error:
                 score = -1.0
                 break
@@ -326,12 +327,13 @@ def structure_homography(real: NDArray[np.uint8], labels: NDArray[np.integer],
     if f < 1.0:
         size = (max(8, int(round(w * f))), max(8, int(round(h * f))))
         f = size[0] / w
-        small_labels = cv2.resize(labels.astype(np.int32), size, interpolation=cv2.INTER_NEAREST)
-        small_real = cv2.resize(real, size, interpolation=cv2.INTER_AREA)
-        small_ref = (None if reference is None
-                     else cv2.resize(reference, size, interpolation=cv2.INTER_AREA))
+        small_labels = np.asarray(cv2.resize(labels.astype(np.int32), size,
+                                             interpolation=cv2.INTER_NEAREST), np.int32)
+        small_real = np.asarray(cv2.resize(real, size, interpolation=cv2.INTER_AREA), np.uint8)
+        small_ref = (None if reference is None else np.asarray(
+            cv2.resize(reference, size, interpolation=cv2.INTER_AREA), np.uint8))
     else:
-        small_labels, small_real, small_ref = labels, real, reference
+        small_labels, small_real, small_ref = np.asarray(labels, np.int32), real, reference
     flat = flat_look(small_real, small_labels, margin * f, small_ref)
     to_small = _scale(f)
     c = to_small @ np.array([float(centre[0]), float(centre[1]), 1.0])

@@ -147,7 +147,7 @@ class SceneBackground(Schema):
         self.correction_deg = 0.0
         self.corrections = 0
         self.ms = 0.0
-        self._prepared_for: tuple[int, int, int] | None = None
+        self._prepared_for: tuple[int, ...] | None = None
         self._background: PreparedImage | None = None
         self._warped_labels: NDArray[np.uint16] | None = None
         self._label_of: dict[str, int] = {}
@@ -381,7 +381,7 @@ class SceneBackground(Schema):
             if differs.shape != (h, w):
                 differs = cv2.resize(differs, (w, h), interpolation=cv2.INTER_NEAREST)
             kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
-            mask |= cv2.dilate(differs, kernel)
+            mask |= np.asarray(cv2.dilate(differs, kernel), np.uint8)
         return mask.astype(bool)
 
     def appearance_record(self, frame_index: int) -> dict[str, Any] | None:

@@ -13,8 +13,7 @@ import pytest
 
 from adapt.errors import AppearanceError
 from adapt.geometry import Camera, rotation_exp
-from adapt.imagination import (LABEL_OBSTACLE, LABEL_SKY, LABEL_WALL, Floor, Obstacle,
-                               Renderer, SceneSpec, Wall)
+from adapt.imagination import LABEL_OBSTACLE, LABEL_SKY, LABEL_WALL, Floor, Obstacle, Renderer, SceneSpec, Wall
 from adapt.mirror import Mirror
 from adapt.mirror.appearance import SKY_FACES, AppearanceModel
 

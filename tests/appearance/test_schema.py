@@ -4,7 +4,6 @@ see, how often it learns, what it never learns, the trace record, re-acquisition
 from __future__ import annotations
 
 import base64
-from typing import Iterator
 
 import cv2
 import numpy as np
