@@ -39,6 +39,7 @@ __all__ = [
     "RealityError",
     "GroundTruthError",
     "RunError",
+    "AppearanceError",
 ]
 
 
@@ -150,3 +151,9 @@ class GroundTruthError(RealityError, LocatedError):
 class RunError(AdaptError):
     """The scenario runner cannot start or go on (an output folder that cannot
     be written, a reality whose frames do not fit the camera)."""
+
+
+class AppearanceError(AdaptError):
+    """A learned-appearance folder cannot be read or written (a missing or
+    malformed ``index.json``, an image or mask that does not fit its entry, a
+    surface the scene does not have)."""

@@ -17,7 +17,10 @@
   the same crop around the object;
 * ``prediction.png`` -- for runs with predictions and ground truth: the
   mirror's and the baseline's prediction errors against the time they were
-  made, and the mirror's confidence.
+  made, and the mirror's confidence;
+* ``appearance.png`` -- for runs whose Scene Background learned the surfaces'
+  look: the real frame it learned from, the render before and after
+  learning, and how far each differs from the real frame.
 
 The data come from :class:`Snapshots` (a few frames kept by reference) and
 :class:`Paths` (decimated series), so nothing grows with the run's length.
@@ -281,6 +284,10 @@ def write_figures(runner: "Runner", folder: Path) -> dict[str, Path]:
             folder / "correction.png", [reals, top, bottom],
             title=f"{name}: the uncorrected imagination (middle) drifts from the real object, "
                   "the corrected one (bottom) stays on it (paper Figs. 7-8)")
+    bg = runner.network.background
+    if bg is not None and bg.first_look is not None:
+        floor = runner.mirror.appearance.texture("floor")
+        out["appearance"] = _appearance_strip(bg.first_look, floor, folder / "appearance.png")
     if runner.series.time:
         out["camera"] = _camera_plot(runner, folder / "camera.png")
         out["floor"] = _floor_plot(runner, folder / "floor.png")
@@ -334,6 +341,26 @@ def _prediction_plot(runner: "Runner", path: Path) -> Path:
     out = _save(fig, path)
     plt.close(fig)
     return out
+
+
+def _appearance_strip(look: tuple[int, float, NDArray[np.uint8], NDArray[np.uint8],
+                                  NDArray[np.uint8]], floor: Any, path: Path) -> Path:
+    """The real frame, the render before and after learning its look, their
+    differences, and the floor's learned image at the end of the run."""
+    index, t, real, before, after = look
+
+    def differs(render: NDArray[np.uint8]) -> NDArray[np.float32]:
+        return np.abs(real.astype(np.float32) - render.astype(np.float32)).max(axis=2)
+
+    d0, d1 = differs(before), differs(after)
+    rows = [[Panel(f"frame {index} (t={t:.2f} s)\nreal", real),
+             Panel("render: the scenario's look", before),
+             Panel("render: the learned look", after)],
+            [Panel("the floor's learned image, end of run\n(black: never seen)",
+                   floor.preview(640) if floor is not None else np.zeros(real.shape[:2], np.uint8)),
+             Panel(f"|real - render| before, 0-80 (mean {d0.mean():.1f})", d0, vmin=0.0, vmax=80.0),
+             Panel(f"|real - render| after, 0-80 (mean {d1.mean():.1f})", d1, vmin=0.0, vmax=80.0)]]
+    return write_strip(path, rows, title="The surfaces' look, learned from the camera")
 
 
 def _camera_plot(runner: "Runner", path: Path) -> Path:

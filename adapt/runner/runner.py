@@ -41,7 +41,7 @@ import numpy as np
 
 from adapt.engine import Agent
 from adapt.engine.trace import TraceWriter
-from adapt.errors import RuleError, RunError
+from adapt.errors import AppearanceError, RuleError, RunError
 from adapt.frames import Frame, FrameSource, VideoSink
 from adapt.geometry import Camera
 from adapt.mirror import Mirror
@@ -144,11 +144,17 @@ class Runner:
         self.mirror = Mirror(scenario.scene, cam, seed=self.seed,
                              camera_follows_robot=self._mount() if scenario.mount.kind is Mount.ROBOT
                              else None)
+        if scenario.appearance is not None:
+            try:
+                self.mirror.load_appearance(scenario.appearance)
+            except AppearanceError as exc:
+                raise scenario.where("world.appearance").error(str(exc)) from None
         self.network = SchemaNetwork(
             self.mirror, registry=registry, settings=scenario.schemas,
             models={m.name: m for m in scenario.objects}, goals=scenario.goals,
             actuator=getattr(source, "robot", None), predict=scenario.predict,
-            rng=self.streams.generator("ensemble"), frame_interval=1.0 / self.fps)
+            rng=self.streams.generator("ensemble"), frame_interval=1.0 / self.fps,
+            reality=scenario.reality.kind.value)
         self.truth = getattr(source, "truth", None)
         self.evaluation = Evaluation(scenario, self.truth, self.fps)
         self.twin = UncorrectedTwin(scenario.scene, seed=self.seed)
@@ -194,6 +200,7 @@ class Runner:
             paths["video"] = self.out / "mmd.mp4"
         if o.figures:
             paths["figures"] = self.out / "figures"
+        paths["appearance"] = self.out / "appearance"  # written when the run learned a look
         return paths
 
     def _check_outputs(self) -> None:
@@ -211,7 +218,7 @@ class Runner:
         inputs = {p.resolve() for p in self._inputs()}
         for name, path in self._paths().items():
             if path.resolve() in inputs or any(i.is_relative_to(path.resolve()) for i in inputs
-                                               if name == "figures"):
+                                               if name in ("figures", "appearance")):
                 raise RunError(f"the {name} output {str(path)!r} would replace an input of the "
                                "run; choose another --out folder")
 
@@ -226,6 +233,8 @@ class Runner:
             p = getattr(reality, attr, None)
             if isinstance(p, Path):
                 yield p
+        if sc.appearance is not None:
+            yield sc.appearance
 
     def _agent(self) -> Agent:
         trace = None
@@ -314,6 +323,10 @@ class Runner:
                         self._trace.event("network", {"d": self.agent.decisions,
                                                       "frame": frame.index,
                                                       **self.network.subscene()})
+                    bg = self.network.background
+                    look = None if bg is None else bg.appearance_record(frame.index)
+                    if look is not None:
+                        self._trace.event("appearance", {"d": self.agent.decisions, **look})
                     self._trace.flush()
                 self.network.changed = False
                 self.stage_s["outputs"] += time.perf_counter() - t5
@@ -614,6 +627,10 @@ class Runner:
             written["trace"] = paths["trace"]
         if report is not None:
             written["report"] = report.close(summary)
+        bg = self.network.background
+        if "appearance" in paths and bg is not None and bg.learn_passes:
+            self.mirror.save_appearance(paths["appearance"])
+            written["appearance"] = paths["appearance"]
         if "figures" in paths and self.frames_done > 0 and error is None:
             from adapt.runner.figures import write_figures
 
