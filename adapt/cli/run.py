@@ -165,9 +165,10 @@ def _print_summary(result: Any, sc: Any) -> None:
         m, b = by.get("mirror") or {}, by.get("baseline") or {}
         for kind, label in (("bounce", "with a bounce"), ("no_bounce", "without")):
             mm, bm = m.get(f"{kind}_median"), b.get(f"{kind}_median")
-            if mm is not None and bm is not None:
-                print(f"prediction {horizon} s ahead, {label}: mirror {100 * mm:.1f} cm, "
-                      f"Kalman baseline {100 * bm:.1f} cm (median of {m.get(kind + '_n')})")
+            if mm is not None:
+                beside = "" if bm is None else f", Kalman baseline {100 * bm:.1f} cm"
+                print(f"prediction {horizon} s ahead, {label}: mirror {100 * mm:.1f} cm"
+                      f"{beside} (median of {m.get(kind + '_n')})")
     conf = s.get("confidence")
     if conf and conf.get("within_reach") is not None:
         print(f"confident predictions ({conf['threshold']} at {conf['horizon']:g} s): "

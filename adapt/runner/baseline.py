@@ -70,10 +70,12 @@ class SimulatedRobot:
 class Baseline:
     """A constant-velocity Kalman filter and the robot it would drive (see the module docstring)."""
 
-    def __init__(self, robot: RobotSpec, *, reach: float, horizons: Sequence[float], dt: float,
-                 q: float = 0.3, r: float = 0.005, plan: float = 3.0) -> None:
+    def __init__(self, robot: RobotSpec | None, *, reach: float, horizons: Sequence[float],
+                 dt: float, q: float = 0.3, r: float = 0.005, plan: float = 3.0) -> None:
         self.kf = ConstantVelocityKF(q=q, r=r)
-        self.robot = SimulatedRobot(robot.position, robot.max_speed, robot.max_accel)
+        #: The simulated robot (None in a world without a robot: predictions only).
+        self.robot = None if robot is None else SimulatedRobot(robot.position, robot.max_speed,
+                                                               robot.max_accel)
         self.reach = reach
         self.horizons = tuple(horizons)
         self.dt = dt
@@ -84,6 +86,8 @@ class Baseline:
         """Take this frame's sighting (None: not seen), re-plan, and drive for one frame."""
         self.kf.step(time, sighting)
         self.target = None
+        if self.robot is None:
+            return
         if self.kf.initialised and self.kf.updates >= 3:
             p, v = np.array(self.kf.position), np.array(self.kf.velocity)
             times = np.linspace(time, time + self.plan, 91)

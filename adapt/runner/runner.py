@@ -375,14 +375,16 @@ class Runner:
         t3 = time.perf_counter()
         self.network.act(frame.time)
         t4 = time.perf_counter()
+        record = self._record(frame)  # the imagination as it stands at the frame's time
+        t5 = time.perf_counter()
         self.mirror.step_to(frame.time + 1.0 / self.fps)
         self.twin.step_to(frame.time + 1.0 / self.fps)
-        t5 = time.perf_counter()
+        t6 = time.perf_counter()
         stage["perception"] += t2 - t1
         stage["decisions"] += t3 - t2
         stage["action"] += t4 - t3
-        stage["physics"] += t5 - t4
-        record = self._record(frame)
+        stage["physics"] += t6 - t5
+        stage["outputs"] += t5 - t4
         self._keep(frame, record)
         return record
 
@@ -393,7 +395,10 @@ class Runner:
         created = self.comparisons.created
         if bg is None or bg.synthetic is None or created is None:
             return
-        twin = self.twin.render(camera, self.mirror.renderer).image
+        robot = self.scenario.scene.robot
+        also = () if robot is None else tuple(
+            b for b in self.mirror.world.snapshot().bodies if b.name == robot.name)
+        twin = self.twin.render(camera, self.mirror.renderer, also=also).image
         uncorrected = bg.difference_with(frame.image, twin)
         corrected = bg.difference_with(frame.image, bg.synthetic)
         if uncorrected is None or corrected is None:
@@ -471,15 +476,16 @@ class Runner:
     # -- records ---------------------------------------------------------------------------------
 
     def _objects(self) -> tuple[dict[str, dict[str, Any]], dict[str, Any], dict[str, Any],
-                                dict[str, Any]]:
+                                dict[str, Any], dict[str, Any]]:
         """Per object: observed and imagined positions, the mirror's predictions, the
-        predicted contacts, and the baseline's predictions."""
+        predicted contacts, the baseline's predictions and the parameter estimates."""
         from adapt.schemas.foreground import ForegroundObject
 
         out: dict[str, dict[str, Any]] = {}
         preds: dict[str, Any] = {}
         contacts: dict[str, Any] = {}
         baseline: dict[str, Any] = {}
+        params: dict[str, Any] = {}
         for m in self.scenario.objects:
             out[m.name] = {"observed": None, "imagined": None}
         robot = self.scenario.scene.robot
@@ -490,16 +496,18 @@ class Runner:
             o = s.observed()
             out.setdefault(name, {"observed": None, "imagined": None})
             out[name]["observed"] = None if o is None else [round(o[0], 4), round(o[1], 4)]
+            if s.estimator is not None:
+                params[name] = {k: e.as_json() for k, e in s.estimator.estimates().items()}
             if s.prediction is not None:
                 preds[name] = [h.as_json() for h in s.prediction.horizons]
                 contacts[name] = s.prediction.contacts_json()
-            if robot is not None and s.ball is not None:
+            if s.ball is not None:
                 b = self.baselines.get(name)
                 if b is None:
                     from adapt.imagination.predict import intercept_reach
 
                     b = self.baselines[name] = Baseline(
-                        robot, reach=intercept_reach(s.ball, robot),
+                        robot, reach=0.0 if robot is None else intercept_reach(s.ball, robot),
                         horizons=self.scenario.predict.horizons, dt=1.0 / self.fps)
                 sighting = s.last.position if s.last is not None and s.misses == 0 else None
                 b.step(self.network.time, sighting)
@@ -509,11 +517,11 @@ class Runner:
                 p = self.mirror.world.position(ball.name)
                 out.setdefault(ball.name, {"observed": None, "imagined": None})
                 out[ball.name]["imagined"] = [round(p[0], 4), round(p[1], 4)]
-        return out, preds, contacts, baseline
+        return out, preds, contacts, baseline, params
 
     def _record(self, frame: Frame) -> dict[str, Any]:
         bg = self.network.background
-        objects, preds, contacts, baseline = self._objects()
+        objects, preds, contacts, baseline, params = self._objects()
         record: dict[str, Any] = {
             "index": frame.index, "t": round(frame.time, 6),
             "schemas": self.network.names,
@@ -522,6 +530,7 @@ class Runner:
             "predictions": {name: preds.get(name, []) for name in objects},
             "contacts": contacts,
             "baseline": baseline,
+            "parameters": params,
         }
         if bg is not None:
             record["mmd"] = {"aligned": bg.result is not None and bg.result.aligned,
@@ -533,8 +542,10 @@ class Runner:
         pose = self.mirror.robot_pose()
         target = self.evaluation.target
         base_robot = None
-        if target is not None and target in self.baselines:
-            base_robot = tuple(float(v) for v in self.baselines[target].robot.position)
+        sim = None if target is None or target not in self.baselines \
+            else self.baselines[target].robot
+        if sim is not None:
+            base_robot = tuple(float(v) for v in sim.position)
         if pose is not None:
             record["robot"] = {"odometry": [round(pose[0][0], 4), round(pose[0][1], 4)],
                                "heading": round(pose[1], 4)}
@@ -591,10 +602,19 @@ class Runner:
             "schema_ms": {k: round(1000.0 * v / n, 3) for k, v in sorted(self.network.seconds.items())},
             "mmd_ms_median": round(float(np.median(self.mmd_ms)), 3) if self.mmd_ms else None,
             "rollouts": self._rollouts(),
+            "parameters": self._estimates(),
             "writes": "".join(self.writes[-20:]),
         }
         out.update(self.evaluation.summary())
         return out
+
+    def _estimates(self) -> dict[str, Any]:
+        """The object schemas' parameter estimates at the end."""
+        from adapt.schemas.foreground import ForegroundObject
+
+        return {s.object_name: {k: e.as_json() for k, e in s.estimator.estimates().items()}
+                for s in self.network.ordered()
+                if isinstance(s, ForegroundObject) and s.estimator is not None}
 
     def _rollouts(self) -> dict[str, Any]:
         """How fast the object schemas' predictions ran: seconds of imagination rolled out

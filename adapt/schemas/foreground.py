@@ -102,7 +102,8 @@ class ForegroundObject(Schema):
         self.bounces_seen = 0
         settings = network.predict
         self.predictor = Predictor(settings.horizons, members=settings.ensemble,
-                                   catch_radius=self._catch_radius(), seed=network.rng)
+                                   catch_radius=self._catch_radius(), seed=network.rng,
+                                   evidence=settings.evidence)
         if self.ball is not None:
             self._start_estimator()
         if self.region > 0 and network.background is not None:

@@ -130,10 +130,13 @@ class Residuals:
     scores at a horizon (0 before any).
     """
 
-    def __init__(self, horizons: Sequence[float], keep: int = 10) -> None:
+    def __init__(self, horizons: Sequence[float], keep: int = 10,
+                 evidence: int = EVIDENCE) -> None:
+        self.evidence = evidence
         self._pending: dict[float, deque[tuple[float, float, float]]] = {
             h: deque(maxlen=512) for h in horizons}
-        self._errors: dict[float, deque[float]] = {h: deque(maxlen=keep) for h in horizons}
+        self._errors: dict[float, deque[float]] = {h: deque(maxlen=max(keep, evidence))
+                                                   for h in horizons}
 
     def expect(self, horizon: float, time: float, position: Sequence[float]) -> None:
         """A prediction that the object is at ``position`` at ``time``."""
@@ -157,7 +160,7 @@ class Residuals:
 
     def sigma(self, horizon: float, prior: float) -> float:
         """The residual the confidence uses: the RMS of the recent scores with each of the
-        :data:`EVIDENCE` scores not yet made counted as an error of ``prior``, or of the
+        ``evidence`` scores not yet made counted as an error of ``prior``, or of the
         longest shorter horizon's residual times ``(horizon / shorter)^2`` once that one
         has its evidence.
 
@@ -175,8 +178,9 @@ class Residuals:
         0.033
         """
         e = self._errors.get(horizon) or ()
-        missing = max(0, EVIDENCE - len(e))
-        shorter = [h for h in self._errors if h < horizon and len(self._errors[h]) >= EVIDENCE]
+        missing = max(0, self.evidence - len(e))
+        shorter = [h for h in self._errors
+                   if h < horizon and len(self._errors[h]) >= max(self.evidence, 1)]
         if missing and shorter:
             h = max(shorter)
             prior = self.rms(h) * (horizon / h) ** 2
@@ -204,16 +208,20 @@ class Predictor:
         largest horizon), seconds.
     seed : int or Generator
         The ensemble's random stream.
+    evidence : int
+        Scored predictions per horizon before its residual is taken at its word
+        (:meth:`Residuals.sigma`).
     """
 
     def __init__(self, horizons: Sequence[float], *, members: int, catch_radius: float,
-                 plan: float = 3.0, seed: int | np.random.Generator | None = None) -> None:
+                 plan: float = 3.0, seed: int | np.random.Generator | None = None,
+                 evidence: int = EVIDENCE) -> None:
         self.horizons = tuple(sorted(horizons))
         self.members = members
         self.catch_radius = catch_radius
         self.plan = max(plan, self.horizons[-1])
         self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
-        self.residuals = Residuals(self.horizons)
+        self.residuals = Residuals(self.horizons, evidence=evidence)
         #: Seconds of imagination rolled out, and the wall-clock seconds it took.
         self.simulated_s = 0.0
         self.wall_s = 0.0
