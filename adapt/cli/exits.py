@@ -14,6 +14,7 @@ status  name                        meaning
 6       ``RULE_ERROR``              ``rules run``: a run-time error in a rule's actions
 7       ``NO_ALIGNMENT``            ``mmd`` / ``sync``: the images could not be aligned
 8       ``NOT_CONVERGED``           ``sync``: ``--max-iter`` renders without reaching ``--tolerance``
+70      ``INTERNAL``                a bug in adapt (``adapt: internal error: ...``; please report it)
 130     ``INTERRUPTED``             stopped by Ctrl-C (SIGINT); what ran is reported
 ======  ==========================  ==================================================
 """
@@ -37,4 +38,5 @@ class Exit(IntEnum):
     RULE_ERROR = 6
     NO_ALIGNMENT = 7
     NOT_CONVERGED = 8
+    INTERNAL = 70
     INTERRUPTED = 130
