@@ -100,8 +100,21 @@ def _quiet_stdout() -> None:
         pass
 
 
+def _safe_streams() -> None:
+    """File names that are not UTF-8 reach Python as surrogates (U+DC80..U+DCFF):
+    standard output writes them back as the bytes they were (as ``ls`` does),
+    standard error as ``\\udcff`` (Python's own choice for it)."""
+    for stream, errors in ((sys.stdout, "surrogateescape"), (sys.stderr, "backslashreplace")):
+        if getattr(stream, "errors", None) == "strict" and hasattr(stream, "reconfigure"):
+            try:
+                stream.reconfigure(errors=errors)
+            except (ValueError, OSError):
+                pass
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit status."""
+    _safe_streams()
     try:
         args = build_parser().parse_args(argv)
         status = args.func(args)

@@ -203,7 +203,8 @@ def _cmd_html(args: argparse.Namespace) -> int:
     out = Output("--out" if args.out is not None else "the HTML page", target,
                  (".html", ".htm"))
     check_outputs([out], [("the trace", args.trace)])
-    write_output(out, render_page(build_payload(trace)).encode("utf-8"))
+    # backslashreplace: a file name that is not UTF-8 (in the header) stays valid UTF-8 in the page
+    write_output(out, render_page(build_payload(trace)).encode("utf-8", "backslashreplace"))
     print(target)
     return 0
 

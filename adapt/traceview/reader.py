@@ -119,13 +119,16 @@ def _finite(text: str) -> float:
 _DECODER = json.JSONDecoder(parse_constant=_constant, parse_float=_finite)
 
 
-def load_line(line: bytes) -> Any:
+def load_line(line: bytes, *, paths: str | None = None) -> Any:
     """One JSON value of a trace line, strictly.
 
-    Raises :class:`ValueError` for a line that is not UTF-8 JSON, that holds
-    ``NaN``, ``Infinity`` or a number too large for a float, that nests too
-    deeply, or whose strings hold a lone surrogate (``"\\ud800"``: not text,
-    and not writable as UTF-8).
+    Raises :class:`LineError` (a :class:`ValueError`) for a line that is not
+    UTF-8 JSON, that holds ``NaN``, ``Infinity`` or a number too large for a
+    float, that nests too deeply, or whose strings hold a lone surrogate
+    (``"\\ud800"``: not text, and not writable as UTF-8).  The one exception
+    is the list of file names under the key ``paths`` (the header's
+    ``"files"``): Python writes a file name's bytes that are not UTF-8 as the
+    surrogates U+DC80..U+DCFF, and those are kept.
 
     >>> load_line(b'{"kind": "x", "v": 1.5}')
     {'kind': 'x', 'v': 1.5}
@@ -133,6 +136,8 @@ def load_line(line: bytes) -> Any:
     Traceback (most recent call last):
     ...
     adapt.traceview.reader.LineError: a string holds a lone surrogate, \\ud800, which is not text
+    >>> load_line(b'{"files": ["\\udcff.soar"]}', paths="files")
+    {'files': ['\\udcff.soar']}
     """
     try:
         value = _DECODER.decode(line.decode("utf-8"))
@@ -141,13 +146,29 @@ def load_line(line: bytes) -> Any:
     except UnicodeDecodeError:
         raise LineError("the line is not UTF-8") from None
     if b"\\u" in line and (b"\\ud" in line or b"\\uD" in line):
+        checked = value
+        if paths is not None and isinstance(value, dict) and isinstance(value.get(paths), list):
+            names = value[paths]
+            checked = {k: v for k, v in value.items() if k != paths}
+            for name in names:
+                if isinstance(name, str):
+                    try:
+                        name.encode("utf-8", "surrogateescape")
+                    except UnicodeEncodeError:
+                        _lone_surrogate(name)
         try:
-            json.dumps(value, ensure_ascii=False).encode("utf-8")
+            json.dumps(checked, ensure_ascii=False).encode("utf-8")
         except UnicodeEncodeError as exc:
-            bad = exc.object[exc.start:exc.end]
-            code = bad.encode("unicode_escape").decode("ascii")
-            raise LineError(f"a string holds a lone surrogate, {code}, which is not text") from None
+            _lone_surrogate(exc.object[exc.start:exc.end])
     return value
+
+
+def _lone_surrogate(text: str) -> None:
+    for char in text:
+        if 0xD800 <= ord(char) <= 0xDFFF:
+            code = char.encode("unicode_escape", "backslashreplace").decode("ascii")
+            raise LineError(f"a string holds a lone surrogate, {code}, which is not text")
+    raise LineError("a string holds a lone surrogate, which is not text")
 
 
 def cycle_of(record: Record) -> int | None:
@@ -168,7 +189,7 @@ def cycle_of(record: Record) -> int | None:
 
 def _parse_header(path: str, line: bytes) -> TraceHeader:
     try:
-        record = load_line(line)
+        record = load_line(line, paths="files")
     except ValueError:
         record = None
     if not isinstance(record, dict) or record.get("kind") != "header" or (
