@@ -37,6 +37,7 @@ def _leaves(parser: argparse.ArgumentParser, prefix: tuple[str, ...] = ()) -> di
 COMMANDS = _leaves(build_parser())
 
 NUMBERS = ["0", "1", "2", "-1", "-0", "0.5", "3", "nan", "inf", "-inf", "1e9", "1e308", "-1e308",
+           "100000000",
            "1e-9", "1e-300", "abc", "", " 3", "0x10", "1_0", "٣", "99999999999999999999999"]
 TEXT = st.lists(st.characters(blacklist_categories=("Cc", "Cs"))
                 | st.sampled_from(["\udcff", "\udc80", "^", "(", ")", "+", "*", "|", "<", ">", "..",
@@ -160,9 +161,16 @@ def test_every_subcommand_is_fuzzed() -> None:
     ["trace", "html", "{wj5.jsonl}", "--out", "{wj5.jsonl}"],
     ["trace", "show", "{wj5.jsonl}", "--rule", "nosuch"],
     ["trace", "show", "{wj5.jsonl}", "--id", "Z99"],
+    ["imagine", "{scene.yaml}", "--horizon", "1e9"],
+    ["imagine", "{scene.yaml}", "--horizon", "1", "--samples", "100000000"],
+    ["render", "{scene.yaml}", "--out", "x.png", "--t", "1e9"],
+    ["render", "{scene.yaml}", "--out", "same.png", "--labels", "same.png"],
+    ["mmd", "{tiny.png}", "{tiny.png}"],
+    ["mmd", "{real.png}", "{synth.png}"],
 ])
 def test_the_reported_command_lines(pool: Pool, argv: list[str]) -> None:
-    refused = {"nosuch", "Z99", "-5", "{wj.soar}", "", "--nosuch", "{wj5.jsonl}"} & set(argv[2:] + argv[:1])
+    refused = {"nosuch", "Z99", "-5", "{wj.soar}", "", "--nosuch", "{wj5.jsonl}", "1e9", "100000000",
+               "same.png", "{tiny.png}", "{synth.png}"} & set(argv[2:] + argv[:1])
     argv = [pool.path(a[1:-1]) if a.startswith("{") else a for a in argv]
     outcome = run_checked(pool, argv)
     if refused:

@@ -110,3 +110,35 @@ def test_reported_scenario_texts(pool: Pool, text: str) -> None:
     for command in (["check"], ["render", "--out", str(folder / "f.png")]):
         outcome = run_checked(pool, [command[0], str(scenario), *command[1:]])
         assert outcome.status == 1, outcome
+
+
+def _set(doc: dict[str, Any], path: str, value: Any) -> None:
+    keys = [int(k) if k.isdigit() else k for k in path.split(".")]
+    target: Any = doc
+    for key in keys[:-1]:
+        target = target[key]
+    target[keys[-1]] = value
+
+
+@pytest.mark.parametrize("path, value, status", [
+    ("camera.width", 33000, 1),
+    ("world.walls.0.height", 1.0e300, 1),
+    ("world.objects.0.mass", 1.0e300, 1),
+    ("world.dt", 1.0e-9, 1),
+    ("world.objects.0.velocity", [80.0, 0.0], 0),  # fast, but sub-stepped: no tunnelling
+    ("world.objects.0.position", [-2.45, 0.9], 1),  # inside the west wall
+    ("world.obstacles.0.height", "1e-3", 0),  # YAML 1.2 float
+    ("camera.position", [0.0, -0.6, -0.2], 1),  # below the floor
+    ("sede", 3, 1),  # a top-level typo
+], ids=lambda v: str(v)[:24])
+def test_the_reported_scenario_values(pool: Pool, path: str, value: Any, status: int) -> None:
+    """The findings of issue 11 that others fixed, checked through every scenario command."""
+    doc = small_scenario(rules="../inputs/perception.soar")
+    _set(doc, path, value)
+    folder = pool.outputs()
+    scenario = folder / "s.yaml"
+    scenario.write_text(yaml.safe_dump(doc, sort_keys=False).replace("'1e-3'", "1e-3"))
+    for command in COMMANDS[:3]:
+        args = [a.replace("{out}", str(folder)) for a in command[1:]]
+        outcome = run_checked(pool, [command[0], str(scenario), *args])
+        assert outcome.status == status, outcome
