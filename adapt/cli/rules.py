@@ -111,14 +111,14 @@ class _Echo:
             self.open_line = False
 
 
-def _check_trace(args: argparse.Namespace) -> None:
+def _check_trace(args: argparse.Namespace) -> Any:
     """Refuse, before any rule is loaded, a ``--trace`` that cannot be written or
-    is a rule file; make its folder."""
-    from adapt.files import Output, check_outputs, make_folder
+    is a rule file; return it as an :class:`adapt.files.Output`."""
+    from adapt.files import Output, check_outputs
 
     out = Output("--trace", args.trace, TRACE_SUFFIXES)
     check_outputs([out], [("a rule file of the run", f) for f in args.files])
-    make_folder(out)
+    return out
 
 
 def run_command(args: argparse.Namespace) -> int:
@@ -127,8 +127,7 @@ def run_command(args: argparse.Namespace) -> int:
 
     if args.max_decisions is not None and args.max_decisions < 0:
         raise AdaptError(f"--max-decisions must be >= 0, got {args.max_decisions}")
-    if args.trace is not None:
-        _check_trace(args)
+    trace = _check_trace(args) if args.trace is not None else None
     agent = Agent(seed=args.seed, matcher=args.matcher, trace=args.trace,
                   trace_level=args.trace_level)
     echo = _Echo()
@@ -143,6 +142,10 @@ def run_command(args: argparse.Namespace) -> int:
                   "state no-change impasses", file=sys.stderr)
         for warning in agent.warnings:
             print(_warning_line(warning), file=sys.stderr)
+        if trace is not None:  # the rules loaded: now make the trace's folder
+            from adapt.files import make_folder
+
+            make_folder(trace)
         try:
             agent.run(args.max_decisions)
         except KeyboardInterrupt:
