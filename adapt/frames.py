@@ -125,7 +125,7 @@ class VideoSink:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._atomic = atomic_path(self.path, suffix=ext)
         self._tmp = self._atomic.__enter__()
-        self._writer = cv2.VideoWriter(self._tmp, cv2.VideoWriter_fourcc(*VIDEO_CODECS[ext]),
+        self._writer = cv2.VideoWriter(self._tmp, cv2.VideoWriter_fourcc(*VIDEO_CODECS[ext]),  # type: ignore[attr-defined]
                                        self.fps, self.size)
         self._closed = False
         if not self._writer.isOpened():

@@ -18,8 +18,10 @@ Invariants:
   background render (a few milliseconds: one warp per surface), a new body
   nothing;
 * a camera on the robot follows the imagined robot's pose (the commanded
-  motion); the Scene Background schema's corrections are kept as a pose
-  offset of the camera relative to that mount.
+  motion: odometry); a correction from the Scene Background schema moves the
+  imagined robot by the camera's horizontal move and turn (visual odometry
+  over slipping wheels), and keeps the rest as the camera's pose on its
+  mount.
 
 Examples
 --------
@@ -39,6 +41,7 @@ Examples
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Callable, Sequence
 
 import numpy as np
@@ -108,15 +111,33 @@ class Mirror:
     def set_camera(self, camera: Camera) -> None:
         """Use ``camera`` as the synthetic camera (a correction from the Scene Background).
 
-        For a camera on the robot the correction is kept relative to the
-        mount, so it moves with the robot afterwards.
+        For a camera on the robot, the correction says where the robot really
+        is: the camera's horizontal move and its turn about the vertical are
+        the robot's (its odometry drifts, the camera sees it), so the imagined
+        robot is moved and turned by them; what is left (height, tilt, roll) is
+        kept as the camera's pose relative to its mount and moves with the
+        robot from then on.
         """
         if self._mount is not None:
+            (x, y), heading = self._robot_pose()
+            mounted = self._mount((x, y), heading)
+            dx, dy = camera.position[:2] - mounted.position[:2]
+            turn = _yaw(camera.rotation) - _yaw(mounted.rotation)
+            turn = (turn + math.pi) % (2 * math.pi) - math.pi
+            self._move_robot((x + dx, y + dy), heading + turn)
             mounted = self._mount(*self._robot_pose())
-            # camera = correction applied to the mounted pose: R = Rc @ Rm, C = Cm + dC
             self._correction = (camera.rotation @ mounted.rotation.T,
                                 camera.position - mounted.position)
         self._use_camera(camera)
+
+    def _move_robot(self, position: tuple[float, float], heading: float) -> None:
+        robot = self.world.scene.robot
+        assert robot is not None
+        state = self.world.snapshot()
+        bodies = tuple(replace(b, position=(float(position[0]), float(position[1])),
+                               angle=float(heading)) if b.name == robot.name else b
+                       for b in state.bodies)
+        self.world.set_state(replace(state, bodies=bodies))
 
     def _use_camera(self, camera: Camera) -> None:
         if camera is self.camera:
@@ -203,3 +224,9 @@ class Mirror:
             return 0.0
         (x, y), _ = pose
         return math.atan2(float(target[1]) - y, float(target[0]) - x)
+
+
+def _yaw(rotation: np.ndarray) -> float:
+    """Heading of a camera's viewing direction on the floor (radians from +x)."""
+    forward = rotation[2]  # the camera's z axis in world coordinates
+    return math.atan2(float(forward[1]), float(forward[0]))

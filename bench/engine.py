@@ -88,6 +88,23 @@ sp {join*equal-values
 """
 
 
+def rules_file(n: int) -> str:
+    """``n`` generated rules of a realistic shape: a proposal each, testing the top
+    state, a linked object with a relational test and a negated condition
+    (50 task values and 7 kinds shared among them, so the Rete shares nodes)."""
+    out = []
+    for i in range(n):
+        out.append(f"""sp {{gen*rule*{i}
+   (state <s> ^superstate nil ^task t{i % 50} ^item <x>)
+   (<x> ^kind k{i % 7} ^value {{ <v> > {i % 13} }})
+   -(<x> ^blocked v{i})
+-->
+   (<s> ^operator <o> + =)
+   (<o> ^name op{i} ^arg <v>)}}
+""")
+    return "\n".join(out)
+
+
 def counter_file(limit: int) -> str:
     return COUNTER.replace("LIMIT", str(limit))
 
@@ -109,18 +126,24 @@ def join_file(n: int) -> str:
 
 def child_adapt(path: str, max_decisions: int) -> dict[str, object]:
     sys.path.insert(0, str(ROOT))
-    from adapt.engine import Agent
+    from adapt.engine import Agent, engine_build
     from adapt.engine.agent import DEFAULT_GC_THRESHOLD
 
     gc_env = os.environ.get("ADAPT_BENCH_GC", "")  # set by --gc-threshold
     gc_threshold = DEFAULT_GC_THRESHOLD if not gc_env else int(gc_env) or None
     agent = Agent(seed=1, matcher="rete", gc_threshold=gc_threshold)
+    if max_decisions < 0:  # loading alone: parse, build the Rete
+        start = time.perf_counter()
+        rules = agent.load_file(path)
+        return {"seconds": time.perf_counter() - start, "rules": len(rules.productions),
+                "engine": engine_build()}
     agent.load_file(path)
     start, cpu = time.perf_counter(), time.process_time()
     report = agent.run(max_decisions=max_decisions).to_dict()
     seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     return {"seconds": seconds, "cpu": cpu, "decisions": report["decisions"],
-            "halted": report["halted"], "firings": report["production_firings"]}
+            "halted": report["halted"], "firings": report["production_firings"],
+            "engine": engine_build()}
 
 
 def child_soar(path: str, max_decisions: int) -> dict[str, object]:
@@ -130,9 +153,13 @@ def child_soar(path: str, max_decisions: int) -> dict[str, object]:
     agent = kernel.CreateAgent("bench")
     for command in ("chunk never", "trace 0", "decide set-random-seed 1"):
         agent.ExecuteCommandLine(command)
+    start = time.perf_counter()
     agent.ExecuteCommandLine(f'source "{path}"')
+    loaded = time.perf_counter() - start
     if not agent.GetLastCommandLineResult():
         return {"error": "load failed"}
+    if max_decisions < 0:
+        return {"seconds": loaded}
     start = time.perf_counter()
     agent.ExecuteCommandLine(f"run {max_decisions}")
     seconds = time.perf_counter() - start
@@ -154,12 +181,21 @@ def _limit_memory() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 
 
+#: The systems a run compares: real Soar, adapt as installed (compiled where it
+#: could be built) and adapt forced to its pure-Python source.
+SYSTEMS = ("soar", "adapt", "adapt-py")
+
+
 def measure(system: str, path: Path, max_decisions: int, timeout: float) -> dict[str, object]:
     argv = [sys.executable, str(Path(__file__).resolve()), "--child", system, str(path),
             str(max_decisions)]
+    env = dict(os.environ)
+    env.pop("ADAPT_PURE_PYTHON", None)
+    if system == "adapt-py":
+        env["ADAPT_PURE_PYTHON"] = "1"
     try:
         proc = subprocess.run(argv, capture_output=True, timeout=timeout,
-                              preexec_fn=_limit_memory)
+                              preexec_fn=_limit_memory, env=env)
     except subprocess.TimeoutExpired:
         return {"error": f"over the {timeout:.0f} s limit"}
     try:
@@ -172,18 +208,31 @@ def measure(system: str, path: Path, max_decisions: int, timeout: float) -> dict
         return {"error": f"child failed: {how}{hint} {proc.stderr.decode()[-300:]}".rstrip()}
 
 
-def median_of(system: str, path: Path, max_decisions: int, runs: int,
-              timeout: float) -> tuple[float | None, dict[str, object]]:
-    good: list[dict[str, object]] = []
+def interleaved(systems: tuple[str, ...], path: Path, max_decisions: int, runs: int,
+                timeout: float) -> dict[str, tuple[float | None, dict[str, object]]]:
+    """Median seconds and the first run's details of each system, the systems'
+    runs interleaved round by round (so that a noisy neighbour hits all of them)."""
+    good: dict[str, list[dict[str, object]]] = {s: [] for s in systems}
+    failed: dict[str, dict[str, object]] = {}
     for _ in range(runs):
-        result = measure(system, path, max_decisions, timeout)
-        if "seconds" not in result:
-            return None, result  # no point repeating a failure or a timeout
-        good.append(result)
-    first = dict(good[0])
-    if all("cpu" in r for r in good):  # adapt's children also report CPU seconds
-        first["cpu"] = statistics.median(float(r["cpu"]) for r in good)
-    return statistics.median(float(r["seconds"]) for r in good), first
+        for system in systems:
+            if system in failed:
+                continue
+            result = measure(system, path, max_decisions, timeout)
+            if "seconds" not in result:
+                failed[system] = result  # no point repeating a failure or a timeout
+            else:
+                good[system].append(result)
+    out: dict[str, tuple[float | None, dict[str, object]]] = {}
+    for system in systems:
+        if system in failed:
+            out[system] = (None, failed[system])
+            continue
+        first = dict(good[system][0])
+        if all("cpu" in r for r in good[system]):
+            first["cpu"] = statistics.median(float(r["cpu"]) for r in good[system])
+        out[system] = (statistics.median(float(r["seconds"]) for r in good[system]), first)
+    return out
 
 
 def fmt(seconds: float | None) -> str:
@@ -194,24 +243,56 @@ def fmt(seconds: float | None) -> str:
 
 
 def bench_counter(tmp: Path, limit: int, runs: int, timeout: float,
-                  systems: tuple[str, ...] = ("soar", "adapt")) -> None:
+                  systems: tuple[str, ...] = SYSTEMS) -> None:
     path = tmp / "counter.soar"
     path.write_text(counter_file(limit))
     print(f"counter: one operator per decision, counting to {limit:,} (median of {runs})")
     rates: dict[str, float] = {}
-    for system in systems:
-        seconds, info = median_of(system, path, limit + 10, runs, timeout)
+    for system, (seconds, info) in interleaved(systems, path, limit + 10, runs, timeout).items():
         if seconds is None:
-            print(f"  {system:<6} {info.get('error')}")
+            print(f"  {system:<8} {info.get('error')}")
             continue
-        decisions = int(info["decisions"])
+        decisions = int(info["decisions"])  # type: ignore[call-overload]
         rates[system] = decisions / seconds
-        print(f"  {system:<6} {decisions:,} decisions in {fmt(seconds)}  ->  "
-              f"{rates[system]:,.0f} decisions/s  (halted: {info['halted']})")
-    if len(rates) == 2:
-        ratio = rates["adapt"] / rates["soar"]
-        verdict = "meets" if ratio >= 0.25 else "MISSES"
-        print(f"  ratio adapt/Soar = {ratio:.3f}  (target >= 0.25: {verdict})")
+        engine = f", {info['engine']}" if "engine" in info else ""
+        print(f"  {system:<8} {decisions:,} decisions in {fmt(seconds)}  ->  "
+              f"{rates[system]:,.0f} decisions/s  (halted: {info['halted']}{engine})")
+    for system in ("adapt", "adapt-py"):
+        if system in rates and "soar" in rates:
+            ratio = rates[system] / rates["soar"]
+            verdict = "meets" if ratio >= 0.25 else "MISSES"
+            print(f"  ratio {system}/Soar = {ratio:.3f}  (target >= 0.25: {verdict})")
+    if "adapt" in rates and "adapt-py" in rates:
+        print(f"  adapt (as installed) / adapt pure Python = {rates['adapt'] / rates['adapt-py']:.2f}x")
+
+
+def bench_load(tmp: Path, sizes: list[int], runs: int, timeout: float,
+               systems: tuple[str, ...] = SYSTEMS) -> None:
+    print(f"loading N generated rules: parse and build the matcher (median of {runs})")
+    times: dict[tuple[str, int], float] = {}
+    for n in sizes:
+        path = tmp / f"rules-{n}.soar"
+        path.write_text(rules_file(n))
+        row = []
+        for system, (seconds, info) in interleaved(systems, path, -1, runs, timeout).items():
+            if seconds is None:
+                row.append(f"{system} {info.get('error')}")
+                continue
+            times[(system, n)] = seconds
+            row.append(f"{system} {fmt(seconds)}")
+        print(f"  N = {n:>6,}:  " + ",  ".join(row))
+    for system in ("adapt", "adapt-py"):
+        if (system, 10_000) in times and ("soar", 10_000) in times:
+            ratio = times[(system, 10_000)] / times[("soar", 10_000)]
+            verdict = "meets" if ratio <= 2 else "MISSES"
+            print(f"  N = 10,000: {system} / Soar = {ratio:.1f}x the time (target <= 2: {verdict})")
+        if (system, 10_000) in times and (system, 20_000) in times:
+            growth = times[(system, 20_000)] / times[(system, 10_000)]
+            verdict = "meets" if growth <= 2.5 else "MISSES"
+            print(f"  {system} time(20,000) / time(10,000) = {growth:.2f} (target <= 2.5: {verdict})")
+    if ("soar", 10_000) in times and ("soar", 20_000) in times:
+        print(f"  soar time(20,000) / time(10,000) = "
+              f"{times[('soar', 20_000)] / times[('soar', 10_000)]:.2f}")
 
 
 def bench_join(tmp: Path, sizes: list[int], runs: int, timeout: float,
@@ -223,8 +304,7 @@ def bench_join(tmp: Path, sizes: list[int], runs: int, timeout: float,
         path = tmp / f"join-{n}.soar"
         path.write_text(join_file(n))
         row = []
-        for system in systems:
-            seconds, info = median_of(system, path, 10, runs, timeout)
+        for system, (seconds, info) in interleaved(systems, path, 10, runs, timeout).items():
             if seconds is not None:
                 times[(system, n)] = seconds
                 cpu = f", CPU {float(info['cpu']):.3f} s" if "cpu" in info else ""
@@ -255,20 +335,24 @@ def bench_join(tmp: Path, sizes: list[int], runs: int, timeout: float,
 
 def main() -> int:
     if len(sys.argv) == 5 and sys.argv[1] == "--child":
-        runner = child_soar if sys.argv[2] == "soar" else child_adapt
+        runner = child_soar if sys.argv[2] == "soar" else child_adapt  # adapt, adapt-py
         print(json.dumps(runner(sys.argv[3], int(sys.argv[4]))), flush=True)
         os._exit(0)  # the native kernel sometimes misbehaves at interpreter exit
-    parser = argparse.ArgumentParser(description="adapt vs real Soar: counter and value join")
+    parser = argparse.ArgumentParser(description="adapt vs real Soar: counter, value join, loading")
     parser.add_argument("--quick", action="store_true", help="small sizes, one run each")
     parser.add_argument("--runs", type=int, default=None, help="runs per figure (default 3)")
     parser.add_argument("--timeout", type=float, default=300.0,
                         help="limit per single run, seconds (default 300)")
-    parser.add_argument("--only", choices=("counter", "join"), default=None,
+    parser.add_argument("--only", choices=("counter", "join", "load"), default=None,
                         help="run one workload only")
     parser.add_argument("--sizes", default=None,
                         help="value-join sizes, comma-separated (default 1000,5000,20000)")
-    parser.add_argument("--systems", default="soar,adapt",
-                        help="comma-separated subset of soar,adapt (default both)")
+    parser.add_argument("--load-sizes", default=None,
+                        help="rule-base sizes, comma-separated (default 2500,5000,10000,20000)")
+    parser.add_argument("--systems", default=",".join(SYSTEMS),
+                        help="comma-separated subset of soar,adapt,adapt-py (default all; "
+                             "adapt-py is adapt forced to its pure-Python source; the value "
+                             "join runs soar and adapt)")
     parser.add_argument("--gc-threshold", type=int, default=None,
                         help="adapt's Agent(gc_threshold=...); 0 leaves Python's collector "
                              "alone (default: the agent's default policy)")
@@ -278,18 +362,27 @@ def main() -> int:
     sizes = [500, 1_000] if opts.quick else [1_000, 5_000, 20_000]
     if opts.sizes:
         sizes = [int(n) for n in opts.sizes.split(",")]
-    systems = tuple(s for s in ("soar", "adapt") if s in opts.systems.split(","))
+    systems = tuple(s for s in SYSTEMS if s in opts.systems.split(","))
+    load_sizes = [500, 1_000] if opts.quick else [2_500, 5_000, 10_000, 20_000]
+    if opts.load_sizes:
+        load_sizes = [int(n) for n in opts.load_sizes.split(",")]
     if opts.gc_threshold is not None:
         os.environ["ADAPT_BENCH_GC"] = str(opts.gc_threshold)
     gc_note = ("default" if opts.gc_threshold is None
                else "off" if opts.gc_threshold == 0 else str(opts.gc_threshold))
+    sys.path.insert(0, str(ROOT))
+    from adapt.engine import engine_build
+
     print(f"bench/engine.py  {time.strftime('%Y-%m-%d %H:%M')}  python {sys.version.split()[0]}"
-          f"  cpus {os.cpu_count()}  adapt gc_threshold: {gc_note}")
+          f"  cpus {os.cpu_count()}  adapt gc_threshold: {gc_note}  adapt engine: {engine_build()}")
     with tempfile.TemporaryDirectory() as tmp:
         if opts.only in (None, "counter"):
             bench_counter(Path(tmp), limit, runs, opts.timeout, systems)
         if opts.only in (None, "join"):
-            bench_join(Path(tmp), sizes, runs, opts.timeout, systems)
+            bench_join(Path(tmp), sizes, runs, opts.timeout,
+                       tuple(s for s in systems if s != "adapt-py"))
+        if opts.only in (None, "load"):
+            bench_load(Path(tmp), load_sizes, runs, opts.timeout, systems)
     return 0
 
 

@@ -54,7 +54,7 @@ def main() -> int:
 
     print("physics only (20 s simulated: the ball bounces for ~10 s, then rests; median of 5):")
     for dt in (1 / 240, 1 / 120):
-        def physics() -> None:
+        def physics(dt: float = dt) -> None:
             w = World(scene, dt=dt)
             w.run(20.0)
 

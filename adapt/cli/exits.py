@@ -53,6 +53,7 @@ COMMAND_STATUSES: dict[str, tuple[Exit, ...]] = {
     "rules run": _COMMON + (Exit.DECISION_LIMIT, Exit.GOAL_DEPTH, Exit.RULE_INTERRUPT,
                             Exit.RULE_ERROR),
     "rules check": _COMMON,
+    "rules info": (Exit.OK, Exit.USAGE, Exit.INTERRUPTED),
     "render": _COMMON,
     "imagine": _COMMON,
     "mmd": _COMMON + (Exit.NO_ALIGNMENT,),

@@ -267,7 +267,7 @@ def _write_video(path: Path, sc: Any, world: Any, horizon: float, fps: float) ->
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         with atomic_path(path, suffix=ext) as tmp:
-            writer = cv2.VideoWriter(tmp, cv2.VideoWriter_fourcc(*_CODECS[ext]), fps,
+            writer = cv2.VideoWriter(tmp, cv2.VideoWriter_fourcc(*_CODECS[ext]), fps,  # type: ignore[attr-defined]
                                      (sc.camera.width, sc.camera.height))
             if not writer.isOpened():
                 raise AdaptError(f"--video {str(path)!r}: OpenCV cannot write {ext} video here")

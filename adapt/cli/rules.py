@@ -23,7 +23,8 @@ from typing import Any
 from adapt.cli.exits import Exit
 from adapt.errors import AdaptError, EngineError, RuleError
 
-__all__ = ["register", "run_command", "check_command", "run_status", "TRACE_SUFFIXES"]
+__all__ = ["register", "run_command", "check_command", "info_command", "run_status",
+           "TRACE_SUFFIXES"]
 
 #: File name extensions ``--trace`` accepts (JSON Lines).
 TRACE_SUFFIXES = (".jsonl", ".ndjson")
@@ -73,6 +74,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     run.add_argument("--matcher", choices=("rete", "naive"), default="rete",
                      help="the Rete matcher (default) or the brute-force one (for checking)")
     run.set_defaults(func=run_command)
+
+    info = rsub.add_parser("info", help="say which engine is installed (compiled or pure Python)")
+    info.set_defaults(func=info_command)
 
     check = rsub.add_parser("check", help="parse and lint rule files")
     check.add_argument("files", nargs="+", metavar="FILE")
@@ -184,6 +188,15 @@ def _print_outcome(args: argparse.Namespace, report: Any, echo: _Echo, ctrl_c: b
             print(message.strip(), file=sys.stderr)
     if ctrl_c:
         print("adapt: interrupted", file=sys.stderr)
+
+
+def info_command(args: argparse.Namespace) -> int:
+    """Print which engine runs: the mypyc-compiled modules or the pure-Python source."""
+    from adapt import __version__
+    from adapt.engine import engine_build
+
+    print(f"adapt {__version__}, engine: {engine_build()}")
+    return 0
 
 
 def check_command(args: argparse.Namespace) -> int:

@@ -93,13 +93,18 @@ def _run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else Path("runs") / Path(args.scenario).stem
     bar = _ProgressLine(sys.stderr) if sys.stderr.isatty() and not args.quiet else None
 
+    closed = []  # type: ignore[var-annotated]
+
     def on_write(text: str) -> None:
-        if args.quiet or args.json:
+        if args.quiet or args.json or closed:
             return
         if bar is not None:
             bar.clear()
-        sys.stdout.write(text)
-        sys.stdout.flush()
+        try:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+        except BrokenPipeError:  # the reader went away (| head): the run goes on
+            closed.append(True)
 
     runner = Runner(sc, out=out, seed=args.seed, max_frames=args.max_frames, outputs=outputs,
                     on_progress=bar, on_write=on_write)
@@ -134,10 +139,32 @@ def _print_summary(result: Any, sc: Any) -> None:
             print(f"{name}: observed vs truth median {100 * e['median']:.1f} cm (p90 "
                   f"{100 * e['p90']:.1f} cm)")
     for name, e in (s.get("imagination_error_m") or {}).items():
+        u = (s.get("uncorrected_error_m") or {}).get(name)
         if e:
             print(f"{name}: imagined vs truth median {100 * e['median']:.1f} cm (p90 "
-                  f"{100 * e['p90']:.1f} cm)")
-    for key, path in result.outputs.items():
+                  f"{100 * e['p90']:.1f} cm)"
+                  + (f"; uncorrected {100 * u['median']:.1f} cm" if u else ""))
+    icpt = s.get("intercept")
+    if icpt:
+        base = s.get("baseline") or {}
+        reach = "" if icpt.get("reachable") is not False else " (out of reach of this robot)"
+        mine = (f"caught {icpt['object']} at t={icpt['t']:.2f} s" if icpt["caught"]
+                else f"did not catch {icpt['object']}{reach}")
+        theirs = (f"at t={base['t']:.2f} s" if base.get("caught") else "did not")
+        print(f"intercept: {mine}; the Kalman baseline's robot {theirs}"
+              + (" catch it" if not base.get("caught") else ""))
+    for horizon, by in sorted((s.get("prediction_error_m") or {}).items()):
+        m, b = by.get("mirror") or {}, by.get("baseline") or {}
+        for kind, label in (("bounce", "with a bounce"), ("no_bounce", "without")):
+            mm, bm = m.get(f"{kind}_median"), b.get(f"{kind}_median")
+            if mm is not None and bm is not None:
+                print(f"prediction {horizon} s ahead, {label}: mirror {100 * mm:.1f} cm, "
+                      f"Kalman baseline {100 * bm:.1f} cm (median of {m.get(kind + '_n')})")
+    conf = s.get("confidence")
+    if conf and conf.get("within_reach") is not None:
+        print(f"confident predictions ({conf['threshold']} at {conf['horizon']:g} s): "
+              f"{100 * conf['within_reach']:.0f}% of {conf['confident']} within the catch reach")
+    for path in result.outputs.values():
         print(f"wrote {path}")
 
 

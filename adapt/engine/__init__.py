@@ -11,6 +11,10 @@ Examples
 'hello'
 """
 
+from adapt.engine.compiled import engine_build, prefer_source
+
+prefer_source()  # before any other engine module is imported
+
 from adapt.engine.agent import Agent
 from adapt.engine.io import InputWriter, OutputView
 from adapt.engine.memory import WorkingMemory
@@ -32,4 +36,5 @@ __all__ = [
     "InputWriter",
     "OutputView",
     "TraceWriter",
+    "engine_build",
 ]

@@ -32,17 +32,18 @@ from collections import deque
 from typing import Any, Callable, Iterator, MutableSequence
 
 from adapt.engine import cycle
+from adapt.engine.events import Event, EventBus
 from adapt.engine.functions import FunctionTable, default_functions
 from adapt.engine.goals import Goal
-from adapt.engine.instantiation import Instantiation
 from adapt.engine.io import InputWriter, IoLinks, OutputView
 from adapt.engine.kernel import Kernel
 from adapt.engine.matcher import Matcher
 from adapt.engine.parse import RuleFile, load_rule_file, parse_rules
-from adapt.engine.preferences import SlotDecision
 from adapt.engine.report import RunReport
 from adapt.engine.symbols import Identifier, Symbol
-from adapt.engine.trace import TraceWriter, symbol_json
+from adapt.engine.trace import TraceWriter
+from adapt.engine.tracing import TraceRecorder
+from adapt.engine.vocabulary import Phase, StopReason
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
@@ -185,24 +186,24 @@ class Agent:
         self.messages: MutableSequence[str] = self._log()
         self.files: list[str] = []
         self.halted = False
-        self.stop_reason: str | None = None
+        self.stop_reason: StopReason | None = None
         self.decisions = 0
         self.elaboration_cycles = 0
         self.operators: MutableSequence[list[Any]] = self._log()
         self.impasses: MutableSequence[list[Any]] = self._log()
         self.operator_count = 0
         self.impasse_count = 0
-        self.next_phase = "input"
+        self.next_phase = Phase.INPUT
         self._output: MutableSequence[str] = self._log()
-        self._write_listeners: list[Callable[[str], None]] = []
+        #: the agent's events: the trace and other layers listen here
+        self.events = EventBus()
         self._context = _Context(self)
-        self.kernel = Kernel(_make_matcher(matcher), self.functions, self._context)
+        self.kernel = Kernel(_make_matcher(matcher), self.functions, self._context, self.events)
         self.io = IoLinks(self.kernel, lambda: self.decisions)
         self.kernel.commit()
         self._trace_arg = trace
         self._trace_level = trace_level
         self.tracer: TraceWriter | None = None
-        self._decision_record: dict[str, Any] | None = None
         if trace is not None and not 1 <= trace_level <= 5:
             raise EngineError(f"trace level must be 1..5, not {trace_level}")
 
@@ -218,13 +219,27 @@ class Agent:
         RuleError
             At the first error; nothing from ``text`` is loaded then.
         """
-        return self._load(parse_rules(text, file=file, functions=self.functions))
+        saved_gc = _raise_gc_threshold(self.gc_threshold)
+        try:
+            return self._load(parse_rules(text, file=file, functions=self.functions))
+        finally:
+            if saved_gc is not None:
+                gc.set_threshold(*saved_gc)
 
     def load_file(self, path: str | os.PathLike[str]) -> RuleFile:
-        """Load a rule file (see :meth:`load_text`)."""
-        rules = load_rule_file(path, functions=self.functions)
-        self.files.append(os.fspath(path))
-        return self._load(rules)
+        """Load a rule file (see :meth:`load_text`).
+
+        Loading follows the garbage-collection policy of :meth:`run` (see
+        ``gc_threshold``): a large rule base is many long-lived objects.
+        """
+        saved_gc = _raise_gc_threshold(self.gc_threshold)
+        try:
+            rules = load_rule_file(path, functions=self.functions)
+            self.files.append(os.fspath(path))
+            return self._load(rules)
+        finally:
+            if saved_gc is not None:
+                gc.set_threshold(*saved_gc)
 
     def _load(self, rules: RuleFile) -> RuleFile:
         self.warnings.extend(rules.warnings)
@@ -339,9 +354,18 @@ class Agent:
             goal = goal.lower
         return out
 
-    def print_state(self, ident: Identifier | None = None, depth: int = 1) -> str:
-        """Like Soar's ``print --depth N S1``."""
-        return self.kernel.wm.tree(ident if ident is not None else self.top_state, depth)
+    def print_state(self, ident: object = None, depth: int = 1) -> str:
+        """Like Soar's ``print --depth N S1`` (``ident``: an identifier, the top state by default).
+
+        Raises
+        ------
+        EngineError
+            When ``ident`` is not an identifier of this agent.
+        """
+        root = self.top_state if ident is None else ident
+        if not isinstance(root, Identifier):
+            raise EngineError(f"print_state needs an identifier, not {ident!r}")
+        return self.kernel.wm.tree(root, depth)
 
     def on_input(self, callback: Callable[[InputWriter], None]) -> None:
         """Call ``callback(writer)`` in every input phase."""
@@ -353,21 +377,17 @@ class Agent:
 
     def on_write(self, callback: Callable[[str], None]) -> None:
         """Call ``callback(text)`` with the text of every ``(write ...)`` as it happens."""
-        self._write_listeners.append(callback)
+        self.events.subscribe(Event.WRITE, callback)
 
-    # -- hooks used by the cycle -------------------------------------------------
+    # -- what rules and the cycle report ------------------------------------------
     def message(self, text: str) -> None:
         """Record a kernel message."""
         self.messages.append(text)
-        if self.tracer is not None:
-            self.tracer.message(text)
+        self.events.emit(Event.MESSAGE, text)
 
     def _write(self, text: str) -> None:
         self._output.append(text)
-        if self.tracer is not None:
-            self.tracer.write_text(text)
-        for listener in self._write_listeners:
-            listener(text)
+        self.events.emit(Event.WRITE, text)
 
     @property
     def halted_message_pending(self) -> bool:
@@ -380,78 +400,14 @@ class Agent:
             used.update((w.attr, w.value))
         return used
 
-    def begin_phase(self, phase: str) -> None:
-        """Called by the cycle as a phase starts."""
-        if self.tracer is not None:
-            self.tracer.begin_phase(self.decisions + (phase == "decision"), phase)
-
-    def end_phase(self, phase: str) -> None:
-        """Called by the cycle as a phase ends."""
-        if self.halted_message_pending:
-            self.message("This Agent halted.")
-        tw = self.tracer
-        if tw is None:
-            return
-        tw.end_phase()
-        if phase == "decision":
-            rec = self._decision_record or {"d": self.decisions, "level": None,
-                                            "candidates": [], "selected": None,
-                                            "impasse": None}
-            self._decision_record = None
-            tw.decision(rec)
-
-    def note_decision(self, goal: Goal, d: SlotDecision) -> None:
-        """The decision phase ran preference semantics on ``goal``'s slot."""
-        if self.tracer is None:
-            return
-        k = self.kernel
-        cands: dict[Symbol, list[Any]] = {}
-        for sp in goal.prefs:
-            p = sp.preference
-            cands.setdefault(p.value, []).append([p.kind.value, symbol_json(p.referent)])
-        self._decision_record = {
-            "d": self.decisions, "level": goal.level,
-            "candidates": [{"id": symbol_json(v), "name": k.operator_name(v),
-                            "preferences": prefs} for v, prefs in cands.items()],
-            "selected": (None if d.selected is None else
-                         {"id": symbol_json(d.selected), "name": k.operator_name(d.selected)}),
-            "impasse": None}
-
-    def note_impasse(self, goal: Goal, sub: Goal) -> None:
-        """A substate was created below ``goal``."""
-        if self.tracer is None:
-            return
-        rec = self._decision_record or {"d": self.decisions, "level": goal.level,
-                                        "candidates": [], "selected": None}
-        rec["impasse"] = {"type": sub.impasse, "attribute": sub.attribute,
-                          "items": [symbol_json(v) for v in sub.items],
-                          "state": symbol_json(sub.id)}
-        self._decision_record = rec
-
     # -- tracing -------------------------------------------------------------------
     def _open_trace(self) -> None:
         if self.tracer is not None or self._trace_arg is None:
             return
         arg = self._trace_arg
-        tw = arg if isinstance(arg, TraceWriter) else TraceWriter(
+        self.tracer = arg if isinstance(arg, TraceWriter) else TraceWriter(
             arg, level=self._trace_level, files=self.files, seed=self.seed)
-        self.tracer = tw
-        k = self.kernel
-        tw.existing_wmes(k.wm)
-
-        def on_event(kind: str, payload: object) -> None:
-            if kind == "wm":
-                added, removed = payload  # type: ignore[misc]
-                tw.wm_changes(added, removed)
-            elif kind == "fire":
-                inst: Instantiation = payload  # type: ignore[assignment]
-                tw.firing(inst.name, inst.goal.level, inst.support, inst.bindings or {},
-                          inst.wmes)
-            elif kind == "retract":
-                inst = payload  # type: ignore[assignment]
-                tw.retraction(inst.name, inst.goal.level, inst.wmes)
-
-        k.tracer = on_event
+        TraceRecorder(self.tracer, self.kernel, self.events)
 
     def __repr__(self) -> str:
         return (f"Agent(decisions={self.decisions}, wmes={len(self.kernel.wm)}, "

@@ -35,111 +35,84 @@ decision.
 from __future__ import annotations
 
 import random
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
-from adapt.engine.goals import NO_CHANGE, Goal
+from adapt.engine.events import Event
+from adapt.engine.goals import Goal
 from adapt.engine.preferences import decide, should_keep
+from adapt.engine.symbols import Identifier, Symbol
+from adapt.engine.vocabulary import NO_CHANGE, ImpasseAttribute, ImpasseType, Phase, Support
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.engine.agent import Agent
 
-__all__ = ["run", "PHASES", "decide_context_slots", "goal_stack_consistent"]
+__all__ = ["run", "run_phase", "decide_context_slots", "goal_stack_consistent"]
 
-PHASES = ("input", "proposal", "decision", "apply", "output")
-_NEXT = {"input": "proposal", "proposal": "decision", "decision": "apply",
-         "apply": "output", "output": "input"}
+_MAX_ELAB: Final = "Warning: reached max-elaborations; proceeding to {} phase."
 
-_MAX_ELAB = "Warning: reached max-elaborations; proceeding to {} phase."
+# The enum members the loop tests, as constants (compiled code reads them
+# without an attribute lookup on the enum class).
+_INPUT: Final = Phase.INPUT
+_PROPOSAL: Final = Phase.PROPOSAL
+_DECISION: Final = Phase.DECISION
+_APPLY: Final = Phase.APPLY
+_I: Final = Support.I
+_O: Final = Support.O
+_NEXT: Final = {p: p.next for p in Phase}
+_ON_DECISION: Final = Event.DECISION
+_ON_SELECT: Final = Event.SELECT
+_ON_IMPASSE: Final = Event.IMPASSE
 
 
 def run(agent: Agent, max_decisions: int | None) -> None:
-    """Run phases until a stop: halt, interrupt, goal depth, or the decision bound."""
-    if agent.tracer is None:
-        _run_untraced(agent, max_decisions)
-        return
+    """Run phases until a stop: halt, interrupt, goal depth, or the decision bound.
+
+    This is the one loop, traced or not: a trace is a listener of the
+    ``PHASE_BEGIN`` / ``PHASE_END`` events (and of the kernel's), which
+    are announced only when someone listens.  ``max_decisions`` stops the
+    run before the apply phase of its ``max_decisions``-th decision; 0
+    behaves as Soar's ``run 0``, like 1.
+    """
     done = 0
+    events = agent.events
+    on_begin = events.listeners(Event.PHASE_BEGIN)
+    on_end = events.listeners(Event.PHASE_END)
     while agent.stop_reason is None:
         phase = agent.next_phase
-        if phase == "apply" and max_decisions is not None and done >= max_decisions:
+        if phase is _APPLY and max_decisions is not None and done >= max_decisions:
             agent.stop_reason = "max-decisions"
             break
-        agent.begin_phase(phase)
+        if on_begin:
+            events.emit(Event.PHASE_BEGIN, (agent.decisions + (phase is _DECISION), phase))
         try:
-            if phase == "input":
-                input_phase(agent)
-            elif phase == "proposal":
-                elaborate(agent, apply=False)
-            elif phase == "decision":
-                decision_phase(agent)
+            run_phase(agent, phase)
+            if phase is _DECISION:
                 done += 1
-            elif phase == "apply":
-                elaborate(agent, apply=True)
-            else:
-                output_phase(agent)
         finally:
-            agent.end_phase(phase)
+            if agent.halted_message_pending:
+                agent.message("This Agent halted.")
+            if on_end:
+                events.emit(Event.PHASE_END, phase)
         agent.next_phase = _NEXT[phase]
         if agent.halted:
             agent.stop_reason = "halt"
 
 
-def _run_untraced(agent: Agent, max_decisions: int | None) -> None:
-    """:func:`run` without a trace: the same phases, without the per-phase hooks
-    (``Agent.end_phase`` only adds the halt message, done here once)."""
-    done = 0
-    limit = -1 if max_decisions is None else max_decisions
-    k = agent.kernel
-    io = agent.io
-    try:
-        while agent.stop_reason is None:
-            phase = agent.next_phase
-            if phase == "input":
-                if io.input_callbacks:
-                    io.run_input()
-                    k.commit()
-                elif k.wm.pending or k._matcher_dirty:
-                    k.commit()
-                agent.next_phase = "proposal"
-            elif phase == "proposal":
-                elaborate(agent, apply=False)
-                agent.next_phase = "decision"
-            elif phase == "decision":
-                decision_phase(agent)
-                done += 1
-                agent.next_phase = "apply"
-            elif phase == "apply":
-                if done == limit:
-                    agent.stop_reason = "max-decisions"
-                    break
-                elaborate(agent, apply=True)
-                agent.next_phase = "output"
-            else:
-                if io.output_callbacks:
-                    io.run_output()
-                agent.next_phase = "input"
-            if agent.halted:
-                agent.stop_reason = "halt"
-    finally:
-        if agent.halted_message_pending:
-            agent.message("This Agent halted.")
-
-
-def input_phase(agent: Agent) -> None:
-    """Let the input callbacks write to the input-link; commit their changes."""
-    agent.io.run_input()
-    agent.kernel.commit()
-
-
-def output_phase(agent: Agent) -> None:
-    """Show the output-link to the output callbacks."""
-    agent.io.run_output()
-
-
-def decision_phase(agent: Agent) -> None:
-    """Count the decision, decide one slot, commit the changes."""
-    agent.decisions += 1
-    decide_context_slots(agent)
-    agent.kernel.commit()
+def run_phase(agent: Agent, phase: Phase) -> None:
+    """Run one phase of the cycle."""
+    if phase is _PROPOSAL:
+        elaborate(agent, apply=False)
+    elif phase is _APPLY:
+        elaborate(agent, apply=True)
+    elif phase is _DECISION:
+        agent.decisions += 1
+        decide_context_slots(agent)
+        agent.kernel.commit()
+    elif phase is _INPUT:
+        agent.io.run_input()
+        agent.kernel.commit()
+    else:
+        agent.io.run_output()
 
 
 # -- elaboration: the waterfall ------------------------------------------------
@@ -155,7 +128,7 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
     cycles = 0
     max_elaborations = agent.max_elaborations
     active: Goal | None = None
-    firing = "i"
+    firing = _I
     fire = k.fire
     commit = k.commit
     while True:
@@ -166,7 +139,7 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
                 break
             nxt = nxt.lower
         if nxt is None:
-            if firing == "i" and not k.bottom.i_activity():
+            if firing is _I and not k.bottom.i_activity():
                 goal_stack_consistent(agent, k.bottom)
             return
         if cycles >= max_elaborations:
@@ -177,43 +150,28 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
         if previous is None:
             pass
         elif active is previous or active.level == previous.level:
-            if apply and firing == "i" and not (active.pending_i or active.retractions):
+            if apply and firing is _I and not (active.pending_i or active.retractions):
                 if not goal_stack_consistent(agent, active):
                     return
         elif active.level > previous.level:
             alive = k.goals.get(previous.id) is previous
-            if (not apply or firing == "i") and alive and not previous.i_activity():
+            if (not apply or firing is _I) and alive and not previous.i_activity():
                 if not goal_stack_consistent(agent, previous):
                     return
-            if apply and active.saved_firing == "i" and not active.i_activity():
+            if apply and active.saved_firing is _I and not active.i_activity():
                 if not goal_stack_consistent(agent, active):
                     return
         else:
             previous.saved_firing = firing
             if not goal_stack_consistent(agent, active):
                 return
-        firing = "o" if apply and not (active.pending_i or active.retractions) else "i"
+        firing = _O if apply and not (active.pending_i or active.retractions) else _I
         fire(active, firing)
         cycles += 1
         agent.elaboration_cycles += 1
         commit()
         if agent.halted or agent.stop_reason is not None:
             return
-
-
-def _highest_active(top: Goal, apply: bool) -> Goal | None:
-    goal: Goal | None = top
-    while goal is not None:
-        if goal.pending_i or goal.retractions or (apply and goal.pending_o):
-            return goal
-        goal = goal.lower
-    return None
-
-
-def _kind_at(goal: Goal, apply: bool) -> str:
-    if not apply or goal.pending_i or goal.retractions:
-        return "i"
-    return "o"
 
 
 # -- consistency (operator retention) -------------------------------------------
@@ -226,7 +184,7 @@ def goal_stack_consistent(agent: Agent, through: Goal) -> bool:
     while goal is not None and goal.level <= through.level:
         if goal.changed and (goal.lower is not None or goal.operator is not None):
             if not _consistent(goal):
-                agent.kernel.emit("deselect", goal)
+                agent.events.emit(Event.DESELECT, goal)
                 k.deselect(goal)
                 k.commit()
                 return False
@@ -234,7 +192,7 @@ def goal_stack_consistent(agent: Agent, through: Goal) -> bool:
     return True
 
 
-_NO_RNG = random.Random(0)
+_NO_RNG: Final = random.Random(0)
 
 
 def _consistent(goal: Goal) -> bool:
@@ -269,20 +227,26 @@ def decide_context_slots(agent: Agent) -> None:
 
 def _decide_slot(agent: Agent, goal: Goal) -> bool:
     k = agent.kernel
-    items: tuple = ()
-    non_numeric: tuple = ()
+    items: tuple[Symbol, ...] = ()
+    non_numeric: tuple[Symbol, ...] = ()
+    impasse: ImpasseType
+    attribute: ImpasseAttribute
     if goal.operator is not None or not goal.changed:
         impasse = NO_CHANGE
         attribute = "operator" if goal.operator is not None else "state"
     else:
         d = decide(goal.preferences(), rng=agent.rng)
-        if agent.tracer is not None:
-            agent.note_decision(goal, d)
+        events = agent.events
+        if events.listeners(_ON_DECISION):
+            events.emit(_ON_DECISION, (goal, d))
         if d.outcome == "select":
-            k.select(goal, d.selected)  # type: ignore[arg-type]
-            agent.operators.append([agent.decisions, goal.level,
-                                    k.operator_name(d.selected)])  # type: ignore[arg-type]
+            selected = d.selected
+            assert isinstance(selected, Identifier)
+            k.select(goal, selected)
+            agent.operators.append([agent.decisions, goal.level, k.operator_name(selected)])
             agent.operator_count += 1
+            if events.listeners(_ON_SELECT):
+                events.emit(_ON_SELECT, (goal, selected))
             return True
         if d.outcome == "none":
             impasse, attribute = NO_CHANGE, "state"
@@ -302,5 +266,6 @@ def _decide_slot(agent: Agent, goal: Goal) -> bool:
     sub = k.create_impasse(goal, impasse, attribute, items, non_numeric)
     agent.impasses.append([agent.decisions, sub.level, impasse, attribute])
     agent.impasse_count += 1
-    agent.note_impasse(goal, sub)
+    if agent.events.listeners(_ON_IMPASSE):
+        agent.events.emit(_ON_IMPASSE, (goal, sub))
     return True

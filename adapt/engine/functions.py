@@ -64,7 +64,7 @@ from dataclasses import dataclass
 from typing import Callable, Mapping, Protocol, Sequence
 
 from adapt.engine.production import FunctionCall, RhsValue, Variable
-from adapt.engine.symbols import Float, Identifier, Symbol, format_symbol, is_number, to_symbol
+from adapt.engine.symbols import Float, Identifier, Symbol, format_symbol, to_symbol
 from adapt.errors import EngineError
 
 __all__ = [
@@ -289,70 +289,86 @@ def _wrap(n: int) -> int:
     return ((n + _INT64) % (2 * _INT64)) - _INT64
 
 
-def _is_num(v: Symbol) -> bool:
-    return is_number(v)
-
-
-def _numbers(name: str, args: Sequence[Symbol], context: RhsContext) -> bool:
+def _numbers(name: str, args: Sequence[Symbol], context: RhsContext) -> list[int | float] | None:
+    """The arguments as numbers, or None (and an error) when one is not a number."""
+    out: list[int | float] = []
     for a in args:
-        if not _is_num(a):
+        if not isinstance(a, (int, float)):
             context.error(f"non-number ({format_symbol(a)}) passed to {name} function")
-            return False
-    return True
+            return None
+        out.append(a)
+    return out
+
+
+def _ints(values: list[int | float]) -> list[int] | None:
+    """``values`` when every one is an int."""
+    out: list[int] = []
+    for v in values:
+        if not isinstance(v, int):
+            return None
+        out.append(v)
+    return out
 
 
 def _plus(args: Sequence[Symbol], context: RhsContext) -> Symbol | None:
-    if len(args) == 2 and type(args[0]) is int and type(args[1]) is int:  # the common case
-        n = args[0] + args[1]  # type: ignore[operator]
-        return n if -_INT64 <= n < _INT64 else _wrap(n)
-    if not _numbers("+", args, context):
+    if len(args) == 2:  # the common case
+        a, b = args
+        if type(a) is int and type(b) is int:
+            n = a + b
+            return n if -_INT64 <= n < _INT64 else _wrap(n)
+    values = _numbers("+", args, context)
+    if values is None:
         return None
-    if all(type(a) is int for a in args):
-        return _wrap(sum(args))  # type: ignore[arg-type]
-    total = 0.0
-    for a in args:
-        total += float(a)  # type: ignore[arg-type]
-    return Float(total)
+    ints = _ints(values)
+    if ints is not None:
+        return _wrap(sum(ints))
+    return Float(sum(float(v) for v in values))
 
 
 def _times(args: Sequence[Symbol], context: RhsContext) -> Symbol | None:
-    if not _numbers("*", args, context):
+    values = _numbers("*", args, context)
+    if values is None:
         return None
-    if all(type(a) is int for a in args):
+    ints = _ints(values)
+    if ints is not None:
         product = 1
-        for a in args:
-            product = _wrap(product * a)  # type: ignore[operator]
+        for i in ints:
+            product = _wrap(product * i)
         return product
     result = 1.0
-    for a in args:
-        result *= float(a)  # type: ignore[arg-type]
+    for v in values:
+        result *= float(v)
     return Float(result)
 
 
 def _minus(args: Sequence[Symbol], context: RhsContext) -> Symbol | None:
-    if len(args) == 2 and type(args[0]) is int and type(args[1]) is int:  # the common case
-        n = args[0] - args[1]  # type: ignore[operator]
-        return n if -_INT64 <= n < _INT64 else _wrap(n)
-    if not _numbers("-", args, context):
+    if len(args) == 2:  # the common case
+        a, b = args
+        if type(a) is int and type(b) is int:
+            n = a - b
+            return n if -_INT64 <= n < _INT64 else _wrap(n)
+    values = _numbers("-", args, context)
+    if values is None:
         return None
-    if len(args) == 1:
-        a = args[0]
-        return _wrap(-a) if type(a) is int else Float(-float(a))  # type: ignore[operator,arg-type]
-    if all(type(a) is int for a in args):
-        result = args[0]
-        for a in args[1:]:
-            result = _wrap(result - a)  # type: ignore[operator]
+    ints = _ints(values)
+    if len(values) == 1:
+        return _wrap(-ints[0]) if ints is not None else Float(-float(values[0]))
+    if ints is not None:
+        result = ints[0]
+        for i in ints[1:]:
+            result = _wrap(result - i)
         return result
-    f = float(args[0])  # type: ignore[arg-type]
-    for a in args[1:]:
-        f -= float(a)  # type: ignore[arg-type]
+    f = float(values[0])
+    for v in values[1:]:
+        f -= float(v)
     return Float(f)
 
 
 def _divide(args: Sequence[Symbol], context: RhsContext) -> Symbol | None:
-    if not _numbers("/", args, context):
+    numbers = _numbers("/", args, context)
+    if numbers is None:
         return None
-    values = [float(a) for a in args]  # type: ignore[arg-type]
+    values = [float(a) for a in numbers]
     if len(values) == 1:
         values.insert(0, 1.0)
     result = values[0]
@@ -365,15 +381,17 @@ def _divide(args: Sequence[Symbol], context: RhsContext) -> Symbol | None:
 
 
 def _int_pair(name: str, args: Sequence[Symbol], context: RhsContext) -> tuple[int, int] | None:
+    ints: list[int] = []
     for a in args:
-        if type(a) is not int:
+        if not isinstance(a, int):
             context.error(f"non-integer ({format_symbol(a)}) passed to {name} function")
             return None
-    a, b = args  # type: ignore[misc]
+        ints.append(a)
+    a, b = ints
     if b == 0:
         context.error(f"attempt to divide ('{name}') by zero.")
         return None
-    return a, b  # type: ignore[return-value]
+    return a, b
 
 
 def _trunc_div(a: int, b: int) -> int:

@@ -47,15 +47,14 @@ non-numeric-count 1
 from __future__ import annotations
 
 from adapt.engine.instantiation import Instantiation
+from adapt.engine.matcher import FlatKey
+from adapt.engine.memory import WmeKey
 from adapt.engine.preferences import Preference
 from adapt.engine.symbols import Identifier, Symbol
+from adapt.engine.vocabulary import NO_CHANGE, ImpasseAttribute, ImpasseType, Support
+from adapt.engine.wme import WME
 
-__all__ = ["Goal", "SlotPreference", "top_state_wmes", "substate_wmes", "item_wmes",
-           "NO_CHANGE", "IMPASSE_KINDS"]
-
-NO_CHANGE = "no-change"
-#: Impasse types as Soar names them (``^impasse`` values).
-IMPASSE_KINDS = ("tie", "conflict", "constraint-failure", NO_CHANGE)
+__all__ = ["Goal", "SlotPreference", "top_state_wmes", "substate_wmes", "item_wmes"]
 
 Triple = tuple[Symbol, Symbol, Symbol]
 
@@ -120,29 +119,25 @@ class Goal:
         self.level = level
         self.superstate = superstate
         self.lower: Goal | None = None
-        self.impasse: str | None = None
-        self.attribute: str | None = None
+        self.impasse: ImpasseType | None = None
+        self.attribute: ImpasseAttribute | None = None
         self.items: tuple[Symbol, ...] = ()
         self.non_numeric: tuple[Symbol, ...] = ()
         self.prefs: list[SlotPreference] = []
         self.operator: Identifier | None = None
         self.changed = False
-        self.pending_i: dict[tuple, tuple] = {}
-        self.pending_o: dict[tuple, tuple] = {}
+        self.pending_i: dict[FlatKey, tuple[WME, ...]] = {}
+        self.pending_o: dict[FlatKey, tuple[WME, ...]] = {}
         self.retractions: dict[object, Instantiation] = {}
         self.instantiations: dict[object, Instantiation] = {}
         self.gds: set[int] = set()
-        self.arch: list[tuple] = []
-        self.ungrounded: list[tuple[tuple, Instantiation]] = []
-        self.saved_firing: str | None = None
+        self.arch: list[WmeKey] = []
+        self.ungrounded: list[tuple[WmeKey, Instantiation]] = []
+        self.saved_firing: Support | None = None
 
     def i_activity(self) -> bool:
         """i-assertions or retractions are pending here."""
         return bool(self.pending_i or self.retractions)
-
-    def any_activity(self) -> bool:
-        """Anything is pending here."""
-        return bool(self.pending_i or self.pending_o or self.retractions)
 
     def preferences(self) -> list[Preference]:
         """The slot's preferences, oldest first."""

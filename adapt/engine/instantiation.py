@@ -34,9 +34,9 @@ False
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Final
 
-from adapt.engine.matcher import Match
+from adapt.engine.matcher import FlatKey, Match
 from adapt.engine.production import (
     CallAction,
     Condition,
@@ -49,21 +49,31 @@ from adapt.engine.production import (
     Test,
     Variable,
 )
-from adapt.engine.symbols import Identifier, Symbol
+from adapt.engine.symbols import Symbol
+from adapt.engine.vocabulary import Support
+from adapt.engine.wme import WME
 
 if TYPE_CHECKING:  # pragma: no cover
-    from adapt.engine.goals import Goal
+    from adapt.engine.goals import Goal, SlotPreference
+    from adapt.engine.memory import WmeKey
 
-__all__ = ["RuleInfo", "Instantiation", "SUPPORT_O", "SUPPORT_I", "SUPPORT_NONE",
+__all__ = ["RuleInfo", "Instantiation", "CompiledValue", "PlanStep",
            "SRC_CONST", "SRC_WME", "SRC_NEW", "SRC_CALL"]
-
-SUPPORT_O, SUPPORT_I, SUPPORT_NONE = "o", "i", "none"
 
 #: Tags of the compiled RHS values of :attr:`RuleInfo.plan`:
 #: ``(SRC_CONST, symbol)``, ``(SRC_WME, index, field)`` (a field of the match's
 #: ``index``-th WME), ``(SRC_NEW, k)`` (the firing's ``k``-th new identifier),
 #: ``(SRC_CALL, name, (arg, ...))``.
-SRC_CONST, SRC_WME, SRC_NEW, SRC_CALL = 0, 1, 2, 3
+SRC_CONST: Final = 0
+SRC_WME: Final = 1
+SRC_NEW: Final = 2
+SRC_CALL: Final = 3
+
+#: A compiled RHS value: a tuple starting with one of the ``SRC_*`` tags.
+CompiledValue = tuple[Any, ...]
+#: One compiled action: ``(True, id, attr, value, preference, referent)`` or
+#: ``(False, call)``.
+PlanStep = tuple[Any, ...]
 
 
 def _may_test_operator(cond: Condition) -> bool:
@@ -97,7 +107,7 @@ class RuleInfo:
         The production makes at least one preference (WME or operator).
     makes_operator_prefs : bool
         Some action has the constant attribute ``operator``.
-    declared : str or None
+    declared : Support or None
         ``"o"`` or ``"i"`` for ``:o-support`` / ``:i-support``.
     new_variables : tuple of Variable
         RHS variables not bound on the LHS: a new identifier each per firing.
@@ -121,8 +131,8 @@ class RuleInfo:
         #: some action augments an operator the rule tests as selected
         self.elaborates_operator = any(a.id in operator_vars for a in makes)
         flags = production.flags
-        self.declared: str | None = (
-            SUPPORT_O if "o-support" in flags else SUPPORT_I if "i-support" in flags else None
+        self.declared: Support | None = (
+            Support.O if "o-support" in flags else Support.I if "i-support" in flags else None
         )
         seen: dict[Variable, None] = {}
         for action in production.actions:
@@ -136,13 +146,13 @@ class RuleInfo:
         #: the identifier letters of the new identifiers (``<o>`` -> ``o``)
         self.new_hints = tuple(v.name[1:] for v in self.new_variables)
         #: the support every match gets, or None when it depends on the match
-        self.static_support: str | None
+        self.static_support: Support | None
         if not self.has_make:
-            self.static_support = SUPPORT_NONE
+            self.static_support = Support.NONE
         elif self.declared is not None:
             self.static_support = self.declared
         elif self.makes_operator_prefs or self.elaborates_operator:
-            self.static_support = SUPPORT_I
+            self.static_support = Support.I
         else:
             self.static_support = None
         #: positions in a match of the WMEs that may be a selected-operator WME
@@ -150,7 +160,7 @@ class RuleInfo:
                                     if _may_test_operator(c))
         self.plan = self._compile(production)
 
-    def _compile(self, production: Production) -> tuple[tuple, ...]:
+    def _compile(self, production: Production) -> tuple[PlanStep, ...]:
         """The actions as tuples the kernel evaluates from a match's WMEs directly.
 
         ``(True, id, attr, value, preference, referent)`` for a make action
@@ -160,7 +170,7 @@ class RuleInfo:
         sites = production.binding_sites
         new_index = {v: k for k, v in enumerate(self.new_variables)}
 
-        def src(value: RhsValue) -> tuple:
+        def src(value: RhsValue) -> CompiledValue:
             if isinstance(value, Variable):
                 site = sites.get(value)
                 if site is not None:
@@ -170,7 +180,7 @@ class RuleInfo:
                 return (SRC_CALL, value.name, tuple(src(a) for a in value.args))
             return (SRC_CONST, value)
 
-        plan: list[tuple] = []
+        plan: list[PlanStep] = []
         for action in production.actions:
             if isinstance(action, MakeAction):
                 ref = None if action.referent is None else src(action.referent)
@@ -180,11 +190,11 @@ class RuleInfo:
                 plan.append((False, src(action.call)))
         return tuple(plan)
 
-    def support(self, match: Match, goal_id: Symbol) -> str:
+    def support(self, match: Match, goal_id: Symbol) -> Support:
         """The support a match of this production gets when its match goal is ``goal_id``."""
         return self.support_of(match.wmes, goal_id)
 
-    def support_of(self, wmes: tuple, goal_id: Symbol) -> str:
+    def support_of(self, wmes: tuple[WME, ...], goal_id: Symbol) -> Support:
         """:meth:`support` of the match over ``wmes`` (condition order)."""
         static = self.static_support
         if static is not None:
@@ -192,8 +202,8 @@ class RuleInfo:
         for i in self.operator_slots:
             w = wmes[i]
             if w[0] is goal_id and w[1] == "operator":
-                return SUPPORT_O
-        return SUPPORT_I
+                return Support.O
+        return Support.I
 
 
 class Instantiation:
@@ -208,7 +218,7 @@ class Instantiation:
         ``None`` for a justification.
     goal : Goal
         The match goal (its level is the instantiation's level).
-    support : str
+    support : Support
         ``"o"``, ``"i"`` or ``"none"``.
     wmes : tuple of WME
         The WMEs matched (for a justification: the superstate WMEs it tests).
@@ -221,15 +231,15 @@ class Instantiation:
     __slots__ = ("key", "rule", "goal", "support", "wmes", "i_wmes", "slot_prefs",
                  "bindings", "retracted")
 
-    def __init__(self, key: tuple | None, rule: RuleInfo | None, goal: Goal,
-                 support: str, wmes: tuple) -> None:
+    def __init__(self, key: FlatKey | None, rule: RuleInfo | None, goal: Goal,
+                 support: Support, wmes: tuple[WME, ...]) -> None:
         self.key = key
         self.rule = rule
         self.goal = goal
         self.support = support
         self.wmes = wmes
-        self.i_wmes: list[tuple] = []
-        self.slot_prefs: list[tuple] = []
+        self.i_wmes: list[WmeKey] = []
+        self.slot_prefs: list[tuple[Goal, SlotPreference]] = []
         self.bindings: dict[Variable, Symbol] | None = None
         self.retracted = False
 
@@ -240,4 +250,4 @@ class Instantiation:
 
     def __repr__(self) -> str:
         tags = [w.timetag for w in self.wmes]
-        return f"Instantiation({self.name}, {self.support}, level {self.goal.level}, {tags})"
+        return f"Instantiation({self.name}, {self.support.value}, level {self.goal.level}, {tags})"

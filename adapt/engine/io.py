@@ -29,6 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Callable
 
+from adapt.engine.memory import WmeKey
 from adapt.engine.symbols import Identifier, Symbol, to_symbol
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
@@ -66,7 +67,7 @@ class InputWriter:
         k = self._links.kernel
         return k.ids.new(letter)
 
-    def add(self, id: Identifier, attr: object, value: object) -> None:
+    def add(self, id: object, attr: object, value: object) -> None:
         """Add ``(id ^attr value)``; ``value`` may be a new identifier.
 
         Raises
@@ -80,13 +81,13 @@ class InputWriter:
         self._links.kernel.wm.add(_identifier(id), _symbol(attr, "attribute"),
                                   _symbol(value, "value"))
 
-    def remove(self, id: Identifier, attr: object, value: object) -> None:
+    def remove(self, id: object, attr: object, value: object) -> None:
         """Remove ``(id ^attr value)`` (a no-op if it is not there)."""
         self._check()
         self._links.kernel.wm.remove(_identifier(id), _symbol(attr, "attribute"),
                                      _symbol(value, "value"))
 
-    def set(self, id: Identifier, attr: object, value: object) -> None:
+    def set(self, id: object, attr: object, value: object) -> None:
         """Make ``value`` the only value of ``(id ^attr)``.
 
         Nothing changes when it already is (the WME keeps its timetag, so no
@@ -120,7 +121,7 @@ class InputWriter:
         if v not in current:
             wm.add(ident, a, v)
 
-    def clear(self, id: Identifier, attr: object) -> None:
+    def clear(self, id: object, attr: object) -> None:
         """Remove every value of ``(id ^attr)``."""
         self._check()
         ident = _identifier(id)
@@ -131,9 +132,9 @@ class InputWriter:
         for old in wm.values(ident, a):
             wm.remove(ident, a, old)
 
-    def values(self, id: Identifier, attr: object) -> list[Symbol]:
+    def values(self, id: object, attr: object) -> list[Symbol]:
         """The current (committed) values of ``(id ^attr *)``."""
-        return self._links.kernel.wm.values(id, _symbol(attr, "attribute"))
+        return self._links.kernel.wm.values(_identifier(id), _symbol(attr, "attribute"))
 
 
 def _symbol(value: object, what: str) -> Symbol:
@@ -145,9 +146,9 @@ def _symbol(value: object, what: str) -> Symbol:
 
 
 def _identifier(value: object) -> Identifier:
-    if type(value) is not Identifier:
+    if not isinstance(value, Identifier):
         raise EngineError(f"input-link WMEs need an identifier as their id, got {value!r}")
-    return value  # type: ignore[return-value]
+    return value
 
 
 @dataclass(frozen=True)
@@ -189,7 +190,7 @@ class IoLinks:
         self.output_callbacks: list[Callable[[OutputView], None]] = []
         self._decisions = decisions
         self._writer = InputWriter(self)
-        self._last: dict[tuple, WME] = {}
+        self._last: dict[WmeKey, WME] = {}
 
     def run_input(self) -> None:
         """Call the input callbacks with a writer that works only now."""

@@ -14,55 +14,49 @@ preference memory, the goal stack -- and the operations the decision cycle
 * :meth:`Kernel.select`, :meth:`Kernel.create_impasse`,
   :meth:`Kernel.remove_goal` -- what decisions do.
 
-Preference memory for ordinary attributes is a support count: a WME
-``(id ^attr value)`` is in working memory while some live i-supported
-instantiation supports it or some o-supported preference holds it
-(:attr:`Kernel.isup`, :attr:`Kernel.osup`).  A ``-`` action of an o-supported
-instantiation removes every preference for that WME (i-supported ones
-included, as Soar's ``process_o_rejects`` does); a ``-`` action of an
-i-supported instantiation keeps the WME out of working memory while that
-instantiation lasts (:attr:`Kernel.irej`).
-Operator slots keep every preference (:class:`adapt.engine.goals.Goal`).
+Which WMEs the preferences hold is :class:`adapt.engine.support.PreferenceMemory`'s
+(:attr:`Kernel.preferences`); operator slots keep every preference
+(:class:`adapt.engine.goals.Goal`).  What happens is announced on the
+agent's :class:`~adapt.engine.events.EventBus` (:attr:`Kernel.events`),
+payloads built only when someone listens.
 """
 
 from __future__ import annotations
 
-import random
-from typing import Callable
+from functools import partial
+from typing import Callable, Final
 
-from adapt.engine.functions import FunctionTable
-from adapt.engine.goals import Goal, SlotPreference, item_wmes, substate_wmes, top_state_wmes
+from adapt.engine.events import Event, EventBus
+from adapt.engine.functions import FunctionTable, RhsContext
+from adapt.engine.goals import Goal, item_wmes, substate_wmes, top_state_wmes
 from adapt.engine.instantiation import (
     SRC_CONST,
     SRC_NEW,
     SRC_WME,
-    SUPPORT_I,
-    SUPPORT_O,
+    CompiledValue,
     Instantiation,
     RuleInfo,
 )
-from adapt.engine.matcher import Matcher
-from adapt.engine.memory import WmeKey, WorkingMemory
-from adapt.engine.preferences import Preference
+from adapt.engine.matcher import FlatKey, MatchChanges, Matcher, RawMatcher
+from adapt.engine.memory import WorkingMemory
 from adapt.engine.production import PreferenceKind, Production
 from adapt.engine.results import ResultMaker
-from adapt.engine.symbols import Identifier, IdentifierFactory, Symbol, format_symbol, level_of
+from adapt.engine.support import MadePreference, PreferenceMemory
+from adapt.engine.symbols import Identifier, IdentifierFactory, Symbol, format_symbol
+from adapt.engine.vocabulary import ImpasseAttribute, ImpasseType, Support
 from adapt.engine.wme import WME
 
-__all__ = ["Kernel", "Listener"]
+__all__ = ["Kernel"]
 
-_ACCEPTABLE = PreferenceKind.ACCEPTABLE
-_REJECT = PreferenceKind.REJECT
-_REQUIRE = PreferenceKind.REQUIRE
-
-#: Called for trace events: ``listener(kind, payload)``.
-Listener = Callable[[str, object], None]
+_REJECT: Final = PreferenceKind.REJECT
+_O: Final = Support.O
+_I: Final = Support.I
 
 
-def _raw_changes(matcher: Matcher) -> tuple[dict, dict]:
+def _raw_changes(matcher: Matcher) -> MatchChanges:
     """``matcher.take_changes()`` as the kernel files them: ``(added, removed)``
-    dicts ``(name, timetag, ...) -> wmes`` (what :meth:`Rete.take_raw` gives
-    directly)."""
+    dicts ``(name, timetag, ...) -> wmes`` (what :meth:`RawMatcher.take_raw`
+    gives directly)."""
     added, removed = matcher.take_changes()
     return ({(m.key[0], *m.key[1]): m.wmes for m in added},
             {(m.key[0], *m.key[1]): m.wmes for m in removed})
@@ -79,31 +73,34 @@ class Kernel:
         Passed to right-hand-side functions (``write``, ``halt`` ...).
     """
 
-    def __init__(self, matcher: Matcher, functions: FunctionTable, context: object) -> None:
+    def __init__(self, matcher: Matcher | RawMatcher, functions: FunctionTable,
+                 context: RhsContext, events: EventBus | None = None) -> None:
         self.ids = IdentifierFactory()
         self.matcher = matcher
+        #: the matcher's changes as :data:`~adapt.engine.matcher.MatchChanges`
+        self.take_changes: Callable[[], MatchChanges] = (
+            matcher.take_raw if isinstance(matcher, RawMatcher) else partial(_raw_changes, matcher))
         self.functions = functions
         self.context = context
+        self.events = events if events is not None else EventBus()
         self.wm = WorkingMemory(matcher)
-        #: the matcher's changes as ``(added, removed)`` dicts ``flat key -> wmes``
-        self._take_changes: Callable[[], tuple[dict, dict]] = getattr(
-            matcher, "take_raw", None) or (lambda: _raw_changes(matcher))
         self.rules: dict[str, RuleInfo] = {}
         self.goals: dict[Symbol, Goal] = {}
-        self.isup: dict[WmeKey, list[Instantiation]] = {}
-        self.osup: dict[WmeKey, Instantiation] = {}
-        self.irej: dict[WmeKey, list[Instantiation]] = {}
+        #: the support of every WME made by preferences
+        self.preferences = PreferenceMemory(self.wm, self.goals)
         #: pending match (flat key ``(name, timetag, ...)``) -> its goal
-        self.pending_goal: dict[tuple, Goal] = {}
+        self.pending_goal: dict[FlatKey, Goal] = {}
         #: fired match (flat key) -> its instantiation
-        self.fired: dict[tuple, Instantiation] = {}
+        self.fired: dict[FlatKey, Instantiation] = {}
         self.gds_index: dict[int, set[Goal]] = {}
         self.results = ResultMaker(self)
         self.firings = 0
-        self.tracer: Listener | None = None
-        self.events: list[tuple[str, object]] = []
         #: the matcher may hold match-set changes not yet scheduled
-        self._matcher_dirty = True
+        self.matcher_dirty = True
+        # the live listener lists of the events raised on hot paths
+        self._on_fire = self.events.listeners(Event.FIRE)
+        self._on_retract = self.events.listeners(Event.RETRACT)
+        self._on_wm = self.events.listeners(Event.WM_CHANGES)
         s1 = self.ids.new("S")
         io, il, ol = self.ids.new("I"), self.ids.new("I"), self.ids.new("I")
         self.top = Goal(s1, 0, None)
@@ -122,7 +119,7 @@ class Kernel:
             self.matcher.remove_production(production.name)
         self.rules[production.name] = RuleInfo(production)
         self.matcher.add_production(production)
-        self._matcher_dirty = True
+        self.matcher_dirty = True
 
     # -- working-memory phase ----------------------------------------------
     def commit(self) -> tuple[list[WME], list[WME]]:
@@ -131,25 +128,26 @@ class Kernel:
         Returns every WME added and removed (goal removals included).
         """
         wm = self.wm
-        if not wm.pending and not self._matcher_dirty:
+        if not wm.pending and not self.matcher_dirty:
             return [], []
-        self._matcher_dirty = False
+        self.matcher_dirty = False
         all_added: list[WME] | None = None
         all_removed: list[WME] | None = None
-        take_changes = self._take_changes
+        take_changes = self.take_changes
+        forget = self.preferences.osup
         while True:
             added, removed = wm.commit()
             if all_added is None:
                 all_added, all_removed = added, removed
             else:
                 all_added.extend(added)
-                all_removed.extend(removed)  # type: ignore[union-attr]
+                assert all_removed is not None
+                all_removed.extend(removed)
             doomed: list[Goal] | None = None
             if removed:
-                osup = self.osup
-                if osup:
+                if forget:
                     for w in removed:
-                        osup.pop(w[:4], None)
+                        forget.pop(w[:4], None)
                 gds = self.gds_index
                 just = self.results.grounds_index
                 if gds or just:  # only with substates
@@ -161,7 +159,7 @@ class Kernel:
                             doomed.extend(gds.pop(tt))
                         if tt in just:
                             for j in just.pop(tt):
-                                self._schedule_retraction(j)
+                                self.schedule_retraction(j)
             results = self.results
             if results.negated_index or results.ncc_justs:  # justifications' negations
                 results.check_negations(added, removed)
@@ -172,13 +170,15 @@ class Kernel:
             if not live:
                 break
             top = min(live, key=lambda g: g.level)
-            self.emit("gds", top)
+            self.events.emit(Event.GDS, top)
             self.remove_goal(top)
-        if self.tracer is not None and (all_added or all_removed):
-            self.tracer("wm", (all_added, all_removed))
-        return all_added, all_removed  # type: ignore[return-value]
+        assert all_added is not None and all_removed is not None
+        if self._on_wm and (all_added or all_removed):
+            self.events.emit(Event.WM_CHANGES, (all_added, all_removed))
+        return all_added, all_removed
 
-    def _schedule(self, added: dict[tuple, tuple], removed: dict[tuple, tuple]) -> None:
+    def _schedule(self, added: dict[FlatKey, tuple[WME, ...]],
+                  removed: dict[FlatKey, tuple[WME, ...]]) -> None:
         """File the matcher's changes (flat key -> wmes): a new match waits at
         its goal, a vanished one is unscheduled or its instantiation retracts."""
         pending_goal = self.pending_goal
@@ -190,7 +190,7 @@ class Kernel:
                 continue
             inst = self.fired.pop(key, None)
             if inst is not None:  # every fired instantiation retracts (o-supported too)
-                self._schedule_retraction(inst)
+                self.schedule_retraction(inst)
         if not added:
             return
         goals = self.goals
@@ -212,13 +212,15 @@ class Kernel:
             support = info.static_support
             if support is None:
                 support = info.support_of(wmes, goal.id)
-            if support == SUPPORT_O:
+            if support is _O:
                 goal.pending_o[key] = wmes
             else:
                 goal.pending_i[key] = wmes
             pending_goal[key] = goal
 
-    def _schedule_retraction(self, inst: Instantiation) -> None:
+    def schedule_retraction(self, inst: Instantiation) -> None:
+        """Retract ``inst`` in its goal's next elaboration cycle (at once
+        when its goal is gone)."""
         if inst.retracted:
             return
         goal = inst.goal
@@ -228,18 +230,18 @@ class Kernel:
             self.retract(inst)
 
     # -- firing ----------------------------------------------------------------
-    def fire(self, goal: Goal, kind: str) -> int:
-        """One elaboration cycle at ``goal``: ``kind`` is ``"i"`` (retractions
-        and i-assertions) or ``"o"`` (o-assertions).  Returns the number of
-        productions fired."""
-        if kind == "i":
+    def fire(self, goal: Goal, kind: Support) -> int:
+        """One elaboration cycle at ``goal``: ``kind`` is ``Support.I``
+        (retractions and i-assertions) or ``Support.O`` (o-assertions).
+        Returns the number of productions fired."""
+        if kind is _I:
             retractions = goal.retractions
             if retractions:
                 goal.retractions = {}
-                tracer = self.tracer
+                on_retract = self._on_retract
                 for inst in retractions.values():
-                    if tracer is not None:
-                        tracer("retract", inst)
+                    if on_retract:
+                        self.events.emit(Event.RETRACT, inst)
                     self.retract(inst)
             matches = goal.pending_i
             if not matches:
@@ -254,70 +256,54 @@ class Kernel:
         fired = self.fired
         instantiate = self._instantiate
         rules = self.rules
-        if len(matches) == 1:  # the common case: one firing, nothing to order
-            ((key, wmes),) = matches.items()
-            del pending_goal[key]
-            rule = rules[key[0]]
-            if kind == "i":
-                support = rule.static_support
-                if support is None:
-                    support = SUPPORT_I
-            else:
-                support = SUPPORT_O
-            inst, prefs = instantiate(key, wmes, rule, goal, support)
-            fired[key] = inst
-            self.firings += 1
-            if prefs:
-                if kind != "i":
-                    for p in prefs:
-                        if p[0] is _REJECT and p[5]:
-                            self._o_reject(p)
-                self._assert(inst, prefs)
-            return 1
-        made: list[tuple[Instantiation, list[tuple]]] = []
+        o_reject = self.preferences.o_reject
+        made: list[tuple[Instantiation, list[MadePreference]]] = []
         for key, wmes in matches.items():
             del pending_goal[key]
             rule = rules[key[0]]
-            if kind == "i":
+            if kind is _I:
                 support = rule.static_support
                 if support is None:
-                    support = SUPPORT_I
+                    support = _I
             else:
-                support = SUPPORT_O
+                support = _O
             pair = instantiate(key, wmes, rule, goal, support)
             fired[key] = pair[0]
             made.append(pair)
         self.firings += len(made)
         # o-rejects first, then everything else (Soar's assert_new_preferences)
         # (every match fired in an IE cycle is i-supported or unsupported)
-        if kind != "i":
-            for inst, prefs in made:
+        if kind is _O:
+            for _, prefs in made:
                 for p in prefs:
                     if p[0] is _REJECT and p[5]:
-                        self._o_reject(p)
+                        o_reject(p)
         assert_ = self._assert
         for inst, prefs in made:
             if prefs:
                 assert_(inst, prefs)
         return len(made)
 
-    def _instantiate(self, key: tuple, wmes: tuple, rule: RuleInfo, goal: Goal,
-                     support: str) -> tuple[Instantiation, list[tuple]]:
+    def _instantiate(self, key: FlatKey, wmes: tuple[WME, ...], rule: RuleInfo, goal: Goal,
+                     support: Support) -> tuple[Instantiation, list[MadePreference]]:
         inst = Instantiation(key, rule, goal, support, wmes)
         new: list[Identifier] | None = None
         if rule.new_hints:
             level = goal.level
             ids_new = self.ids.new
             new = [ids_new(hint, level) for hint in rule.new_hints]
-        if self.tracer is not None:
+        if self._on_fire:
             bindings = rule.production.bindings(wmes)
             if new is not None:
-                for var, ident in zip(rule.new_variables, new):
-                    bindings[var] = ident
+                for var, made_id in zip(rule.new_variables, new):
+                    bindings[var] = made_id
             inst.bindings = bindings
-            self.tracer("fire", inst)
-        prefs: list[tuple] = []
-        o_support = support == SUPPORT_O
+            self.events.emit(Event.FIRE, inst)
+        prefs: list[MadePreference] = []
+        o_support = support is _O
+        ident: Symbol | None
+        attr: Symbol | None
+        value: Symbol | None
         value_of = self._rhs_value
         for step in rule.plan:
             if step[0]:
@@ -345,7 +331,7 @@ class Kernel:
                 if ident is None or attr is None or value is None:
                     continue
                 if type(ident) is not Identifier:
-                    self.context.error(  # type: ignore[attr-defined]
+                    self.context.error(
                         f"RHS makes a preference for a non-identifier ({format_symbol(ident)})")
                     continue
                 ref = None if rsrc is None else value_of(rsrc, wmes, new)
@@ -354,15 +340,17 @@ class Kernel:
                 value_of(step[1], wmes, new)
         return inst, prefs
 
-    def _rhs_value(self, src: tuple, wmes: tuple, new: list[Identifier] | None) -> Symbol | None:
+    def _rhs_value(self, src: CompiledValue, wmes: tuple[WME, ...],
+                   new: list[Identifier] | None) -> Symbol | None:
         """The value of a compiled RHS value (see :attr:`RuleInfo.plan`)."""
         tag = src[0]
         if tag == SRC_WME:
             return wmes[src[1]][src[2]]
         if tag == SRC_CONST:
-            return src[1]
+            return src[1]  # type: ignore[no-any-return]
         if tag == SRC_NEW:
-            return new[src[1]]  # type: ignore[index]
+            assert new is not None
+            return new[src[1]]
         args: list[Symbol] = []
         for arg in src[2]:
             tag = arg[0]
@@ -377,146 +365,32 @@ class Kernel:
             args.append(v)
         return self.functions.call(src[1], args, self.context)
 
-    def _o_reject(self, p: tuple) -> None:
-        _, ident, attr, value, _, _ = p
-        if attr == "operator" and ident in self.goals:
-            return
-        key = (ident, attr, value, False)
-        # Soar removes every preference for the value, i-supported ones included
-        had = self.osup.pop(key, None) is not None
-        if self.isup.pop(key, None) is not None or had:
-            self.wm.remove_key(key)
-
-    def _assert(self, inst: Instantiation, prefs: list[tuple]) -> None:
-        if not prefs:
-            return
+    def _assert(self, inst: Instantiation, prefs: list[MadePreference]) -> None:
+        """Assert a firing's preferences: its results (in a substate) through
+        the result maker, the rest in preference memory, held by ``inst``."""
         goal = inst.goal
+        results: set[MadePreference] | None = None
         if goal.level > 0:
             results = self.results.split(inst, prefs)
             if results is not None:
-                self._assert_with_results(inst, prefs, results)
-                return
-        goals = self.goals
-        isup, irej, osup = self.isup, self.irej, self.osup
-        adds = self.wm.pending_adds
-        o_local = False
-        for p in prefs:
-            kind, ident, attr, value, ref, o = p
-            if attr == "operator" and ident in goals:
-                self._add_slot_pref(goals[ident], Preference(kind, value, ref), inst)
-            elif kind is _ACCEPTABLE:
-                key = (ident, attr, value, False)
-                if o:
-                    osup[key] = inst
-                    o_local = True
-                else:
-                    supporters = isup.get(key)
-                    if supporters is None:
-                        isup[key] = [inst]
-                    else:
-                        supporters.append(inst)
-                    inst.i_wmes.append(key)
-                if key not in irej:
-                    adds[key] = None
-            elif kind is _REJECT and not o:
-                key = (ident, attr, value, False)
-                irej.setdefault(key, []).append(inst)
-                inst.i_wmes.append(key)
-                self.wm.remove_key(key)
+                prefs = [p for p in prefs if p not in results]
+        o_local = self.preferences.assert_preferences(inst, prefs, inst.support is _O,
+                                                      o_rejects=False)
         if o_local and goal.level > 0:
             self.results.note_o_local(inst)  # once per firing: it backtraces the whole match
         if inst.i_wmes or inst.slot_prefs:
             goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
-
-    def _assert_with_results(self, inst: Instantiation, prefs: list[tuple],
-                             results: set[tuple]) -> None:
-        goal = inst.goal
-        goals = self.goals
-        for p in prefs:
-            kind, ident, attr, value, ref, o = p
-            if p in results:
-                continue
-            if attr == "operator" and ident in goals:
-                self._add_slot_pref(goals[ident], Preference(kind, value, ref), inst)
-            elif kind is _ACCEPTABLE:
-                key = (ident, attr, value, False)
-                if o:
-                    self.osup[key] = inst
-                    self.results.note_o_local(inst)
-                else:
-                    self.isup.setdefault(key, []).append(inst)
-                    inst.i_wmes.append(key)
-                if key not in self.irej:
-                    self.wm.add(ident, attr, value)
-            elif kind is _REJECT and not o:
-                key = (ident, attr, value, False)
-                self.irej.setdefault(key, []).append(inst)
-                inst.i_wmes.append(key)
-                self.wm.remove(ident, attr, value)
-        if inst.i_wmes or inst.slot_prefs:
-            goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
         if results:
-            self.results.make(inst, [p for p in prefs if p in results])
-
-    def _add_slot_pref(self, goal: Goal, pref: Preference, inst: Instantiation) -> None:
-        sp = SlotPreference(pref, inst)
-        goal.prefs.append(sp)
-        goal.changed = True
-        inst.slot_prefs.append((goal, sp))
-        kind = pref.kind
-        if kind is _ACCEPTABLE or kind is _REQUIRE:
-            key = (goal.id, "operator", pref.value, True)
-            supporters = self.isup.get(key)
-            if supporters is None:
-                self.isup[key] = [inst]
-            else:
-                supporters.append(inst)
-            self.wm.pending_adds[key] = None
+            self.results.make(inst, list(results))
 
     def retract(self, inst: Instantiation) -> None:
         """Remove everything an instantiation supports with i-support."""
         if inst.retracted:
             return
         inst.retracted = True
-        isup, osup, wm = self.isup, self.osup, self.wm
-        irej = self.irej
-        for key in inst.i_wmes:
-            if irej:
-                rejecters = irej.get(key)
-                if rejecters is not None and inst in rejecters:
-                    rejecters.remove(inst)
-                    if not rejecters:
-                        del irej[key]
-                        if key in isup or key in osup:
-                            wm.add(*key)
-                    continue
-            supporters = isup.get(key)
-            if supporters is None or inst not in supporters:
-                continue
-            if len(supporters) == 1:
-                del isup[key]
-                if key not in osup:
-                    wm.remove_key(key)
-            else:
-                supporters.remove(inst)
-        for goal, sp in inst.slot_prefs:
-            try:
-                goal.prefs.remove(sp)
-            except ValueError:
-                continue
-            goal.changed = True
-            kind = sp.preference.kind
-            if kind is _ACCEPTABLE or kind is _REQUIRE:
-                value = sp.preference.value
-                key = (goal.id, "operator", value, True)
-                supporters = isup.get(key)
-                if supporters is not None:
-                    supporters.remove(inst)
-                    if not supporters:
-                        del isup[key]
-                        wm.remove_key(key)
-                if kind is _ACCEPTABLE and goal.operator is value and self.goals.get(goal.id) is goal:
-                    self.deselect(goal)  # case (a): its acceptable preference retracted
+        for goal in self.preferences.retract(inst):
+            if self.goals.get(goal.id) is goal:
+                self.deselect(goal)  # case (a): its acceptable preference retracted
         goal = inst.goal
         if goal.instantiations:
             goal.instantiations.pop(inst.key if inst.key is not None else id(inst), None)
@@ -538,7 +412,7 @@ class Kernel:
         if goal.lower is not None:
             self.remove_goal(goal.lower)
 
-    def create_impasse(self, goal: Goal, impasse: str, attribute: str,
+    def create_impasse(self, goal: Goal, impasse: ImpasseType, attribute: ImpasseAttribute,
                        items: tuple[Symbol, ...], non_numeric: tuple[Symbol, ...]) -> Goal:
         """Create a substate below ``goal`` (removing any existing one)."""
         if goal.lower is not None:
@@ -581,7 +455,7 @@ class Kernel:
         """Remove ``goal`` and every goal below it, with their local structure."""
         if goal.lower is not None:
             self.remove_goal(goal.lower)
-        self.emit("remove-goal", goal)
+        self.events.emit(Event.REMOVE_GOAL, goal)
         level = goal.level
         pending_goal = self.pending_goal
         for key in goal.pending_i:
@@ -594,15 +468,10 @@ class Kernel:
                 self.fired.pop(inst.key, None)
             self.retract(inst)
         goal.retractions = {}
+        preferences = self.preferences
         for key, inst in goal.ungrounded:  # results without a justification
-            if self.osup.get(key) is inst:
-                del self.osup[key]
-                if key not in self.isup:
-                    self.wm.remove(*key)
-        for key in [k for k in self.osup if level_of(k[0]) >= level]:
-            del self.osup[key]
-            if key not in self.isup:
-                self.wm.remove(*key)
+            preferences.drop_o_supported(key, inst)
+        preferences.drop_levels(level)
         if goal.operator is not None:
             self.wm.remove(goal.id, "operator", goal.operator)
             goal.operator = None
@@ -621,17 +490,8 @@ class Kernel:
         sup.lower = None
         self.bottom = sup
 
-    # -- tracing ---------------------------------------------------------------
-    def emit(self, kind: str, payload: object) -> None:
-        """Pass an event to the tracer, when one is attached."""
-        if self.tracer is not None:
-            self.tracer(kind, payload)
-
+    # -- reading -------------------------------------------------------------
     def operator_name(self, operator: Symbol) -> str | None:
         """The operator's ``^name`` as text, or ``None``."""
         names = self.wm.values(operator, "name")
         return format_symbol(names[0]) if names else None
-
-    def new_rng(self, seed: int) -> random.Random:
-        """A seeded generator for indifferent selection."""
-        return random.Random(seed)

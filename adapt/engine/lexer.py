@@ -28,23 +28,37 @@ Examples
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from typing import Iterator, Union
 
 from adapt.engine.symbols import Float
 from adapt.errors import RuleSyntaxError
 
-__all__ = ["Token", "tokenize", "iter_tokens", "CONSTANT_KINDS"]
+__all__ = ["Token", "tokenize", "iter_tokens", "token_batches", "CONSTANT_KINDS"]
 
-_CONSTITUENT = frozenset(
-    "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789$%&*+-/:<=>?_@"
-)
-_SINGLE = {"(": "(", ")": ")", "{": "{", "}": "}", "^": "^", ",": ",", "!": "!", "~": "~"}
 _RELATIONS = frozenset({"<", ">", "<=", ">=", "<>", "<=>", "="})
 _INT = re.compile(r"[+-]?[0-9]+\Z")
 _FLOAT = re.compile(r"([+-]?(?:[0-9]+\.[0-9]*|\.[0-9]+))(?:[eE]([+-]?[0-9]*))?\Z")
 _IDSHAPED = re.compile(r"([A-Za-z])([0-9]+)\Z")
 _INT64 = 2**63
+
+#: One lexeme (or blank) at a position, tried in order.  A number followed by
+#: ``.`` goes on as a float (``1.2.3`` is ``1.2`` then ``.3``; ``+.`` is a
+#: word, as Soar reads it), then constituent runs, single-character tokens,
+#: blanks and comments (``;`` separates like white space), newlines, quotes,
+#: and a lone ``.``.
+_SCAN = re.compile(r"""
+    (?P<word>(?:[+-][0-9]*|[0-9]+)\.[0-9]*(?:[eE][+-]?[0-9]*)?
+            |\.[0-9]+(?:[eE][+-]?[0-9]*)?
+            |[A-Za-z0-9$%&*+\-/:<=>?_@]+)
+    |(?P<single>[(){}^,!~])
+    |(?P<blank>(?:[ \t\r\f\v;]|\#[^\n]*)+)
+    |(?P<newline>\n)
+    |(?P<quote>[|"])
+    |(?P<period>\.)
+""", re.VERBOSE)
+#: Kinds and values of the words met so far (rule bases repeat their words).
+_KINDS: dict[str, tuple[str, TokenValue]] = {}
+_KINDS_MAX = 100_000
 
 #: Token kinds that stand for a constant.
 CONSTANT_KINDS = frozenset({"symbol", "int", "float", "idshaped", "quoted"})
@@ -52,21 +66,31 @@ CONSTANT_KINDS = frozenset({"symbol", "int", "float", "idshaped", "quoted"})
 TokenValue = Union[str, int, Float, None]
 
 
-@dataclass(frozen=True, slots=True)
 class Token:
     """One lexeme.
 
     ``kind`` is one of ``( ) { } ^ , . ! ~ + - --> relation << >> variable int
     float idshaped symbol quoted doc eof``; ``text`` is the source text and
-    ``value`` the symbol it stands for (for constants and variables).
+    ``value`` the symbol it stands for (for constants and variables).  Tokens
+    are never changed once made (a plain slotted class rather than a frozen
+    record: the parser makes hundreds of thousands of them for a large rule
+    base, and compiled, this class is built without a Python-level call).
     """
 
-    kind: str
-    text: str
-    value: TokenValue
-    line: int
-    col: int
-    offset: int
+    __slots__ = ("kind", "text", "value", "line", "col", "offset")
+
+    def __init__(self, kind: str, text: str, value: TokenValue, line: int, col: int,
+                 offset: int) -> None:
+        self.kind = kind
+        self.text = text
+        self.value = value
+        self.line = line
+        self.col = col
+        self.offset = offset
+
+    def __repr__(self) -> str:
+        return (f"Token({self.kind!r}, {self.text!r}, {self.value!r}, line={self.line}, "
+                f"col={self.col})")
 
 
 class _Lexer:
@@ -87,37 +111,56 @@ class _Lexer:
         return list(self.iter_tokens())
 
     def iter_tokens(self) -> Iterator[Token]:
-        text, n = self.text, len(self.text)
-        while self.pos < n:
+        for batch in self.batches(1):
+            yield from batch
+
+    def batches(self, size: int) -> Iterator[list[Token]]:
+        """The tokens in lists of about ``size`` (the last one ends with ``eof``).
+
+        A lexical error is raised only after the tokens before it have been
+        handed out, when the reader asks for more.
+        """
+        try:
+            while self.pos < len(self.text):
+                if len(self.tokens) >= size:
+                    yield self.tokens
+                    self.tokens = []
+                self.scan()
+        except RuleSyntaxError:
             if self.tokens:
-                yield from self.tokens
-                self.tokens.clear()
-            ch = text[self.pos]
-            if ch == "\n":
-                self.pos += 1
-                self.line += 1
-                self.line_start = self.pos
-            elif ch in " \t\r\f\v;":
-                self.pos += 1
-            elif ch == "#":
-                end = text.find("\n", self.pos)
-                self.pos = n if end < 0 else end
-            elif ch in _SINGLE:
-                self.emit(_SINGLE[ch], ch, ch, self.pos)
-                self.pos += 1
-            elif ch == "|" or ch == '"':
-                self.quoted(ch)
-            elif ch == ".":
-                self.period()
-            elif ch in _CONSTITUENT:
-                self.constituent()
-            else:
-                raise self.error(
-                    f"unexpected character {ch!r} in rule text", self.line, self.pos - self.line_start + 1
-                )
+                yield self.tokens
+                self.tokens = []
+            raise
         self.emit("eof", "", None, self.pos)
-        yield from self.tokens
-        self.tokens.clear()
+        yield self.tokens
+        self.tokens = []
+
+    def scan(self) -> None:
+        """Read the lexeme (or blank) at :attr:`pos`."""
+        text = self.text
+        m = _SCAN.match(text, self.pos)
+        if m is None:  # a character no lexeme starts with
+            raise self.error(f"unexpected character {text[self.pos]!r} in rule text",
+                             self.line, self.pos - self.line_start + 1)
+        group = m.lastgroup
+        start, end = m.span()
+        if group == "word":
+            self.classify(start, end)
+        elif group == "blank":
+            self.pos = end
+        elif group == "single":
+            ch = text[start]
+            self.tokens.append(Token(ch, ch, ch, self.line, start - self.line_start + 1, start))
+            self.pos = end
+        elif group == "newline":
+            self.pos = end
+            self.line += 1
+            self.line_start = end
+        elif group == "quote":
+            self.quoted(text[start])
+        else:  # "period": a '.' that does not start a float
+            self.emit(".", ".", ".", start)
+            self.pos = end
 
     def emit(self, kind: str, text: str, value: TokenValue, start: int) -> None:
         col = start - self.line_start + 1
@@ -147,70 +190,38 @@ class _Lexer:
         self.tokens.append(Token(kind, text[start : i + 1], "".join(out), line, col, start))
         self.pos = i + 1
 
-    def read_constituents(self, i: int) -> int:
-        text, n = self.text, len(self.text)
-        while i < n and text[i] in _CONSTITUENT:
-            i += 1
-        return i
-
-    def rest_of_float(self, i: int) -> int:
-        """``i`` is at ``.``: read the point, digits and an optional exponent."""
-        text, n = self.text, len(self.text)
-        i += 1
-        while i < n and text[i].isdigit() and text[i].isascii():
-            i += 1
-        if i < n and text[i] in "eE":
-            i += 1
-            if i < n and text[i] in "+-":
-                i += 1
-            while i < n and text[i].isdigit() and text[i].isascii():
-                i += 1
-        return i
-
-    def period(self) -> None:
-        start = self.pos
-        nxt = self.text[start + 1 : start + 2]
-        if nxt.isdigit() and nxt.isascii():
-            end = self.rest_of_float(start)
-            self.classify(start, end)
-        else:
-            self.emit(".", ".", ".", start)
-            self.pos = start + 1
-
-    def constituent(self) -> None:
-        start = self.pos
-        end = self.read_constituents(start)
-        word = self.text[start:end]
-        if (
-            end < len(self.text)
-            and self.text[end] == "."
-            and word[0] in "+-0123456789"
-            and all(c.isdigit() for c in word[1:])
-        ):
-            end = self.rest_of_float(end)
-        self.classify(start, end)
-
     def classify(self, start: int, end: int) -> None:
         word = self.text[start:end]
         self.pos = end
+        known = _KINDS.get(word)
+        if known is None:
+            known = self.kind_of(word, start)
+            if len(_KINDS) < _KINDS_MAX:
+                _KINDS[word] = known
+        kind, value = known
+        self.tokens.append(Token(kind, word, value, self.line, start - self.line_start + 1, start))
+
+    def kind_of(self, word: str, start: int) -> tuple[str, TokenValue]:
+        """The kind and value of a constituent word (see the module docstring)."""
         if word == "-->":
-            self.emit("-->", word, word, start)
-        elif word == "+" or word == "-":
-            self.emit(word, word, word, start)
-        elif word in _RELATIONS:
-            self.emit("relation", word, word, start)
-        elif word == "<<" or word == ">>":
-            self.emit(word, word, word, start)
-        elif len(word) >= 3 and word[0] == "<" and word[-1] == ">":
-            self.emit("variable", word, word, start)
-        elif _INT.match(word):
+            return "-->", word
+        if word == "+" or word == "-":
+            return word, word
+        if word in _RELATIONS:
+            return "relation", word
+        if word == "<<" or word == ">>":
+            return word, word
+        if len(word) >= 3 and word[0] == "<" and word[-1] == ">":
+            return "variable", word
+        if _INT.match(word):
             value = int(word)
             if not -_INT64 <= value < _INT64:
                 raise self.error(
                     f"integer {word} does not fit in 64 bits", self.line, start - self.line_start + 1
                 )
-            self.emit("int", word, value, start)
-        elif (m := _FLOAT.match(word)) is not None:
+            return "int", value
+        m = _FLOAT.match(word)
+        if m is not None:
             exponent = m.group(2)
             number = m.group(1) + (f"e{exponent}" if exponent and exponent not in "+-" else "")
             value_f = float(number)
@@ -218,11 +229,11 @@ class _Lexer:
                 raise self.error(
                     f"float {word} is out of range", self.line, start - self.line_start + 1
                 )
-            self.emit("float", word, Float(value_f), start)
-        elif (m := _IDSHAPED.match(word)) is not None:
-            self.emit("idshaped", word, f"{m.group(1).upper()}{int(m.group(2))}", start)
-        else:
-            self.emit("symbol", word, word, start)
+            return "float", Float(value_f)
+        m = _IDSHAPED.match(word)
+        if m is not None:
+            return "idshaped", f"{m.group(1).upper()}{int(m.group(2))}"
+        return "symbol", word
 
 
 def tokenize(text: str, file: str = "<string>") -> list[Token]:
@@ -246,3 +257,9 @@ def iter_tokens(text: str, file: str = "<string>") -> Iterator[Token]:
     """Tokens one at a time, so that an error late in the text is raised only
     when the reader gets there (see :func:`tokenize`)."""
     return _Lexer(text, file).iter_tokens()
+
+
+def token_batches(text: str, file: str = "<string>", size: int = 2048) -> Iterator[list[Token]]:
+    """Tokens in lists of about ``size``: :func:`iter_tokens` for a reader that
+    takes many at a time (an error is raised when the batch holding it is read)."""
+    return _Lexer(text, file).batches(size)

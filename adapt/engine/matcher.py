@@ -28,16 +28,21 @@ brute-force :class:`adapt.engine.naive.NaiveMatcher` is the reference.
 
 from __future__ import annotations
 
-from typing import Iterable, Protocol
+from typing import Any, Iterable, Protocol, runtime_checkable
 
 from adapt.engine.production import Production, Variable
 from adapt.engine.symbols import Symbol
 from adapt.engine.wme import WME
 
-__all__ = ["Match", "Matcher", "MatchKey"]
+__all__ = ["Match", "Matcher", "RawMatcher", "MatchKey", "FlatKey", "MatchChanges"]
 
 #: ``(production name, timetags of the matched WMEs)``: a match's identity.
 MatchKey = tuple[str, tuple[int, ...]]
+#: A match's identity as one flat tuple: ``(production name, timetag, ...)``.
+FlatKey = tuple[Any, ...]
+#: Match-set changes as the kernel files them: ``(added, removed)``, each a dict
+#: ``flat key -> matched WMEs`` (condition order), in the order they happened.
+MatchChanges = tuple[dict[FlatKey, tuple[WME, ...]], dict[FlatKey, tuple[WME, ...]]]
 
 
 class Match:
@@ -49,10 +54,13 @@ class Match:
 
     __slots__ = ("production", "wmes", "key", "_hash")
 
-    def __init__(self, production: Production, wmes: tuple[WME, ...]) -> None:
+    def __init__(self, production: Production, wmes: tuple[WME, ...],
+                 key: MatchKey | None = None) -> None:
         self.production = production
         self.wmes = wmes
-        self.key: MatchKey = (production.name, tuple(w.timetag for w in wmes))
+        #: ``(name, timetags)``; a caller that has it passes it (it must be exactly that)
+        self.key: MatchKey = key if key is not None else (
+            production.name, tuple(w.timetag for w in wmes))
         self._hash = hash(self.key)
 
     def __hash__(self) -> int:
@@ -93,3 +101,13 @@ class Matcher(Protocol):
 
     def matches(self) -> Iterable[Match]:
         """The current match set."""
+
+
+@runtime_checkable
+class RawMatcher(Matcher, Protocol):
+    """A matcher that also gives its changes without building :class:`Match`
+    records (the Rete): the kernel's fast path."""
+
+    def take_raw(self) -> MatchChanges:
+        """:meth:`Matcher.take_changes` as :data:`MatchChanges`; the caller
+        reads them at once and must not keep them."""

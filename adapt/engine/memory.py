@@ -51,7 +51,7 @@ Examples
 
 from __future__ import annotations
 
-from typing import Iterable, Iterator, Protocol
+from typing import Iterator, Protocol
 
 from adapt.engine.symbols import Identifier, Symbol, format_symbol, symbol_sort_key
 from adapt.engine.wme import WME
@@ -188,18 +188,18 @@ class WorkingMemory:
                 w = new(WME, key + (tt,))
                 wmes[key] = w
                 ident = key[0]
-                bucket = by_id.get(ident)
-                if bucket is None:
+                known = by_id.get(ident)
+                if known is None:
                     by_id[ident] = {key: w}
                 else:
-                    bucket[key] = w
+                    known[key] = w
                 value = key[2]
                 if type(value) is Identifier:
-                    links = links_to.get(value)
-                    if links is None:
+                    linked = links_to.get(value)
+                    if linked is None:
                         links_to[value] = {key: w}
                     else:
-                        links[key] = w
+                        linked[key] = w
                 added.append(w)
             self._timetag = tt
         if removed:
@@ -258,7 +258,7 @@ class WorkingMemory:
             ident = suspects.pop()
             if ident in self._roots or ident not in self._by_id:
                 continue
-            alive, group = self._reachable(ident)  # type: ignore[arg-type]
+            alive, group = self._reachable(ident)
             if alive:
                 continue
             for node in group:
@@ -343,8 +343,3 @@ class WorkingMemory:
 
         show(root, 0)
         return "\n".join(lines)
-
-    def bulk_remove(self, keys: Iterable[WmeKey]) -> None:
-        """Request the removal of several WMEs by key."""
-        for key in keys:
-            self.remove(*key)

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 from typing import Union
 
 from adapt.engine.functions import FunctionTable, default_functions
-from adapt.engine.lexer import CONSTANT_KINDS, Token, iter_tokens
+from adapt.engine.lexer import CONSTANT_KINDS, Token, token_batches
 from adapt.engine.production import (
     Action,
     CallAction,
@@ -177,28 +177,47 @@ def _binders_first(conds: list[ConditionElement]) -> tuple[ConditionElement, ...
     return tuple(conds[k] for k in placed)
 
 
+#: Deepest nesting of ``{ }`` (conjunctive negations) and of function calls
+#: in one production: a limit, so that the (possibly compiled) recursive
+#: parser and matcher never run out of stack.
+MAX_NESTING = 200
+
+
 class _Parser:
     def __init__(self, text: str, file: str, table: FunctionTable) -> None:
         self.text = text
         self.file = file
         self.table = table
         self.lines = text.splitlines()
-        self._stream = iter_tokens(text, file)
+        self._batches = token_batches(text, file)
         self.toks: list[Token] = []
         self.i = 0
+        #: nesting of ``{`` and of function calls (bounded by MAX_NESTING)
+        self.depth = 0
         self._reset_production()
 
     def _reset_production(self) -> None:
+        if self.i:  # the tokens read so far are done with
+            del self.toks[:self.i]
+            self.i = 0
         self.hidden = 0
         self.rel_tokens: dict[tuple[str, int, int], Token] = {}
         self.rhs_uses: list[tuple[str, Variable, Token]] = []
 
     # ------------------------------------------------------------ helpers
     def peek(self, k: int = 0) -> Token:
+        j = self.i + k
         toks = self.toks
-        while len(toks) <= self.i + k and (not toks or toks[-1].kind != "eof"):
-            toks.append(next(self._stream))
-        return toks[min(self.i + k, len(toks) - 1)]
+        if j < len(toks):
+            return toks[j]
+        return self._pull(j)
+
+    def _pull(self, j: int) -> Token:
+        """Read tokens until the ``j``-th (or the end of the text)."""
+        toks = self.toks
+        while len(toks) <= j and (not toks or toks[-1].kind != "eof"):
+            toks.extend(next(self._batches))
+        return toks[min(j, len(toks) - 1)]
 
     def advance(self) -> Token:
         tok = self.peek()
@@ -361,6 +380,7 @@ class _Parser:
             return self.parse_condition()
         if tok.kind == "{":
             self.advance()
+            self.enter(tok)
             out: list[ConditionElement] = []
             while self.peek().kind != "}":
                 if self.peek().kind not in ("(", "-", "{"):
@@ -369,6 +389,7 @@ class _Parser:
                     )
                 out.extend(self.parse_cond())
             self.advance()
+            self.depth -= 1
             if not out:
                 raise self.syntax("empty '{ }': a conjunction needs at least one condition", tok)
             return out
@@ -526,8 +547,9 @@ class _Parser:
         """First condition a state, every condition linked, relational variables bound."""
         if not conditions or not _is_state_test(conditions[0]):
             at: _Located = arrow
-            if conditions and conditions[0].location is not None:
-                at = conditions[0].location  # type: ignore[assignment]
+            first = conditions[0].location if conditions else None
+            if first is not None:
+                at = first
             raise self.semantic(
                 "the first condition must test a state: '(state <s> ...)'", at
             )
@@ -548,10 +570,10 @@ class _Parser:
         changed = True
         while changed:
             changed = False
-            for c in list(pending):
-                if c.id in reach:
-                    reach |= condition_equality_variables(c)
-                    pending.remove(c)
+            for p in list(pending):
+                if p.id in reach:
+                    reach |= condition_equality_variables(p)
+                    pending.remove(p)
                     changed = True
         for c in elements:
             if isinstance(c, ConjunctiveNegation):
@@ -626,11 +648,21 @@ class _Parser:
             raise self.semantic(problem, name_tok)
         return FunctionCall(name, tuple(args), location=self.loc(opening))
 
+    def enter(self, tok: Token) -> None:
+        """One more level of ``{`` or of a nested function call."""
+        self.depth += 1
+        if self.depth > MAX_NESTING:
+            raise self.syntax(f"rule text is nested too deeply (more than {MAX_NESTING} levels)",
+                              tok)
+
     def parse_rhs_value(self, role: str) -> RhsValue:
         tok = self.peek()
         if tok.kind == "(":
             self.advance()
-            return self.parse_call(tok, as_action=False)
+            self.enter(tok)
+            call = self.parse_call(tok, as_action=False)
+            self.depth -= 1
+            return call
         if tok.kind == "variable":
             self.advance()
             var = Variable(str(tok.value))
@@ -787,7 +819,7 @@ def load_rule_file(
     except OSError as exc:
         raise RuleError(f"cannot read rule file: {exc.strerror or exc}", file=name) from None
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # a byte-order mark (as some editors write) is not text
     except UnicodeDecodeError as exc:
         before = data[: exc.start]
         line = before.count(b"\n") + 1

@@ -72,7 +72,7 @@ from __future__ import annotations
 
 import math
 import random
-from typing import Iterable, Literal, NamedTuple, Sequence
+from typing import Final, Iterable, Literal, NamedTuple, Sequence
 
 from adapt.engine.production import PreferenceKind
 from adapt.engine.symbols import Identifier, Symbol, is_number
@@ -97,17 +97,17 @@ POLICIES = ("softmax", "boltzmann", "epsilon-greedy", "random", "first", "last")
 #: Numeric-indifference modes (Soar's ``numeric-indifferent-mode``).
 NUMERIC_MODES = ("sum", "avg")
 
-_ACCEPTABLE = PreferenceKind.ACCEPTABLE
-_REQUIRE = PreferenceKind.REQUIRE
-_PROHIBIT = PreferenceKind.PROHIBIT
-_REJECT = PreferenceKind.REJECT
-_BETTER = PreferenceKind.BETTER
-_WORSE = PreferenceKind.WORSE
-_BEST = PreferenceKind.BEST
-_WORST = PreferenceKind.WORST
-_UNARY = PreferenceKind.UNARY_INDIFFERENT
-_BINARY = PreferenceKind.BINARY_INDIFFERENT
-_NUMERIC = PreferenceKind.NUMERIC_INDIFFERENT
+_ACCEPTABLE: Final = PreferenceKind.ACCEPTABLE
+_REQUIRE: Final = PreferenceKind.REQUIRE
+_PROHIBIT: Final = PreferenceKind.PROHIBIT
+_REJECT: Final = PreferenceKind.REJECT
+_BETTER: Final = PreferenceKind.BETTER
+_WORSE: Final = PreferenceKind.WORSE
+_BEST: Final = PreferenceKind.BEST
+_WORST: Final = PreferenceKind.WORST
+_UNARY: Final = PreferenceKind.UNARY_INDIFFERENT
+_BINARY: Final = PreferenceKind.BINARY_INDIFFERENT
+_NUMERIC: Final = PreferenceKind.NUMERIC_INDIFFERENT
 
 
 class Preference(NamedTuple):
@@ -177,7 +177,7 @@ class SlotDecision(NamedTuple):
         return self.outcome in ("tie", "conflict", "constraint-failure")
 
 
-_NONE_DECISION = SlotDecision("none", None, (), (), ())
+_NONE_DECISION: Final = SlotDecision("none", None, (), (), ())
 
 
 def _same(a: Symbol, b: Symbol) -> bool:
@@ -441,10 +441,10 @@ def should_keep(preferences: Iterable[Preference], current: Symbol) -> bool:
     True
     """
     result = _Slot(preferences).run()
-    if type(result) is SlotDecision:
+    if isinstance(result, SlotDecision):
         sel = result.selected
         return result.outcome == "select" and sel is not None and _same(sel, current)
-    for c in result:  # type: ignore[union-attr]
+    for c in result:
         if _same(c, current):
             return True
     return False

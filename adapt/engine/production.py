@@ -53,6 +53,7 @@ __all__ = [
     "DisjunctionTest",
     "ConjunctiveTest",
     "Test",
+    "SimpleTest",
     "Condition",
     "ConjunctiveNegation",
     "ConditionElement",
@@ -122,6 +123,8 @@ class ConjunctiveTest:
 
 
 Test = Union[EqualityTest, RelationalTest, DisjunctionTest, ConjunctiveTest]
+#: A test that is not a conjunction.
+SimpleTest = Union[EqualityTest, RelationalTest, DisjunctionTest]
 
 
 @dataclass(frozen=True, slots=True)
@@ -198,16 +201,6 @@ class PreferenceKind(str, Enum):
     BINARY_INDIFFERENT = "=x"
     NUMERIC_INDIFFERENT = "=n"
 
-    @property
-    def is_binary(self) -> bool:
-        """True for preferences that relate the value to a referent."""
-        return self in (
-            PreferenceKind.BETTER,
-            PreferenceKind.WORSE,
-            PreferenceKind.BINARY_INDIFFERENT,
-            PreferenceKind.NUMERIC_INDIFFERENT,
-        )
-
 
 @dataclass(frozen=True, slots=True)
 class MakeAction:
@@ -249,7 +242,7 @@ def variables_in_test(test: Test | None) -> list[Variable]:
     return out
 
 
-def simple_tests(test: Test | None) -> list[Test]:
+def simple_tests(test: Test | None) -> list[SimpleTest]:
     """The test's parts with conjunctive tests flattened (``None`` gives ``[]``).
 
     Examples

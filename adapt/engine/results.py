@@ -46,11 +46,11 @@ still holds).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
-from adapt.engine.instantiation import SUPPORT_I, SUPPORT_O, Instantiation
-from adapt.engine.naive import _exists
-from adapt.engine.preferences import Preference
+from adapt.engine.conditions import Bindings, exists
+from adapt.engine.events import Event
+from adapt.engine.instantiation import Instantiation
 from adapt.engine.production import (
     Condition,
     ConditionElement,
@@ -59,7 +59,9 @@ from adapt.engine.production import (
     Variable,
     equality_variable,
 )
+from adapt.engine.support import MadePreference
 from adapt.engine.symbols import Identifier, level_of
+from adapt.engine.vocabulary import Support
 from adapt.engine.wme import WME
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -68,12 +70,12 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["ResultMaker", "Justification"]
 
-_ACCEPTABLE = PreferenceKind.ACCEPTABLE
+_ACCEPTABLE: Final = PreferenceKind.ACCEPTABLE
 
 
 #: A negated condition (or conjunctive negation) of a justification, with the
 #: bindings of the instantiation it came from.
-Negation = tuple[ConditionElement, dict]
+Negation = tuple[ConditionElement, Bindings]
 
 
 class Justification(Instantiation):
@@ -88,39 +90,21 @@ class Justification(Instantiation):
 
     __slots__ = ("negations",)
 
-    def __init__(self, goal: Goal, support: str, wmes: tuple,
+    def __init__(self, goal: Goal, support: Support, wmes: tuple[WME, ...],
                  negations: tuple[Negation, ...]) -> None:
         super().__init__(None, None, goal, support, wmes)
         self.negations = negations
 
     def __repr__(self) -> str:
         tags = [w.timetag for w in self.wmes]
-        return (f"Justification({self.support}, level {self.goal.level}, {tags}, "
+        return (f"Justification({self.support.value}, level {self.goal.level}, {tags}, "
                 f"{len(self.negations)} negated)")
-
-
-class _WMView:
-    """Working memory as the brute-force matcher's negation check reads it."""
-
-    __slots__ = ("wm",)
-
-    def __init__(self, wm: object) -> None:
-        self.wm = wm
-
-    @property
-    def wmes(self) -> list[WME]:
-        return list(self.wm)  # type: ignore[call-overload]
-
-    def candidates(self, cond: Condition, bindings: dict) -> list[WME]:
-        if cond.id in bindings:
-            return self.wm.of(bindings[cond.id])  # type: ignore[attr-defined]
-        return self.wmes
 
 
 class ResultMaker:
     """Finds results, builds their justifications, keeps the GDS up to date."""
 
-    __slots__ = ("kernel", "grounds_index", "negated_index", "ncc_justs", "_view")
+    __slots__ = ("kernel", "grounds_index", "negated_index", "ncc_justs")
 
     def __init__(self, kernel: Kernel) -> None:
         self.kernel = kernel
@@ -130,16 +114,16 @@ class ResultMaker:
         self.negated_index: dict[object, list[Justification]] = {}
         #: justifications with a conjunctive negation (checked on every change)
         self.ncc_justs: list[Justification] = []
-        self._view = _WMView(kernel.wm)
 
     def level(self, ident: object) -> int:
         """The goal level an identifier belongs to (0 when unknown)."""
         return level_of(ident)
 
-    def split(self, inst: Instantiation, prefs: list[tuple]) -> set[tuple] | None:
+    def split(self, inst: Instantiation,
+              prefs: list[MadePreference]) -> set[MadePreference] | None:
         """The preferences of ``inst`` that are results (``None`` when none)."""
         level = inst.goal.level
-        results: set[tuple] = set()
+        results: set[MadePreference] = set()
         linked: set[Identifier] = set()
         changed = True
         while changed:
@@ -159,7 +143,7 @@ class ResultMaker:
             return None
         return results
 
-    def make(self, inst: Instantiation, results: list[tuple]) -> None:
+    def make(self, inst: Instantiation, results: list[MadePreference]) -> None:
         """Assert the results of ``inst`` with a justification's support."""
         k = self.kernel
         negated: list[Negation] = []
@@ -177,32 +161,17 @@ class ResultMaker:
                 goal = g
         if goal is None:
             goal = _goal_at(k, target)
-        support = SUPPORT_I
+        support = Support.I
         for w in grounds:
             if w.id is goal.id and w.attr == "operator" and not w.acceptable:
-                support = SUPPORT_O
+                support = Support.O
                 break
         just = Justification(goal, support, tuple(grounds), negations)
         for p in results:
             self._promote(p, target)
-        k.emit("result", (inst, just, results))
-        for p in results:
-            kind, ident, attr, value, ref, _ = p
-            if attr == "operator" and ident in k.goals:
-                k._add_slot_pref(k.goals[ident], Preference(kind, value, ref), just)
-                continue
-            if kind is not _ACCEPTABLE:
-                if kind is PreferenceKind.REJECT and support == SUPPORT_O:
-                    k._o_reject(p)
-                continue
-            key = (ident, attr, value, False)
-            if support == SUPPORT_O:
-                k.osup[key] = just
-            else:
-                k.isup.setdefault(key, []).append(just)
-                just.i_wmes.append(key)
-            k.wm.add(ident, attr, value)
-        if just.slot_prefs and support == SUPPORT_O:
+        k.events.emit(Event.RESULT, (inst, just, results))
+        k.preferences.assert_preferences(just, results, support is Support.O)
+        if just.slot_prefs and support is Support.O:
             # o-supported operator-slot preferences stay, as in Soar, until
             # their goal goes
             goal.instantiations[id(just)] = just
@@ -219,7 +188,7 @@ class ResultMaker:
             if negations and self._violated(just):
                 # a negation already has a match (the instantiation behind it
                 # is waiting to retract): the justification does not hold
-                k._schedule_retraction(just)
+                k.schedule_retraction(just)
 
     def _surely_ungrounded(self, inst: Instantiation) -> bool:
         """Whether a complete backtrace of ``inst`` meets no superstate WME.
@@ -247,18 +216,18 @@ class ResultMaker:
                     if attr == "item":  # stands for the superstate's (S ^operator O +)
                         return False
                     if attr == "operator" and not w.acceptable:
-                        creators = list(k.isup.get((w.id, attr, w.value, True), ()))
+                        creators = list(k.preferences.isup.get((w.id, attr, w.value, True), ()))
                         if not creators:
                             return False
                     else:
                         key = w.key
                         if key in g.arch:
                             continue
-                        creators = list(k.isup.get(key, ()))
+                        creators = list(k.preferences.isup.get(key, ()))
                 else:
                     key = w.key
-                    creators = list(k.isup.get(key, ()))
-                o = k.osup.get(w.key)
+                    creators = list(k.preferences.isup.get(key, ()))
+                o = k.preferences.osup.get(w.key)
                 if o is not None:
                     creators.append(o)
                 if not creators:
@@ -269,7 +238,7 @@ class ResultMaker:
                         stack.append(c)
         return True
 
-    def _ungrounded(self, inst: Instantiation, results: list[tuple]) -> None:
+    def _ungrounded(self, inst: Instantiation, results: list[MadePreference]) -> None:
         """Results whose justification would have no grounds stay the firing's own.
 
         Soar builds no justification then ("no conditions"): the results keep
@@ -284,29 +253,14 @@ class ResultMaker:
         target = min(self.level(p[1]) for p in results)
         for p in results:
             self._promote(p, target)
-        k.emit("result", (inst, None, results))
-        for p in results:
-            kind, ident, attr, value, ref, o = p
-            if attr == "operator" and ident in k.goals:
-                k._add_slot_pref(k.goals[ident], Preference(kind, value, ref), inst)
-            elif kind is _ACCEPTABLE:
-                key = (ident, attr, value, False)
-                if o:
-                    k.osup[key] = inst
-                    goal.ungrounded.append((key, inst))
-                else:
-                    k.isup.setdefault(key, []).append(inst)
-                    inst.i_wmes.append(key)
-                if key not in k.irej:
-                    k.wm.add(ident, attr, value)
-            elif kind is PreferenceKind.REJECT:
-                if o:
-                    k._o_reject(p)
-                else:
-                    key = (ident, attr, value, False)
-                    k.irej.setdefault(key, []).append(inst)
-                    inst.i_wmes.append(key)
-                    k.wm.remove(ident, attr, value)
+        k.events.emit(Event.RESULT, (inst, None, results))
+        o_supported = inst.support is Support.O
+        k.preferences.assert_preferences(inst, results, o_supported)
+        if o_supported:
+            goals = k.goals
+            goal.ungrounded.extend(
+                ((p[1], p[2], p[3], False), inst) for p in results
+                if p[0] is _ACCEPTABLE and not (p[2] == "operator" and p[1] in goals))
         if inst.i_wmes or inst.slot_prefs:
             goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
 
@@ -334,19 +288,19 @@ class ResultMaker:
                             hit.append(j)
             for j in hit:
                 if self._violated(j):
-                    self.kernel._schedule_retraction(j)
+                    self.kernel.schedule_retraction(j)
         if self.ncc_justs and (added or removed):
             live = [j for j in self.ncc_justs if not j.retracted]
             self.ncc_justs = live
             for j in live:
                 if self._violated(j):
-                    self.kernel._schedule_retraction(j)
+                    self.kernel.schedule_retraction(j)
 
     def _violated(self, just: Justification) -> bool:
         """Whether one of the justification's negations has a match now."""
-        view = self._view
+        wm = self.kernel.wm
         for element, bindings in just.negations:
-            if _exists(element, view, bindings):  # type: ignore[arg-type]
+            if exists(element, wm, bindings):
                 return True
         return False
 
@@ -390,8 +344,8 @@ class ResultMaker:
                         if acc is not None:
                             grounds[acc.timetag] = acc
                     continue
-                creators: list[Instantiation] = list(k.isup.get(key, ()))
-                o = k.osup.get(key)
+                creators: list[Instantiation] = list(k.preferences.isup.get(key, ()))
+                o = k.preferences.osup.get(key)
                 if o is not None:
                     if stop_at_o:
                         continue
@@ -402,7 +356,7 @@ class ResultMaker:
                         stack.append(c)
         return sorted(grounds.values(), key=lambda w: w.timetag)
 
-    def _promote(self, p: tuple, level: int) -> None:
+    def _promote(self, p: MadePreference, level: int) -> None:
         """Move an identifier a result links upwards (and its structure) to ``level``."""
         value = p[3]
         if type(value) is not Identifier:
@@ -471,7 +425,7 @@ def _connected(grounds: list[WME], negated: list[Negation]) -> tuple[Negation, .
     return tuple(out)
 
 
-def _term_marked(term: object, bindings: dict, marked: set[object]) -> bool:
+def _term_marked(term: object, bindings: Bindings, marked: set[object]) -> bool:
     if isinstance(term, Variable):
         if term in bindings:
             return bindings[term] in marked
@@ -479,7 +433,7 @@ def _term_marked(term: object, bindings: dict, marked: set[object]) -> bool:
     return term in marked
 
 
-def _in_tc(element: ConditionElement, bindings: dict, marked: set[object]) -> bool:
+def _in_tc(element: ConditionElement, bindings: Bindings, marked: set[object]) -> bool:
     if isinstance(element, Condition):
         return _term_marked(element.id, bindings, marked)
     local = set(marked)

@@ -25,6 +25,8 @@ from __future__ import annotations
 
 from typing import Union
 
+from adapt.engine.floats import Float
+
 __all__ = [
     "Identifier",
     "Float",
@@ -63,33 +65,12 @@ class Identifier:
     def __repr__(self) -> str:
         return self.name
 
-    __str__ = __repr__
+    def __str__(self) -> str:
+        return self.name
 
     def sort_key(self) -> tuple[str, int]:
         """``(letter, number)``, the order Soar prints identifiers in."""
         return (self.letter, self.number)
-
-
-class Float(float):
-    """A floating-point constant: equal only to floats, hashed apart from ints.
-
-    Arithmetic on a :class:`Float` returns a plain ``float``; wrap results with
-    :func:`to_symbol` before they go into working memory.
-    """
-
-    __slots__ = ()
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, float) and float.__eq__(self, other)
-
-    def __ne__(self, other: object) -> bool:
-        return not self.__eq__(other)
-
-    def __hash__(self) -> int:
-        return hash((float(self), "f"))
-
-    def __repr__(self) -> str:
-        return f"Float({float.__repr__(self)})"
 
 
 #: A constant symbol.
@@ -143,7 +124,7 @@ def format_symbol(value: Symbol) -> str:
 
 def level_of(value: object) -> int:
     """The goal level of an identifier (:attr:`Identifier.level`); 0 for anything else."""
-    return value.level if type(value) is Identifier else 0  # type: ignore[attr-defined]
+    return value.level if isinstance(value, Identifier) else 0
 
 
 def symbol_sort_key(value: Symbol) -> tuple[int, object, object]:

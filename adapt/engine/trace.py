@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import datetime
 import json
+import os
 from typing import IO, Any, Iterable
 
 from adapt.engine.symbols import Float, Identifier, Symbol
@@ -76,15 +77,15 @@ class TraceWriter:
     """
 
     def __init__(self, sink: Any, *, level: int = 5, files: Iterable[str] = (),
-                 seed: int = 1, version: str = "0.1.0") -> None:
+                 seed: int | None = 1, version: str = "0.1.0") -> None:
         if not 1 <= level <= 5:
             raise ValueError(f"trace level must be 1..5, not {level}")
-        if hasattr(sink, "write"):
-            self._out: IO[str] = sink
-            self._owned = False
-        else:
-            self._out = open(sink, "w", encoding="utf-8")
+        if isinstance(sink, (str, os.PathLike)):
+            self._out: IO[str] = open(sink, "w", encoding="utf-8")  # noqa: SIM115 (closed by close())
             self._owned = True
+        else:
+            self._out = sink
+            self._owned = False
         self.level = level
         self._phase: dict[str, Any] | None = None
         self._carry: list[WME] = []

@@ -255,7 +255,7 @@ def write_strip(
                                        linewidth=1.5))
     buf = io.BytesIO()
     extra = {"pil_kwargs": {"compress_level": 3}} if fmt == "png" else {}
-    fig.savefig(buf, format=fmt, dpi=DPI, facecolor="white", **extra)
+    fig.savefig(buf, format=fmt, dpi=DPI, facecolor="white", **extra)  # type: ignore[arg-type]
     try:
         write_atomic(p, buf.getvalue())
     except OSError as exc:

@@ -42,7 +42,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import ImaginationError
-from adapt.imagination.scene import Ball, RobotSpec, SceneSpec, Vec2
+from adapt.imagination.scene import Ball, RobotSpec, Vec2
 from adapt.imagination.world import MAX_STEPS, BodyState, Contact, World, WorldState
 
 __all__ = [
@@ -407,11 +407,16 @@ def ensemble(
     drawn = {key: rng.uniform(lo, hi, size=n) for key, (lo, hi) in ranges.items()}
     samples = np.empty((n, len(steps), 2))
     out_t = np.empty(len(steps))
+    # one world for every member: each gets its parameters in place and the start state
+    # (building a world per member costs about as much as a second of physics)
+    fork = World(scene, dt=world.dt, seed=world.seed, state=start, record_contacts=False)
     for m in range(n):
-        member_scene, member_state = _member(scene, base_ball, start, name,
-                                             {k: float(v[m]) for k, v in drawn.items()})
-        fork = World(member_scene, dt=world.dt, seed=world.seed, state=member_state,
-                     record_contacts=False)
+        values = {k: float(v[m]) for k, v in drawn.items()}
+        params = {k: values[k] for k in ("restitution", "friction", "rolling_resistance", "mass")
+                  if k in values}
+        if params:
+            fork.set_ball_parameters(name, **params)
+        fork.set_state(_member_state(start, name, values))
         b = fork.body(name)
         done = 0
         for i, k in enumerate(steps):
@@ -425,21 +430,12 @@ def ensemble(
     return Ensemble(name, out_t, samples, samples.mean(axis=0), pct, drawn)
 
 
-def _member(
-    scene: SceneSpec, ball: Ball, state: WorldState, name: str, values: dict[str, float]
-) -> tuple[SceneSpec, WorldState]:
-    changes = {k: v for k, v in values.items() if k in ("restitution", "friction",
-                                                         "rolling_resistance", "mass")}
-    member_scene = scene
-    if changes:
-        new_ball = replace(ball, **changes)
-        member_scene = replace(
-            scene, balls=tuple(new_ball if b.name == name else b for b in scene.balls)
-        )
+def _member_state(state: WorldState, name: str, values: dict[str, float]) -> WorldState:
+    """``state`` with ``name``'s velocity scaled and turned by the member's draws."""
     scale = values.get("speed_scale", 1.0)
     turn = math.radians(values.get("heading_deg", 0.0))
     if scale == 1.0 and turn == 0.0:
-        return member_scene, state
+        return state
     bodies = []
     for b in state.bodies:
         if b.name == name:
@@ -449,4 +445,4 @@ def _member(
                           (scale * (c * vx - s * vy), scale * (s * vx + c * vy)),
                           b.angle, b.angular_velocity)
         bodies.append(b)
-    return member_scene, replace(state, bodies=tuple(bodies))
+    return replace(state, bodies=tuple(bodies))

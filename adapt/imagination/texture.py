@@ -140,7 +140,7 @@ def mip_levels(image: NDArray[np.uint8], max_levels: int = 8) -> tuple[NDArray[n
     """
     levels = [np.ascontiguousarray(image)]
     while min(levels[-1].shape[:2]) >= 2 * _MIN_LEVEL and len(levels) < max_levels:
-        levels.append(cv2.pyrDown(levels[-1]))
+        levels.append(cv2.pyrDown(levels[-1]))  # type: ignore[arg-type]
     levels[0] = levels[0].copy() if levels[0] is image else levels[0]
     for level in levels:
         level.setflags(write=False)

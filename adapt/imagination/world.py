@@ -327,8 +327,8 @@ class World:
             p = points[0].point_a if arbiter.shapes[0] is a else points[0].point_b
             pos = (float(p[0]), float(p[1]))
         else:
-            pos = (float(a.body.position[0]), float(a.body.position[1]))
-        v = a.body.velocity
+            pos = (float(a.body.position[0]), float(a.body.position[1]))  # type: ignore[union-attr]
+        v = a.body.velocity  # type: ignore[union-attr]
         self.contacts.append(Contact(time, ball, surface, pos, float(math.hypot(v[0], v[1]))))
 
     # -- balls at run time ------------------------------------------------------
@@ -388,6 +388,50 @@ class World:
         del self._radius[name]
         self._forces.pop(name, None)
         self.scene = replace(self.scene, balls=tuple(b for b in self.scene.balls if b.name != name))
+        self._update_extremes()
+        self._calm = False
+
+    def set_ball_parameters(self, name: str, **values: float) -> None:
+        """Give a ball new ``restitution``, ``friction``, ``rolling_resistance`` or
+        ``mass`` in place (cheaper than building a world; ensembles reuse one world
+        this way).  Its position and velocity are kept.
+
+        Examples
+        --------
+        >>> w = World(SceneSpec(balls=(Ball("b", restitution=0.5),)))
+        >>> w.set_ball_parameters("b", restitution=0.9, rolling_resistance=0.02)
+        >>> w.scene.balls[0].restitution, w.scene.balls[0].rolling_resistance
+        (0.9, 0.02)
+        """
+        if name not in self._balls:
+            raise ImaginationError(f"no ball called {name!r} in the world; balls: {list(self._balls)}")
+        unknown = set(values) - {"restitution", "friction", "rolling_resistance", "mass"}
+        if unknown:
+            raise ImaginationError(f"cannot set {sorted(unknown)} of a ball; expected restitution, "
+                                   "friction, rolling_resistance or mass")
+        old = next(b for b in self.scene.balls if b.name == name)
+        changes: dict[str, Any] = dict(values)
+        new = replace(old, **changes)  # validates the values
+        shape, joints = self._parts[name]
+        if (new.rolling_resistance > 0) != bool(joints):
+            body = self._balls[name]
+            p, v = (float(body.position[0]), float(body.position[1])), (float(body.velocity[0]),
+                                                                       float(body.velocity[1]))
+            self.remove_ball(name)
+            self.add_ball(new, position=p, velocity=v)
+            return
+        body = self._balls[name]
+        shape.elasticity = new.restitution
+        shape.friction = new.friction
+        if new.mass != old.mass:
+            body.mass = new.mass
+            body.moment = pymunk.moment_for_circle(new.mass, 0.0, new.radius)
+        if joints:
+            rr, spin = joints
+            rr.max_force = new.rolling_resistance * new.mass * self.scene.gravity
+            spin.max_force = rr.max_force * new.radius
+        self.scene = replace(self.scene, balls=tuple(new if b.name == name else b
+                                                     for b in self.scene.balls))
         self._update_extremes()
         self._calm = False
 

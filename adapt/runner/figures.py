@@ -147,9 +147,9 @@ def _sync_rows(snaps: list[Snapshot]) -> list[list[Panel]]:
         head = f"t={s.time:.2f} s ({err})"
         corners = [] if s.corners is None or not len(s.corners) else [(s.corners, "yellow")]
         rows.append([Panel(f"{head}\nreal", s.real),
-                     Panel("synthetic + matched corners", s.synthetic, points=corners),
-                     Panel("warped synthetic", s.warped), Panel("MMD mask", s.mask),
-                     Panel("MMD image", s.difference)])
+                     Panel("synthetic + matched corners", s.synthetic, points=corners),  # type: ignore[arg-type]
+                     Panel("warped synthetic", s.warped), Panel("MMD mask", s.mask),  # type: ignore[arg-type]
+                     Panel("MMD image", s.difference)])  # type: ignore[arg-type]
     return rows
 
 
@@ -157,7 +157,7 @@ def _boxed(label: str, image: NDArray[Any] | None, snap: Snapshot) -> Panel:
     boxes = [(b, "red") for b in snap.unexpected] + [(b, "cyan") for _, b in snap.monitored]
     if image is not None and image.shape[:2] != snap.real.shape[:2]:
         boxes = []  # an MMD image at a reduced working resolution: no boxes in input pixels
-    return Panel(label, image, boxes=boxes)
+    return Panel(label, image, boxes=boxes)  # type: ignore[arg-type]
 
 
 def write_figures(runner: "Runner", folder: Path) -> dict[str, Path]:
@@ -182,7 +182,7 @@ def write_figures(runner: "Runner", folder: Path) -> dict[str, Path]:
         if before:
             chosen = [before[-1], *chosen]
         rows = [[_boxed(f"t={s.time:.2f} s\nreal", s.real, s),
-                 Panel("synthetic", s.synthetic), _boxed("MMD image", s.difference, s)]
+                 Panel("synthetic", s.synthetic), _boxed("MMD image", s.difference, s)]  # type: ignore[arg-type]
                 for s in chosen]
         out["unexpected"] = write_strip(
             folder / "unexpected.png", rows,

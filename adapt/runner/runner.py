@@ -45,10 +45,12 @@ from adapt.errors import RuleError, RunError
 from adapt.frames import Frame, FrameSource, VideoSink
 from adapt.geometry import Camera
 from adapt.mirror import Mirror
+from adapt.runner.baseline import Baseline
 from adapt.runner.evaluation import Evaluation
 from adapt.runner.figures import Paths, Snapshot, Snapshots
 from adapt.runner.panels import CAPTION, side_by_side
 from adapt.runner.report import ReportWriter
+from adapt.runner.twin import UncorrectedTwin
 from adapt.scenario import Mount, OutputSettings, Scenario
 from adapt.schemas import REGISTRY, Registry, SchemaEvent, SchemaNetwork
 from adapt.seeds import Streams
@@ -148,7 +150,9 @@ class Runner:
             actuator=getattr(source, "robot", None), predict=scenario.predict,
             rng=self.streams.generator("ensemble"), frame_interval=1.0 / self.fps)
         self.truth = getattr(source, "truth", None)
-        self.evaluation = Evaluation(scenario, self.truth)
+        self.evaluation = Evaluation(scenario, self.truth, self.fps)
+        self.twin = UncorrectedTwin(scenario.scene, seed=self.seed)
+        self.baselines: dict[str, Baseline] = {}
         self.events: dict[str, int] = {}
         self.writes: list[str] = []
         self.stage_s = {s: 0.0 for s in STAGES}
@@ -256,6 +260,15 @@ class Runner:
         self.events[event.kind] = self.events.get(event.kind, 0) + 1
         if event.kind == "spawned":
             self.snapshots.spawned(max(event.frame, 0))
+        if event.kind == "created" and event.schema in self.network:
+            schema = self.network[event.schema]
+            ball = getattr(schema, "ball", None)
+            model = self.scenario.objects and {m.name: m for m in self.scenario.objects}.get(
+                event.data.get("body", ""))
+            if model:
+                ball = model.ball  # the uncorrected twin keeps the model's own parameters
+            if ball is not None:
+                self.twin.create(ball, event.data["position"], event.data["velocity"])
         if self._trace is not None:
             self._trace.event("schema", event.as_json())
 
@@ -343,6 +356,7 @@ class Runner:
         self.network.act(frame.time)
         t4 = time.perf_counter()
         self.mirror.step_to(frame.time + 1.0 / self.fps)
+        self.twin.step_to(frame.time + 1.0 / self.fps)
         t5 = time.perf_counter()
         stage["perception"] += t2 - t1
         stage["decisions"] += t3 - t2
@@ -369,42 +383,80 @@ class Runner:
 
     # -- records ---------------------------------------------------------------------------------
 
-    def _objects(self) -> dict[str, dict[str, Any]]:
+    def _objects(self) -> tuple[dict[str, dict[str, Any]], dict[str, Any], dict[str, Any],
+                                dict[str, Any]]:
+        """Per object: observed and imagined positions, the mirror's predictions, the
+        predicted contacts, and the baseline's predictions."""
         from adapt.schemas.foreground import ForegroundObject
 
         out: dict[str, dict[str, Any]] = {}
+        preds: dict[str, Any] = {}
+        contacts: dict[str, Any] = {}
+        baseline: dict[str, Any] = {}
         for m in self.scenario.objects:
             out[m.name] = {"observed": None, "imagined": None}
+        robot = self.scenario.scene.robot
         for s in self.network.ordered():
-            if isinstance(s, ForegroundObject):
-                o = s.observed()
-                out.setdefault(s.object_name, {"observed": None, "imagined": None})
-                out[s.object_name]["observed"] = None if o is None else [round(o[0], 4),
-                                                                         round(o[1], 4)]
-        for b in self.mirror.scene.balls:
-            if self.mirror.has_body(b.name):
-                p = self.mirror.world.position(b.name)
-                out.setdefault(b.name, {"observed": None, "imagined": None})
-                out[b.name]["imagined"] = [round(p[0], 4), round(p[1], 4)]
-        return out
+            if not isinstance(s, ForegroundObject):
+                continue
+            name = s.object_name
+            o = s.observed()
+            out.setdefault(name, {"observed": None, "imagined": None})
+            out[name]["observed"] = None if o is None else [round(o[0], 4), round(o[1], 4)]
+            if s.prediction is not None:
+                preds[name] = [h.as_json() for h in s.prediction.horizons]
+                contacts[name] = s.prediction.contacts_json()
+            if robot is not None and s.ball is not None:
+                b = self.baselines.get(name)
+                if b is None:
+                    from adapt.imagination.predict import intercept_reach
+
+                    b = self.baselines[name] = Baseline(
+                        robot, reach=intercept_reach(s.ball, robot),
+                        horizons=self.scenario.predict.horizons, dt=1.0 / self.fps)
+                sighting = s.last.position if s.last is not None and s.misses == 0 else None
+                b.step(self.network.time, sighting)
+                baseline[name] = b.predictions()
+        for ball in self.mirror.scene.balls:
+            if self.mirror.has_body(ball.name):
+                p = self.mirror.world.position(ball.name)
+                out.setdefault(ball.name, {"observed": None, "imagined": None})
+                out[ball.name]["imagined"] = [round(p[0], 4), round(p[1], 4)]
+        return out, preds, contacts, baseline
 
     def _record(self, frame: Frame) -> dict[str, Any]:
         bg = self.network.background
-        objects = self._objects()
+        objects, preds, contacts, baseline = self._objects()
         record: dict[str, Any] = {
             "index": frame.index, "t": round(frame.time, 6),
             "schemas": self.network.names,
             "unexpected_regions": 0 if bg is None else sum(not r.expected for r in bg.regions),
             "objects": objects,
-            "predictions": {name: [] for name in objects},
+            "predictions": {name: preds.get(name, []) for name in objects},
+            "contacts": contacts,
+            "baseline": baseline,
         }
         if bg is not None:
             record["mmd"] = {"aligned": bg.result is not None and bg.result.aligned,
+                             "trusted": bg.trusted,
                              "pixel_error": None if math.isnan(bg.pixel_error)
                              else round(bg.pixel_error, 4),
                              "inliers": 0 if bg.result is None else bg.result.n_inliers,
                              "regions": len(bg.regions), "ms": round(bg.ms, 2)}
-        self.evaluation.add(frame.index, frame.time, record, self.mirror.camera)
+        pose = self.mirror.robot_pose()
+        target = self.evaluation.target
+        base_robot = None
+        if target is not None and target in self.baselines:
+            base_robot = tuple(float(v) for v in self.baselines[target].robot.position)
+        if pose is not None:
+            record["robot"] = {"odometry": [round(pose[0][0], 4), round(pose[0][1], 4)],
+                               "heading": round(pose[1], 4)}
+            if base_robot is not None:
+                record["robot"]["baseline"] = [round(base_robot[0], 4), round(base_robot[1], 4)]
+        uncorrected = self.twin.positions()
+        record["uncorrected"] = {n: [round(p[0], 4), round(p[1], 4)] for n, p in uncorrected.items()}
+        self.evaluation.add(frame.index, frame.time, record, self.mirror.camera,
+                            uncorrected=uncorrected, baseline_robot=base_robot)
         return record
 
     def _frame_trace(self, record: dict[str, Any]) -> dict[str, Any]:
@@ -449,11 +501,25 @@ class Runner:
             "stage_ms": {k: round(1000.0 * v / n, 3) for k, v in self.stage_s.items()},
             "stage_share": {k: round(v / total, 4) if total > 0 else 0.0
                             for k, v in self.stage_s.items()},
+            "schema_ms": {k: round(1000.0 * v / n, 3) for k, v in sorted(self.network.seconds.items())},
             "mmd_ms_median": round(float(np.median(self.mmd_ms)), 3) if self.mmd_ms else None,
+            "rollouts": self._rollouts(),
             "writes": "".join(self.writes[-20:]),
         }
         out.update(self.evaluation.summary())
         return out
+
+    def _rollouts(self) -> dict[str, Any]:
+        """How fast the object schemas' predictions ran: seconds of imagination rolled out
+        per wall-clock second (times real time)."""
+        sim = wall = 0.0
+        for s in self.network.ordered():
+            pred = getattr(s, "predictor", None)
+            if pred is not None:
+                sim += pred.simulated_s
+                wall += pred.wall_s
+        return {"simulated_s": round(sim, 3), "wall_s": round(wall, 4),
+                "times_real_time": round(sim / wall, 1) if wall > 0 else None}
 
     def _finish(self, report: ReportWriter | None, video: VideoSink | None, wall: float,
                 interrupted: bool, error: str | None, paths: dict[str, Path]) -> RunResult:

@@ -55,7 +55,7 @@ from typing import Mapping, Sequence
 from adapt.errors import ScenarioError
 from adapt.geometry import Camera
 from adapt.imagination.scene import SceneSpec
-from adapt.scenario.nodes import Override, join
+from adapt.scenario.nodes import Override, join  # noqa: F401  (re-exported)
 from adapt.scenario.records import (
     Appearance,
     CameraMount,

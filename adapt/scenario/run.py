@@ -15,6 +15,7 @@ from typing import Any, Callable
 import yaml
 
 from adapt.scenario.nodes import Node, join
+from adapt.scenario.reality import RealityReader
 from adapt.scenario.records import (
     Goal,
     ObjectModel,
@@ -24,7 +25,6 @@ from adapt.scenario.records import (
     RunSettings,
     SchemaSettings,
 )
-from adapt.scenario.reality import RealityReader
 
 __all__ = ["RunReader", "RUN_KEYS", "PREDICT_KEYS", "OUTPUT_KEYS", "MAX_FRAMES", "MAX_FPS"]
 
@@ -98,7 +98,7 @@ class RunReader(RealityReader):
             params: dict[str, Any] = {}
             sources = {}
             if not self.is_null(vnode):
-                for pkey, (pk, pv) in self.mapping(vnode, kp).items():
+                for pkey, (_pk, pv) in self.mapping(vnode, kp).items():
                     pp = join(kp, pkey)
                     params[pkey] = self.plain(pv, pp)
                     sources[pkey] = self.source(pv, pp)

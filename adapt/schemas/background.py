@@ -59,6 +59,7 @@ class RegionReport:
     floor: tuple[float, float] | None
     size: float | None
     imagined: str | None = None
+    at_edge: bool = False
 
     def as_json(self) -> dict[str, Any]:
         """JSON form (trace and report)."""
@@ -68,7 +69,7 @@ class RegionReport:
                 "owner": self.owner,
                 "floor": None if self.floor is None else [round(v, 4) for v in self.floor],
                 "size": None if self.size is None else round(self.size, 4),
-                "imagined": self.imagined}
+                "imagined": self.imagined, "at_edge": self.at_edge}
 
 
 class SceneBackground(Schema):
@@ -86,10 +87,15 @@ class SceneBackground(Schema):
         self.correction_deg = 0.0
         self.corrections = 0
         self.ms = 0.0
-        self._prepared_for: tuple[int, int] | None = None
+        self._prepared_for: tuple[int, int, int] | None = None
         self._background: PreparedImage | None = None
         self._warped_labels: NDArray[np.uint16] | None = None
         self._label_of: dict[str, int] = {}
+        self._robot_box: BBox | None = None
+        #: The frame's alignment can be believed (aligned, and not a sudden false jump).
+        self.trusted = False
+        self._settled = 1e9   # a smoothed pixel error of the trusted frames
+        self._glitches = 0
 
     # -- perception ---------------------------------------------------------------------
 
@@ -97,12 +103,14 @@ class SceneBackground(Schema):
         """The synthetic frame with the corners of the current background (computed once
         per camera pose and scene)."""
         mirror = self.network.mirror
-        key = (id(mirror.renderer), mirror.camera_changes)
+        pixels = int(self.parameters["mmd_pixels"])
+        key = (id(mirror.renderer), mirror.camera_changes, pixels)
         if self._prepared_for != key or self._background is None:
-            self._background = prepare(mirror.background.image)
+            self._background = prepare(mirror.background.image, max_pixels=pixels)
             self._prepared_for = key
-        grey = prepare(image, corners=False).grey
-        return dataclasses.replace(self._background, image=image, grey=grey)
+        frame = prepare(image, corners=False, max_pixels=pixels)
+        # the frame's own images (its moving objects drawn), the background's corners
+        return dataclasses.replace(frame, corners=self._background.corners)
 
     def perceive(self, frame: "Frame") -> None:
         started = time.perf_counter()
@@ -110,22 +118,38 @@ class SceneBackground(Schema):
         rendered = mirror.render()
         self.synthetic, self.labels = rendered.image, rendered.labels
         self._label_of = {name: label for label, name in rendered.names.items()}
+        robot = mirror.scene.robot
+        self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
         self._warped_labels = None
         synthetic = self._prepared_synthetic(rendered.image)
-        res = mmd(frame.image, synthetic)
+        res = mmd(frame.image, synthetic, max_pixels=int(self.parameters["mmd_pixels"]))
         self.result = res
         camera = mirror.camera
         self.correction_deg = 0.0
+        self.trusted = False
         if not res.aligned:
             self.status = Status.LOST
             self.message = res.alignment.reason
             self.pixel_error = math.nan
         else:
-            self.status = Status.RUNNING
-            self.message = ""
             h = res.homography
             assert h is not None
-            self.pixel_error = corner_error(h, np.eye(3), frame.image.shape)
+            error = corner_error(h, np.eye(3), frame.image.shape)
+            if self._implausible(error, frame):
+                self.status = Status.LOST
+                self.message = (f"H_e moves the image by {error:.1f} px after {self._settled:.1f} "
+                                "px: a false alignment, ignored")
+                self._glitches += 1
+                self.pixel_error = error
+                self.regions = self._regions(frame, None, camera)
+                self.ms = (time.perf_counter() - started) * 1000.0
+                return
+            self._glitches = 0
+            self.trusted = True
+            self.status = Status.RUNNING
+            self.message = ""
+            self.pixel_error = error
+            self._settled = error if self._settled >= 1e9 else 0.8 * self._settled + 0.2 * error
             if self.parameters["correct"] and self.pixel_error > self.parameters["tolerance"]:
                 new = self._corrected(camera, res)
                 if new is not None:
@@ -134,6 +158,15 @@ class SceneBackground(Schema):
                     mirror.set_camera(new)
         self.regions = self._regions(frame, res, camera)
         self.ms = (time.perf_counter() - started) * 1000.0
+
+    def _implausible(self, error: float, frame: "Frame") -> bool:
+        """A sudden large jump of a camera that was synchronised is a false alignment
+        (repetitive texture filling the view, a fast turn) more often than a real move: it is
+        ignored for up to ``glitches`` frames in a row, then believed."""
+        scale = image_scale(frame.image.shape)
+        jump = float(self.parameters["max_jump"]) * scale
+        return (self._settled < 2.0 * scale and error > jump
+                and self._glitches < int(self.parameters["glitches"]))
 
     def _corrected(self, camera: "Camera", res: MMDResult) -> "Camera | None":
         h = res.homography
@@ -155,8 +188,9 @@ class SceneBackground(Schema):
         except VisionError:
             return None
 
-    def _regions(self, frame: "Frame", res: MMDResult, camera: "Camera") -> list[RegionReport]:
-        if not res.aligned:
+    def _regions(self, frame: "Frame", res: MMDResult | None, camera: "Camera"
+                 ) -> list[RegionReport]:
+        if res is None or not res.aligned:
             tracks = self.tracker.update([], frame.index)
             return []
         scale = image_scale(res.difference.shape)
@@ -166,6 +200,9 @@ class SceneBackground(Schema):
                          res.frame)
         tracks = self.tracker.update(found, frame.index)
         monitored = self.network.monitored_boxes(exclude=self.name)
+        own = self._own_robot(res)
+        if own is not None:
+            monitored.append(own)
         h_inv = np.linalg.inv(res.homography)  # type: ignore[arg-type]
         out = []
         for t in tracks:
@@ -176,9 +213,26 @@ class SceneBackground(Schema):
                 owner = _overlapping(t, monitored)
             floor, size = _floor_of(t.region.bbox, h_inv, camera)
             r = t.region
+            x, y, w, h = r.bbox
+            edge = x <= 0 or y <= 0 or x + w >= frame.image.shape[1] or y + h >= frame.image.shape[0]
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
-                                    owner, floor, size, self._imagined_in(r)))
+                                    owner, floor, size, self._imagined_in(r), edge))
         return out
+
+    def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:
+        """The robot's own body in the real frame: the robot knows where it is, so a
+        difference there (its odometry slipped) is not an unexpected object."""
+        robot = self.network.mirror.scene.robot
+        if robot is None or self._robot_box is None or res.homography is None:
+            return None
+        x, y, w, h = self._robot_box
+        corners = np.array([[x, y, 1.0], [x + w, y, 1.0], [x, y + h, 1.0], [x + w, y + h, 1.0]])
+        p = corners @ res.homography.T
+        p = p[:, :2] / p[:, 2:]
+        x0, y0 = p.min(axis=0)
+        x1, y1 = p.max(axis=0)
+        m = 0.25 * max(x1 - x0, y1 - y0)
+        return robot.name, (int(x0 - m), int(y0 - m), int(x1 - x0 + 2 * m), int(y1 - y0 + 2 * m))
 
     def _imagined_in(self, region: Any) -> str | None:
         """The imagined moving object that covers the most of ``region`` (at least a tenth
@@ -217,8 +271,8 @@ class SceneBackground(Schema):
             return None
         if self._warped_labels is None:
             h, w = self.labels.shape
-            self._warped_labels = cv2.warpPerspective(
-                self.labels.astype(np.uint16), self.result.homography, (w, h),
+            self._warped_labels = cv2.warpPerspective(  # type: ignore[assignment]
+                self.labels.astype(np.uint16), self.result.homography, (w, h),  # type: ignore[arg-type]
                 flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
         return self._warped_labels
 
@@ -228,10 +282,10 @@ class SceneBackground(Schema):
         warped = self.warped_labels()
         return None if warped is None else warped == label
 
-    def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[np.float32] | None:
+    def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[Any] | None:
         """How much the real image differs from the imagination's *background* (no moving
-        objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels, with the
-        frame's gain and bias; None without alignment.
+        objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels (the largest
+        over the channels), with the frame's gain and bias; None without alignment.
 
         This is the difference an object schema looks for its object in: the object
         wherever it really is, whatever the imagination shows of it.  The MMD mask is not
@@ -245,10 +299,20 @@ class SceneBackground(Schema):
         shift = np.array([[1.0, 0.0, -x], [0.0, 1.0, -y], [0.0, 0.0, 1.0]])
         bg = self.network.mirror.background.image
         warped = cv2.warpPerspective(bg, shift @ res.homography, (w, h), flags=cv2.INTER_LINEAR,
-                                     borderMode=cv2.BORDER_REPLICATE).astype(np.float32)
-        adjusted = warped * res.gain.astype(np.float32) + res.bias.astype(np.float32)
-        diff = np.abs(real[y:y + h, x:x + w].astype(np.float32) - adjusted)
-        return diff.max(axis=2) if diff.ndim == 3 else diff
+                                     borderMode=cv2.BORDER_REPLICATE)
+        part = np.ascontiguousarray(real[y:y + h, x:x + w])
+        if warped.ndim == 3:
+            c = warped.shape[2]
+            m = np.zeros((c, c + 1))
+            m[np.arange(c), np.arange(c)] = res.gain
+            m[:, -1] = res.bias
+            diff = cv2.absdiff(part, cv2.transform(warped, m))
+            out = diff[:, :, 0]
+            for k in range(1, c):
+                out = cv2.max(out, diff[:, :, k])
+            return out
+        adjusted = cv2.convertScaleAbs(warped, alpha=float(res.gain[0]), beta=float(res.bias[0]))
+        return cv2.absdiff(part, adjusted)
 
     def to_real(self, pixel: tuple[float, float]) -> tuple[float, float]:
         """A synthetic pixel in the real frame (through ``H_e``; unchanged without it)."""
@@ -309,6 +373,7 @@ class SceneBackground(Schema):
             c.set("floor-y", None if r.floor is None else round(r.floor[1], 4))
             c.set("size", None if r.size is None else round(r.size, 4))
             c.set("imagined", r.imagined)
+            c.set("at-edge", r.at_edge)
             c.set("age", r.age)
         node.keep_children("region", [r.id for r in self.regions])
 
@@ -377,6 +442,14 @@ SCENE_BACKGROUND = SchemaSpec(
                   low=0.0, high=255.0, low_open=True),
         Parameter("min_area", int, 40, "smallest region reported, at 640x480 (scaled with the "
                   "image's area)", unit="px", low=1),
+        Parameter("max_jump", float, 12.0, "once synchronised, a pixel error above this (at "
+                  "640x480, scaled) is a false alignment, ignored", unit="px", low=0.0,
+                  low_open=True),
+        Parameter("glitches", int, 5, "frames in a row a false alignment is ignored before it "
+                  "is believed", low=0),
+        Parameter("mmd_pixels", int, 640 * 480, "largest image the MMD works on (a larger "
+                  "frame is reduced first; fewer pixels: faster, a coarser H_e)", unit="px",
+                  low=32 * 32),
     ),
     singleton=True,
 )

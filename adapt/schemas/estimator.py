@@ -56,6 +56,8 @@ SIDE = 5
 MIN_ROLL = 0.3
 #: Speeds below which nothing is measured (a ball at rest says nothing), m/s.
 MIN_SPEED = 0.15
+#: A bounce measured outside these restitutions of the pair is not one off a flat surface.
+MIN_PAIR_RESTITUTION, MAX_PAIR_RESTITUTION = 0.05, 1.05
 
 
 @dataclass(frozen=True, slots=True)
@@ -273,7 +275,7 @@ class ParameterEstimator:
         dv = vb - va
         tc = float(np.dot(pa - pb, dv) / np.dot(dv, dv)) if np.dot(dv, dv) > 1e-12 else 0.0
         contact = pb + vb * tc
-        found = nearest_surface(self.scene, contact)
+        found = nearest_surface(self.scene, contact)  # type: ignore[arg-type]
         if found is None or found[1] > 3.0 * self.radius + 0.05:
             return None
         name, _, n, e_surf, mu_surf = found
@@ -282,6 +284,8 @@ class ParameterEstimator:
         if vn_in >= -MIN_SPEED / 2 or vn_out <= 0:
             return None
         e_pair = -vn_out / vn_in
+        if not MIN_PAIR_RESTITUTION <= e_pair <= MAX_PAIR_RESTITUTION:
+            return None  # a corner, or two bounces in one window: the normal is not the surface's
         span = max(after[-1][0] - after[0][0], 1e-3)
         sv = noise * math.sqrt(12.0 / len(after)) / span  # velocity noise of a line fit
         e_std = math.hypot(sv / abs(vn_in), sv * e_pair / abs(vn_in)) + 0.01
@@ -292,9 +296,10 @@ class ParameterEstimator:
         mu_ball = None
         if abs(vt_in) > MIN_SPEED and abs(vt_out) < abs(vt_in):
             mu_pair = (abs(vt_in) - abs(vt_out)) / ((1.0 + e_pair) * abs(vn_in))
-            mu_ball = mu_pair / max(mu_surf, 1e-6)
-            self.measure("friction", mu_ball, (2 * sv / ((1.0 + e_pair) * abs(vn_in)) + 0.05)
-                         / max(mu_surf, 1e-6))
+            if mu_pair <= 2.0:
+                mu_ball = mu_pair / max(mu_surf, 1e-6)
+                self.measure("friction", mu_ball, (2 * sv / ((1.0 + e_pair) * abs(vn_in)) + 0.05)
+                             / max(mu_surf, 1e-6))
         bounce = Bounce(t_jump, name, (float(contact[0]), float(contact[1])),
                         (float(n[0]), float(n[1])), float(np.linalg.norm(vb)), e_ball, mu_ball)
         self.bounces.append(bounce)

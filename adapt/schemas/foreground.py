@@ -53,6 +53,11 @@ __all__ = ["ForegroundObject", "FOREGROUND_OBJECT", "Observation"]
 
 #: Colour of an object the scenario does not declare until its own is measured (BGR).
 UNKNOWN_COLOR = (128, 128, 128)
+#: A sighting whose fitted radius is off the object's by more than this fraction is refused.
+RADIUS_TOLERANCE = 0.25
+#: An object is created in the imagination only once its estimated speed is below this (m/s):
+#: faster is a filter started on bad sightings.
+MAX_SPEED = 20.0
 
 
 class Observation:
@@ -229,7 +234,7 @@ class ForegroundObject(Schema):
             if after is not None:
                 t0, p0, v0 = after
                 p = p0 + v0 * (time - t0)
-                self.kf.reset(time, p, v0, self.estimator.noise, 0.1)
+                self.kf.reset(time, p, v0, self.estimator.noise, 0.1)  # type: ignore[arg-type]
             self.network.note(self, "bounce", {
                 "t": round(bounce.time, 4), "surface": bounce.surface,
                 "position": [round(v, 4) for v in bounce.position],
@@ -243,7 +248,7 @@ class ForegroundObject(Schema):
                                                                     "rolling_resistance" else 0.01):
                     changes[name] = value
             if changes:
-                self.ball = replace(self.ball, **changes)
+                self.ball = replace(self.ball, **changes)  # type: ignore[arg-type]
                 self.network.mirror.replace_ball(self.ball)
 
     def estimates(self) -> dict[str, tuple[float, float]]:
@@ -268,7 +273,7 @@ class ForegroundObject(Schema):
 
     def _observe(self, frame: "Frame") -> Observation | None:
         bg = self.network.background
-        if bg is None or bg.result is None or not bg.result.aligned:
+        if bg is None or not bg.trusted:
             return None
         where = self._predicted(frame)
         if where is None:
@@ -297,11 +302,11 @@ class ForegroundObject(Schema):
         for i in range(1, n):
             if stats[i, cv2.CC_STAT_AREA] < min_area:
                 continue
-            d = math.dist((cents[i][0] + x0, cents[i][1] + y0), (cx, cy))
+            d = math.dist((cents[i][0] + x0, cents[i][1] + y0), (cx, cy))  # type: ignore[assignment]
             # prefer large blobs near the prediction
             score = d / math.sqrt(stats[i, cv2.CC_STAT_AREA])
             if score < best_d:
-                best, best_d = i, score
+                best, best_d = i, score  # type: ignore[assignment]
         if best == 0:
             return None
         bx, by, bw, bh, area = (int(v) for v in stats[best])
@@ -309,11 +314,22 @@ class ForegroundObject(Schema):
         bbox = (bx + x0, by + y0, bw, bh)
         if bbox[0] == 0 or bbox[1] == 0 or bbox[0] + bw >= w:
             return None  # cut by the image's edge: its outline would mislead the fit
-        fit = fit_ball(mask, (bx + x0, by + y0), self.network.mirror.camera,
-                       radius=None if self.ball is None else self.ball.radius,
-                       to_camera=bg.pixels_to_synthetic)
-        if fit is None:
+        cam = self.network.mirror.camera
+        free = fit_ball(mask, (bx + x0, by + y0), cam, radius=None,
+                        to_camera=bg.pixels_to_synthetic)
+        if free is None:
             return None
+        if self.ball is None:
+            fit = free
+        else:
+            # a blob of the wrong size is not the ball (cut by the image's bottom, merged
+            # with something else, a fragment): do not let it move the estimate
+            if abs(free.radius - self.ball.radius) > RADIUS_TOLERANCE * self.ball.radius:
+                return None
+            fit = fit_ball(mask, (bx + x0, by + y0), cam, radius=self.ball.radius,  # type: ignore[assignment]
+                           to_camera=bg.pixels_to_synthetic)
+            if fit is None:
+                return None
         if self.ball is None:
             self._measure_unknown(frame, fit.radius, mask, bbox)
         centre = (float(cents[best][0] + x0), float(cents[best][1] + y0))

@@ -3,9 +3,10 @@
 The paper's *Intercept Rolling Object* (Figure 2B): it uses what the object's
 perceptual schema predicts and what the robot can do.  Every frame it plans
 the **earliest point of the predicted trajectory the robot can reach in
-time** (:func:`adapt.imagination.predict.intercept`, with the robot's speed
-and acceleration limits and the catch reach), which is after a bounce when
-only that one is reachable, and reports the plan on the input-link with the
+time and stand at** (:func:`adapt.imagination.reach.meet`: the robot's speed
+and acceleration limits, the catch reach, and room for its body clear of
+walls and obstacles), which is after a bounce when only that one is
+reachable; a path that ends at rest is waited for where it stops, and reports the plan on the input-link with the
 prediction's confidence at the meeting time.  It drives like the ``drive``
 schema (``^x ^y`` or ``^stop yes``): the rules decide when to commit to a
 plan (a confident one) and when to re-plan (``^plan-shift``, the distance
@@ -21,29 +22,36 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
-from adapt.imagination.predict import intercept, intercept_reach
+from adapt.imagination.predict import Trajectory, intercept_reach
+from adapt.imagination.reach import meet
 from adapt.schemas.drive import Drive
 from adapt.schemas.links import Structure
+from adapt.schemas.predictor import REST_PLAN, REST_SPEED
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.schemas.foreground import ForegroundObject
     from adapt.schemas.network import SchemaNetwork
 
-__all__ = ["Intercept", "INTERCEPT", "Plan"]
+__all__ = ["Intercept", "INTERCEPT", "Plan", "CATCH_SLACK"]
+
+#: Touching is at exactly the reach; this much more (metres) counts as caught too.
+CATCH_SLACK = 0.02
 
 
 @dataclass(frozen=True, slots=True)
 class Plan:
     """Where and when the robot can first meet the object.
 
-    ``time`` is the meeting's world time, ``position`` the object's there
-    (the robot's target), ``after_bounce`` whether the object touches
-    something before, ``confidence`` the prediction's at that horizon.
+    ``time`` is the meeting's world time, ``position`` where the robot stops
+    (within reach of the object, with room to stand), ``object`` where the
+    object is then, ``after_bounce`` whether the object touches something
+    before, ``confidence`` the prediction's at that horizon.
     """
 
     time: float
     position: tuple[float, float]
+    object: tuple[float, float]
     after_bounce: bool
     confidence: float
     travel: float
@@ -81,8 +89,18 @@ class Intercept(Drive):
             return
         (x, y), _ = pose
         reach = intercept_reach(obj.ball, self.robot) * float(self.parameters["reach"])
-        hit = intercept(pred.trajectory, (x, y), self.robot.max_speed * float(self.parameters["speed"]),
-                        self.robot.max_accel, reach=reach, start=time)
+        speed = self.robot.max_speed * float(self.parameters["speed"])
+        scene = self.network.mirror.scene
+        hit = meet(pred.trajectory, scene, self.robot, (x, y), reach=reach, start=time,
+                   max_speed=speed)
+        path = pred.trajectory
+        if hit is None and len(path.times) and float(np.hypot(*path.velocities[-1])) < REST_SPEED:
+            # the path ends with the object (nearly) at rest: it will wait there
+            end = path.positions[-1]
+            t_end = float(path.times[-1])
+            rest = Trajectory(path.body, np.array([t_end, t_end + REST_PLAN]),
+                              np.array([end, end]), np.zeros((2, 2)), ())
+            hit = meet(rest, scene, self.robot, (x, y), reach=reach, start=time, max_speed=speed)
         if hit is None:
             self.plan, self.reachable = None, False
             return
@@ -91,7 +109,7 @@ class Intercept(Drive):
         confs = [h.confidence for h in pred.horizons]
         conf = float(np.interp(ahead, horizons, confs)) if ahead >= horizons[0] else confs[0]
         after = any(pred.time < c.time <= hit.time for c in pred.contacts)
-        self.plan = Plan(hit.time, hit.position, after, conf, hit.travel)
+        self.plan = Plan(hit.time, hit.stand, hit.object, after, conf, hit.travel)
         self.reachable = True
 
     def plan_shift(self) -> float | None:
@@ -111,23 +129,34 @@ class Intercept(Drive):
         node.set("plan-x", None if p is None else round(p.position[0], 4))
         node.set("plan-y", None if p is None else round(p.position[1], 4))
         node.set("plan-time", None if p is None else round(p.time, 4))
+        node.set("meet-x", None if p is None else round(p.object[0], 4))
+        node.set("meet-y", None if p is None else round(p.object[1], 4))
         node.set("plan-in", None if p is None else round(p.time - self.network.time, 4))
         node.set("plan-confidence", None if p is None else round(p.confidence, 3))
         node.set("after-bounce", None if p is None else p.after_bounce)
         shift = self.plan_shift()
         node.set("plan-shift", None if shift is None else round(shift, 4))
-        seen = None if obj is None else obj.observed()
+        d = self.object_distance()
+        node.set("object-distance", None if d is None else round(d, 4))
+        node.set("caught", None if d is None or obj is None or obj.ball is None
+                 else d <= intercept_reach(obj.ball, self.robot) + CATCH_SLACK)
+
+    def object_distance(self) -> float | None:
+        """How far the robot is from the object: the sighting when there is one this frame,
+        else the imagined body (a ball at the robot's feet is below its camera's view)."""
+        obj = self.watched()
         pose = self.network.mirror.robot_pose()
-        if seen is not None and pose is not None:
-            node.set("object-distance", round(math.dist(seen, pose[0]), 4))
-        else:
-            node.set("object-distance", None)
+        if obj is None or pose is None:
+            return None
+        where = obj.observed() or obj.imagined()
+        return None if where is None else math.dist(where, pose[0])
 
     def summary(self) -> dict[str, Any]:
         out = super().summary()
         p = self.plan
         out["plan"] = None if p is None else {
             "t": round(p.time, 4), "position": [round(v, 4) for v in p.position],
+            "object": [round(v, 4) for v in p.object],
             "after_bounce": p.after_bounce, "confidence": round(p.confidence, 3)}
         out["reachable"] = self.reachable
         return out
@@ -155,7 +184,7 @@ INTERCEPT = SchemaSpec(
                   high=1.0, low_open=True),
         Parameter("timeout", float, 30.0, "give up a target after this long", unit="s",
                   low=0.0, low_open=True),
-        Parameter("reach", float, 0.8, "plan to come this fraction of the catch reach close "
-                  "(a margin for error)", low=0.0, high=1.0),
+        Parameter("reach", float, 1.0, "plan with this fraction of the catch reach (the robot "
+                  "stops at 0.9 of what it plans with)", low=0.0, high=1.0, low_open=True),
     ),
 )

@@ -104,7 +104,7 @@ class Structure:
             self._children[k] = found
         return found
 
-    def keep_children(self, attr: str, keys: set[Hashable] | list[Hashable]) -> None:
+    def keep_children(self, attr: str, keys: set[Hashable] | list[Hashable]) -> None:  # type: ignore[valid-type]
         """Remove the ``^attr`` children whose key is not in ``keys``."""
         keep = set(keys)
         for (a, key) in list(self._children):

@@ -26,7 +26,9 @@ documented in ``docs/schemas.md``.
 from __future__ import annotations
 
 import difflib
+import time
 from dataclasses import dataclass, field
+from time import perf_counter
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Mapping, Sequence
 
 import networkx as nx
@@ -151,6 +153,8 @@ class SchemaNetwork:
         self.decision = 0
         self.listeners: list[Callable[[SchemaEvent], None]] = []
         self.changed = False
+        #: Seconds spent in each schema type's perceive/act so far.
+        self.seconds: dict[str, float] = {}
         self._order: list[Schema] | None = None
         self._counter: dict[str, int] = {}
         self._root: Structure | None = None
@@ -313,16 +317,24 @@ class SchemaNetwork:
         """Every perceptual schema looks at ``frame``, providers first."""
         self.frame_index = frame.index
         self.time = frame.time
+        spent = self.seconds
         for schema in self.ordered():
             if schema.kind is SchemaKind.PERCEPTUAL:
+                started = time.perf_counter()
                 schema.perceive(frame)
+                key = schema.spec.name
+                spent[key] = spent.get(key, 0.0) + time.perf_counter() - started
         self._status_events()
 
     def act(self, time: float) -> None:
         """Every motor schema acts."""
+        spent = self.seconds
         for schema in self.ordered():
             if schema.kind is SchemaKind.MOTOR:
+                started = perf_counter()
                 schema.act(time)
+                key = schema.spec.name
+                spent[key] = spent.get(key, 0.0) + perf_counter() - started
         self._status_events()
 
     def _status_events(self) -> None:

@@ -2,7 +2,9 @@
 
 From the synchronised imagination, :class:`Predictor` forks a world whose
 ball starts where it is observed, moving as it is estimated to move, with
-the current parameter estimates, and rolls it out (the *nominal*
+the current parameter estimates, and without the robot (the object's own
+path is what an intercept is planned on; the robot is the rules' to move),
+and rolls it out (the *nominal*
 prediction: positions at the horizons, the contacts on the way -- time,
 place, surface -- and a dense trajectory for planning an intercept).  An
 ensemble of forks with parameters drawn from the estimates' uncertainty and
@@ -34,6 +36,7 @@ Examples
 from __future__ import annotations
 
 import math
+import time
 from collections import deque
 from dataclasses import dataclass, replace
 from typing import Mapping, Sequence
@@ -49,6 +52,8 @@ __all__ = ["HorizonPrediction", "Prediction", "Predictor", "Residuals", "confide
 
 #: Below this speed (m/s) an object is at rest: its prediction needs no rollout.
 REST_SPEED = 0.02
+#: How far ahead the path of an object at rest reaches (seconds): far enough to drive to it.
+REST_PLAN = 60.0
 
 
 def confidence(sigma: float, catch_radius: float) -> float:
@@ -171,6 +176,9 @@ class Predictor:
         self.plan = max(plan, self.horizons[-1])
         self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
         self.residuals = Residuals(self.horizons)
+        #: Seconds of imagination rolled out, and the wall-clock seconds it took.
+        self.simulated_s = 0.0
+        self.wall_s = 0.0
 
     def predict(self, world: World, body: str, position: Sequence[float],
                 velocity: Sequence[float], estimates: Mapping[str, tuple[float, float]],
@@ -184,13 +192,23 @@ class Predictor:
         """
         if math.hypot(velocity[0], velocity[1]) < REST_SPEED:
             return self._at_rest(world, body, position, estimates)
+        started = time.perf_counter()
+        out = self._predict(world, body, position, velocity, estimates, velocity_std)
+        self.wall_s += time.perf_counter() - started
+        return out
+
+    def _predict(self, world: World, body: str, position: Sequence[float],
+                 velocity: Sequence[float], estimates: Mapping[str, tuple[float, float]],
+                 velocity_std: float) -> Prediction:
         state = world.snapshot()
+        scene = world.scene
+        robot = scene.robot.name if scene.robot is not None else None
+        # the object's own path: the robot, which the rules move, is left out of the fork
         bodies = tuple(
             BodyState(b.name, (float(position[0]), float(position[1])),
                       (float(velocity[0]), float(velocity[1])), b.angle, 0.0)
-            if b.name == body else b for b in state.bodies)
-        start = replace(state, bodies=bodies)
-        scene = world.scene
+            if b.name == body else b for b in state.bodies if b.name != robot)
+        start = replace(state, bodies=bodies, command=(0.0, 0.0, 0.0))
         ball = next(b for b in scene.balls if b.name == body)
         changes = {}
         for key, (mean, _) in estimates.items():
@@ -198,14 +216,16 @@ class Predictor:
                 changes[key] = min(max(mean, 0.0), 1.0)
             elif key in ("friction", "rolling_resistance"):
                 changes[key] = max(mean, 0.0)
-        nominal_ball = replace(ball, **changes)
-        nominal_scene = replace(scene, balls=tuple(nominal_ball if b.name == body else b
-                                                   for b in scene.balls))
+        nominal_ball = replace(ball, **changes)  # type: ignore[arg-type]
+        nominal_scene = replace(scene, robot=None,
+                                balls=tuple(nominal_ball if b.name == body else b
+                                            for b in scene.balls))
         fork = world.fork(start, scene=nominal_scene)
         steps_per = max(1, int(round((1.0 / 60.0) / fork.dt)))
         n = int(round(self.plan / fork.dt))
         times = [k * fork.dt for k in range(0, n + 1, steps_per)]
         path = rollout(fork, self.plan, times=times, body=body)
+        self.simulated_s += self.plan
         spread = [0.0] * len(self.horizons)
         if self.members > 0:
             ranges = {}
@@ -231,6 +251,7 @@ class Predictor:
                 ens = ensemble(fork, self.horizons[-1], ranges, n=self.members,
                                times=list(self.horizons), body=body, seed=self.rng,
                                percentiles=())
+                self.simulated_s += self.members * self.horizons[-1]
                 for i, h in enumerate(self.horizons):
                     nominal = np.array(path.position_at(fork.time + h))
                     d = ens.samples[:, i, :] - nominal[None, :]
@@ -255,7 +276,8 @@ class Predictor:
         """An object at rest stays where it is (unless something hits it): no rollout."""
         t0 = world.time
         p = (float(position[0]), float(position[1]))
-        times = np.array([t0, t0 + self.plan])
+        # it will still be there: plan over a long time, not only the usual horizon
+        times = np.array([t0, t0 + max(self.plan, REST_PLAN)])
         path = Trajectory(body, times, np.array([p, p]), np.zeros((2, 2)), ())
         out = []
         for h in self.horizons:

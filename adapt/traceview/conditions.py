@@ -1,11 +1,14 @@
-"""Conditions checked one at a time against a rebuilt working memory.
+"""Why a rule does not match: its conditions checked one step at a time.
 
 The matchers answer "which instantiations exist"; a user asking why a rule
-did *not* fire wants the first condition that left no consistent match.
-:func:`first_failure` walks a production's conditions in source order,
-extending every partial match, and stops at the condition where none
-survives.  The semantics are those of :mod:`adapt.engine.production`
-(relational tests through :func:`adapt.engine.naive.relation_holds`).
+did *not* fire wants the condition where its partial matches ran out.
+:func:`first_failure` follows the engine's own evaluation
+(:func:`adapt.engine.conditions.evaluation_order` and
+:func:`~adapt.engine.conditions.extend`): positive conditions in source
+order, each negation once the variables it shares with them are bound, a
+relational test on a variable bound later checked by the condition that
+binds it.  It is the semantics the matchers use, not a copy of it, so a rule
+this module says matches is one the agent would fire.
 
 Examples
 --------
@@ -22,6 +25,15 @@ Examples
 ([], [{<s>: S1}])
 >>> first_failure(p, [WME(s1, "type", "state", False, 1), WME(s1, "count", 2, False, 3)]) is None
 True
+
+A relational test on a variable that a later condition binds fails there:
+
+>>> p, = parse_rules("sp {r (state <s> ^a {<x> > <y>}) (<s> ^b <y>) --> (write hi)}").productions
+>>> wmes = [WME(s1, "type", "state", False, 1), WME(s1, "a", 1, False, 2),
+...         WME(s1, "b", 5, False, 3)]
+>>> failure = first_failure(p, wmes)
+>>> print(condition_text(failure.condition), failure.waiting)
+(<s> ^b <y>) ['1 > <y>']
 """
 
 from __future__ import annotations
@@ -29,7 +41,15 @@ from __future__ import annotations
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-from adapt.engine.naive import relation_holds
+from adapt.engine.conditions import (
+    Bindings,
+    Partial,
+    WmeIndex,
+    conjunction_matches,
+    evaluation_order,
+    extend,
+    match_condition,
+)
 from adapt.engine.production import (
     Condition,
     ConditionElement,
@@ -42,16 +62,10 @@ from adapt.engine.production import (
     Variable,
     simple_tests,
 )
-from adapt.engine.symbols import Symbol, format_symbol
+from adapt.engine.symbols import format_symbol
 from adapt.engine.wme import WME
 
-__all__ = ["Bindings", "Failure", "condition_text", "match_condition", "matches",
-           "first_failure"]
-
-Bindings = dict[Variable, Symbol]
-
-#: Partial matches kept per condition; a diagnosis needs examples, not all of them.
-MAX_PARTIALS = 5000
+__all__ = ["Bindings", "Failure", "condition_text", "matches", "first_failure"]
 
 
 def _term_text(term: object) -> str:
@@ -85,92 +99,17 @@ def condition_text(element: ConditionElement) -> str:
     return ("-" if element.negated else "") + text
 
 
-def _field(test: Test | None, value: Symbol, b: Bindings, later: list[tuple[str, Symbol, Variable]]) -> bool:
-    for t in simple_tests(test):
-        if isinstance(t, EqualityTest):
-            if isinstance(t.term, Variable):
-                if t.term in b:
-                    if not b[t.term] == value:
-                        return False
-                else:
-                    b[t.term] = value
-            elif not t.term == value:
-                return False
-        elif isinstance(t, DisjunctionTest):
-            if not any(v == value for v in t.values):
-                return False
-        elif isinstance(t, RelationalTest):
-            term = t.term
-            if isinstance(term, Variable):
-                if term in b:
-                    if not relation_holds(t.relation, value, b[term]):
-                        return False
-                else:
-                    later.append((t.relation, value, term))
-            elif not relation_holds(t.relation, value, term):
-                return False
-    return True
-
-
-def match_condition(cond: Condition, wme: WME, bindings: Bindings) -> Bindings | None:
-    """The bindings extended by matching ``cond`` (ignoring negation) to ``wme``, or ``None``."""
-    if wme.acceptable != cond.acceptable:
-        return None
-    b = dict(bindings)
-    later: list[tuple[str, Symbol, Variable]] = []
-    if not (_field(EqualityTest(cond.id), wme.id, b, later) and _field(cond.attr, wme.attr, b, later)
-            and _field(cond.value, wme.value, b, later)):
-        return None
-    for relation, value, term in later:  # a variable bound later in this same condition
-        if term in b and not relation_holds(relation, value, b[term]):
-            return None
-    return b
-
-
-def _candidates(cond: Condition, wmes: Sequence[WME], by_id: dict[Symbol, list[WME]],
-                b: Bindings) -> Sequence[WME]:
-    return by_id.get(b[cond.id], ()) if cond.id in b else wmes
-
-
 def matches(elements: Sequence[ConditionElement], wmes: Sequence[WME],
             bindings: Bindings | None = None) -> Iterator[Bindings]:
-    """Every consistent match of a conjunction of condition elements."""
-    by_id: dict[Symbol, list[WME]] = {}
-    for w in wmes:
-        by_id.setdefault(w.id, []).append(w)
-    partials = [dict(bindings or {})]
-    for element in elements:
-        partials = _step(element, partials, wmes, by_id)
-        if not partials:
-            return
-    yield from partials
-
-
-def _exists(element: ConditionElement, wmes: Sequence[WME], b: Bindings) -> bool:
-    if isinstance(element, ConjunctiveNegation):
-        return any(True for _ in matches(element.conditions, wmes, b))
-    positive = Condition(element.id, element.attr, element.value, element.acceptable)
-    return any(match_condition(positive, w, b) is not None for w in wmes)
-
-
-def _step(element: ConditionElement, partials: list[Bindings], wmes: Sequence[WME],
-          by_id: dict[Symbol, list[WME]]) -> list[Bindings]:
-    if isinstance(element, Condition) and not element.negated:
-        out: list[Bindings] = []
-        for b in partials:
-            for w in _candidates(element, wmes, by_id, b):
-                extended = match_condition(element, w, b)
-                if extended is not None:
-                    out.append(extended)
-                    if len(out) >= MAX_PARTIALS:
-                        return out
-        return out
-    return [b for b in partials if not _exists(element, wmes, b)]
+    """The bindings of every consistent match of a conjunction of condition
+    elements (:func:`adapt.engine.conditions.conjunction_matches`)."""
+    for b, _ in conjunction_matches(elements, WmeIndex(wmes), bindings):
+        yield b
 
 
 @dataclass(frozen=True)
 class Failure:
-    """The condition where a production's match ran out.
+    """The condition where a production's partial matches ran out.
 
     Attributes
     ----------
@@ -179,39 +118,76 @@ class Failure:
     condition : ConditionElement
         The condition.
     partials : list of dict
-        Some matches of the conditions before it (at most a few), the
-        bindings the condition had to agree with.
+        Some partial matches that reached it (at most a few): the bindings
+        it had to agree with.
     alone : list of WME
         For a positive condition: WMEs that match it with no bindings at all
-        (it failed on consistency with the earlier ones).  For a negation:
-        WMEs that matched the negated condition (so it blocked).
+        (it failed on consistency with the earlier ones).  For a negated
+        condition: WMEs that matched it (so it blocked).
+    waiting : list of str
+        Relational tests of earlier conditions that waited for a variable
+        this condition binds (``"1 > <y>"``), from the first partial.
     """
 
     index: int
     condition: ConditionElement
     partials: list[Bindings]
     alone: list[WME]
+    waiting: list[str]
 
 
-def first_failure(production: Production, wmes: Sequence[WME], examples: int = 3) -> Failure | None:
-    """The first condition of ``production`` with no consistent match, or ``None`` if it matches."""
-    by_id: dict[Symbol, list[WME]] = {}
-    for w in wmes:
-        by_id.setdefault(w.id, []).append(w)
-    partials: list[Bindings] = [{}]
-    for index, element in enumerate(production.conditions):
-        survivors = _step(element, partials, wmes, by_id)
-        if survivors:
-            partials = survivors
-            continue
-        if isinstance(element, Condition) and not element.negated:
-            alone = [w for w in wmes if match_condition(element, w, {}) is not None]
-        else:
-            alone = []
-            for b in partials[:examples]:
-                if isinstance(element, Condition):
-                    positive = Condition(element.id, element.attr, element.value, element.acceptable)
-                    alone += [w for w in _candidates(positive, wmes, by_id, b)
-                              if match_condition(positive, w, b) is not None][:1]
-        return Failure(index, element, partials[:examples], alone[:examples])
-    return None
+def _deepest(elements: Sequence[ConditionElement], order: Sequence[int], index: WmeIndex,
+             examples: int) -> tuple[int, list[Partial]]:
+    """The number of evaluation steps some partial passes, and a few partials
+    that got that far (``len(order)`` when the production matches)."""
+    best = -1
+    found: list[Partial] = []
+
+    def walk(step: int, partial: Partial) -> bool:
+        nonlocal best, found
+        if step > best:
+            best, found = step, []
+        if step == best and len(found) < examples:
+            found.append(partial)
+        if step == len(order):
+            return True
+        return any(walk(step + 1, p) for p in extend(elements[order[step]], partial, index))
+
+    walk(0, Partial({}))
+    return best, found
+
+
+def first_failure(production: Production, wmes: Sequence[WME],
+                  examples: int = 3) -> Failure | None:
+    """The first condition (in evaluation order) at which no partial match of
+    ``production`` survives, or ``None`` if the production matches."""
+    index = WmeIndex(wmes)
+    elements = production.conditions
+    order = evaluation_order(elements)
+    depth, partials = _deepest(elements, order, index, examples)
+    if depth == len(order):
+        return None
+    element = elements[order[depth]]
+    alone: list[WME] = []
+    if isinstance(element, Condition) and not element.negated:
+        alone = [w for w in wmes if match_condition(element, w, Partial({})) is not None]
+    elif isinstance(element, Condition):
+        for p in partials:
+            ident = p.bindings.get(element.id)
+            candidates = list(index) if ident is None else index.of(ident)
+            alone += [w for w in candidates
+                      if match_condition(element, w, Partial(p.bindings)) is not None][:1]
+    waiting = [f"{format_symbol(r.value)} {r.relation} {r.variable.name}"
+               for r in (partials[0].pending if partials else ())]
+    if isinstance(element, Condition) and not element.negated:
+        binds = {element.id} | {t.term for t in _equalities(element)}
+        waiting = [w for w, r in zip(waiting, partials[0].pending) if r.variable in binds]
+    else:
+        waiting = []
+    return Failure(order[depth], element, [p.bindings for p in partials], alone[:examples],
+                   waiting)
+
+
+def _equalities(cond: Condition) -> list[EqualityTest]:
+    return [t for test in (cond.attr, cond.value) for t in simple_tests(test)
+            if isinstance(t, EqualityTest) and isinstance(t.term, Variable)]

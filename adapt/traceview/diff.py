@@ -98,7 +98,7 @@ def diff_traces(a: Trace, b: Trace) -> Divergence:
         if a.header.raw.get(key) != b.header.raw.get(key)
     )
     track = a.header.level >= 4 and b.header.level >= 4
-    wm_a, wm_b = (LiveMemory(a.initial_wmes()), LiveMemory(b.initial_wmes())) if track else (None, None)
+    wm_a, wm_b = (LiveMemory(a.initial_wmes()), LiveMemory(b.initial_wmes())) if track else (None, None)  # type: ignore[arg-type]
     compared = 0
     for (ca, ra), (cb, rb) in zip_longest(_cycles(a), _cycles(b), fillvalue=(None, None)):
         if ca is None or cb is None:

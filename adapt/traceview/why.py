@@ -30,11 +30,18 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from adapt.engine.production import FunctionCall, MakeAction, PreferenceKind, Production, Variable
+from adapt.engine.production import (
+    ConjunctiveNegation,
+    FunctionCall,
+    MakeAction,
+    PreferenceKind,
+    Production,
+    Variable,
+)
 from adapt.engine.symbols import format_symbol
 from adapt.engine.wme import WME
 from adapt.errors import TraceError
-from adapt.traceview.conditions import condition_text, first_failure
+from adapt.traceview.conditions import Failure, condition_text, first_failure, matches
 from adapt.traceview.memory import TraceWME, memory_at
 from adapt.traceview.reader import Trace, cycle_of
 from adapt.traceview.symbols import IdentifierTable, id_name, text_of, wme_text
@@ -314,7 +321,7 @@ class WhyNot:
     rule: str
     at: int
     production: Production
-    failure: Any  # adapt.traceview.conditions.Failure | None
+    failure: Failure | None
     instantiations: tuple[dict[str, str], ...]
     fired_in_cycle: int
     last_fired: int | None
@@ -344,8 +351,6 @@ def why_not(trace: Trace, rule: str, at: int, productions: dict[str, Production]
     failure = first_failure(production, wmes)
     instantiations: tuple[dict[str, str], ...] = ()
     if failure is None:
-        from adapt.traceview.conditions import matches
-
         instantiations = tuple(
             {v.name: format_symbol(s) for v, s in b.items() if not v.name.startswith("<#")}
             for b in list(matches(production.conditions, wmes))[:5]
@@ -372,11 +377,14 @@ def format_why_not(result: WhyNot) -> str:
                      "after it retracts)")
         return "\n".join(lines)
     cond = failure.condition
-    loc = f"{cond.location}: " if getattr(cond, "location", None) else ""
+    loc = f"{cond.location}: " if cond.location is not None else ""
     lines.append(f"  condition {failure.index + 1} has no match: {loc}{condition_text(cond)}")
     shown = [", ".join(f"{v.name}={format_symbol(s)}" for v, s in b.items()
                        if not v.name.startswith("<#")) for b in failure.partials if b]
-    negated = not (hasattr(cond, "negated") and not cond.negated)
+    negated = isinstance(cond, ConjunctiveNegation) or cond.negated
+    if failure.waiting:
+        lines.append("  relational tests of earlier conditions wait for its variables: "
+                     + "; ".join(failure.waiting))
     if negated:
         lines.append("  it is negated, and working memory holds what it excludes:")
         lines.extend(f"    {w!r}" for w in failure.alone)

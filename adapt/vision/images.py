@@ -222,7 +222,7 @@ def to_grey(image: NDArray) -> NDArray[np.uint8]:
     """
     u8 = as_uint8(image)
     if u8.ndim == 3:
-        return cv2.cvtColor(u8, cv2.COLOR_BGR2GRAY)
+        return cv2.cvtColor(u8, cv2.COLOR_BGR2GRAY)  # type: ignore[return-value]
     return u8
 
 
@@ -255,7 +255,7 @@ def read_image(path: str | os.PathLike[str]) -> NDArray[np.uint8]:
         raise ImageError(f"{path}: not an image OpenCV can decode (PNG, JPEG, ...)")
     if image.ndim == 3 and image.shape[2] == 4:
         image = cv2.cvtColor(image, cv2.COLOR_BGRA2BGR)
-    return image
+    return image  # type: ignore[return-value]
 
 
 def write_image(path: str | os.PathLike[str], image: NDArray) -> Path:

@@ -144,7 +144,7 @@ def fast_mask(
         acc += np.bincount(yi[ok] * wp + xi[ok], weights=(q * wt)[ok], minlength=hp * wp)
     grid = acc.reshape(hp, wp).astype(np.float32)
     ksize = 2 * int(math.ceil(4.0 * sg)) + 1
-    grid = cv2.GaussianBlur(grid, (ksize, ksize), sg, borderType=cv2.BORDER_CONSTANT)
+    grid = cv2.GaussianBlur(grid, (ksize, ksize), sg, borderType=cv2.BORDER_CONSTANT)  # type: ignore[assignment]
     # Keep one cell of margin so the upsampling interpolates at the border
     # instead of clamping, and upsample by exactly `step`.
     grid = grid[pad - 1 : pad + hs + 1, pad - 1 : pad + ws + 1] * np.float32(

@@ -173,7 +173,7 @@ def _standardise(grey: NDArray[np.uint8]) -> NDArray[np.uint8]:
     if sd < 1e-6:
         return np.full_like(grey, 128)
     a = GREY_STD / sd
-    return cv2.convertScaleAbs(grey, alpha=a, beta=128.0 - a * m)
+    return cv2.convertScaleAbs(grey, alpha=a, beta=128.0 - a * m)  # type: ignore[return-value]
 
 
 def prepare(
@@ -301,7 +301,7 @@ def track(
     fb_max = FB_MAX * scale if fb_max is None else fb_max
     p0 = ps.reshape(-1, 1, 2)
     win, levels = _lk_parameters(scale)
-    p1, st1, _ = cv2.calcOpticalFlowPyrLK(
+    p1, st1, _ = cv2.calcOpticalFlowPyrLK(  # type: ignore[call-overload]
         s.grey, r.grey, p0, None, winSize=win, maxLevel=levels, criteria=_LK_CRITERIA
     )
     ok = st1.ravel() == 1
@@ -347,7 +347,7 @@ def match_descriptors(
     """
     r, s = prepare_pair(real, synthetic, corners=False)
     rg, sg = r.grey, s.grey
-    sift = cv2.SIFT_create(nfeatures=n_features)
+    sift = cv2.SIFT_create(nfeatures=n_features)  # type: ignore[attr-defined]
     ks, ds = sift.detectAndCompute(sg, None)
     kr, dr = sift.detectAndCompute(rg, None)
     if ds is None or dr is None or len(ks) < 2 or len(kr) < 2:

@@ -266,7 +266,7 @@ def mmd(
     mask = (exact_mask if exact else fast_mask)(pts, q, (hh, ww), sigma=sigma)
     explained = known & (mask >= EXPLAINED)
     step = max(1, int(round(FIT_STEP * frame.scale)))
-    gain, bias = _fit_gain(real8, warped, explained if np.count_nonzero(explained) > 0 else known, step)
+    gain, bias = _fit_gain(real8, warped, explained if np.count_nonzero(explained) > 0 else known, step)  # type: ignore[arg-type]
     if channels == 1:
         adjusted = cv2.convertScaleAbs(warped, alpha=float(gain[0]), beta=float(bias[0]))
         diff = cv2.absdiff(real8, adjusted)
@@ -286,7 +286,7 @@ def mmd(
     if frame.reduces:
         alignment = replace(alignment, homography=frame.homography_to_input(h))
     return MMDResult(
-        alignment, _to_input(matches, frame), warped, mask, known, difference, gain, bias, frame
+        alignment, _to_input(matches, frame), warped, mask, known, difference, gain, bias, frame  # type: ignore[arg-type]
     )
 
 

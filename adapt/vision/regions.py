@@ -140,9 +140,9 @@ def find_regions(
     binary = (d > threshold).astype(np.uint8)
     if open_size > 1:
         k = cv2.getStructuringElement(cv2.MORPH_RECT, (open_size, open_size))
-        binary = cv2.morphologyEx(binary, cv2.MORPH_OPEN, k)
+        binary = cv2.morphologyEx(binary, cv2.MORPH_OPEN, k)  # type: ignore[assignment]
         k2 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * open_size + 1,) * 2)
-        binary = cv2.morphologyEx(binary, cv2.MORPH_CLOSE, k2)
+        binary = cv2.morphologyEx(binary, cv2.MORPH_CLOSE, k2)  # type: ignore[assignment]
     n, labels, stats, centroids = cv2.connectedComponentsWithStats(binary, connectivity=8)
     found = []
     for i in range(1, n):

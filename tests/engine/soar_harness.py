@@ -87,8 +87,9 @@ def _failed(path: Path, reason: str, error: str) -> Report:
 
 
 def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
-    import soar_sml  # only ever imported in the child
     import xml.etree.ElementTree as ET
+
+    import soar_sml  # only ever imported in the child
 
     kernel = soar_sml.Kernel.CreateKernelInCurrentThread(True, soar_sml.Kernel.kSuppressListener)
     agent = kernel.CreateAgent("harness")
@@ -177,10 +178,13 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
 
 
 def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
-              matcher: str = "rete") -> Report:
-    """Run ``path`` in adapt; writes are segmented by decision from a level-2 trace.
+              matcher: str = "rete", trace_level: int | None = 2) -> Report:
+    """Run ``path`` in adapt.
 
-    An exception from the engine is reported in ``error`` rather than raised.
+    Writes are segmented by decision from a trace of ``trace_level``; with
+    ``trace_level=None`` the run has no trace and the writes are segmented by
+    an ``on_write`` listener reading the decision counter.  An exception
+    from the engine is reported in ``error`` rather than raised.
     """
     from adapt.engine import Agent
 
@@ -188,7 +192,12 @@ def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
     bound = max_decisions if max_decisions is not None else max_decisions_of(path)
     with tempfile.TemporaryDirectory() as tmp:
         trace = Path(tmp) / "trace.jsonl"
-        agent = _make_agent(Agent, seed, matcher, trace)
+        if trace_level is None:
+            agent = Agent(seed=seed, matcher=matcher)
+        else:
+            agent = Agent(seed=seed, matcher=matcher, trace=str(trace), trace_level=trace_level)
+        heard: list[list[Any]] = []
+        agent.on_write(lambda text: heard.append([agent.decisions, text]))
         try:
             agent.load_file(str(path))
             report: Report = dict(agent.run(max_decisions=bound).to_dict())
@@ -196,23 +205,25 @@ def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
             return {"error": f"{type(exc).__name__}: {exc}", "halted": False,
                     "stop_reason": "error", "decisions": None}
         finally:
-            _close(agent)
-        if trace.exists():
-            report["writes"] = _writes_from_trace(trace)
+            agent.close()
+        report["writes"] = _merge(heard)
+        if trace_level is not None and trace_level >= 2:
+            from_trace = _merge(_writes_from_trace(trace))
+            if from_trace != report["writes"]:
+                report["error"] = (f"the trace's writes {from_trace!r} differ from the "
+                                   f"writes heard {report['writes']!r}")
     return report
 
 
-def _make_agent(agent_class: Any, seed: int, matcher: str, trace: Path) -> Any:
-    try:
-        return agent_class(seed=seed, matcher=matcher, trace=str(trace), trace_level=2)
-    except TypeError:  # an Agent without trace keywords: output is compared whole
-        return agent_class(seed=seed, matcher=matcher)
-
-
-def _close(agent: Any) -> None:
-    close = getattr(agent, "close", None)
-    if callable(close):
-        close()
+def _merge(heard: list[list[Any]]) -> list[list[Any]]:
+    """Consecutive writes of one decision as one segment."""
+    out: list[list[Any]] = []
+    for d, text in heard:
+        if out and out[-1][0] == d:
+            out[-1][1] += text
+        else:
+            out.append([d, text])
+    return out
 
 
 def _writes_from_trace(trace: Path) -> list[list[Any]]:

@@ -22,6 +22,7 @@ from soar_harness import (
     first_difference,
     max_decisions_of,
     run_adapt,
+    run_soar,
     run_soar_many,
 )
 
@@ -64,14 +65,17 @@ def soar_reports(request: pytest.FixtureRequest) -> dict[Path, Report]:
 
 @requires_soar
 @pytest.mark.soar
+@pytest.mark.parametrize("trace_level", [None, 5], ids=["untraced", "traced"])
 @pytest.mark.parametrize("matcher", ["rete", "naive"])
 @pytest.mark.parametrize("agent_file", ALL_FILES, ids=_file_id)
-def test_agent_behaves_as_in_real_soar(agent_file: Path, matcher: str,
+def test_agent_behaves_as_in_real_soar(agent_file: Path, matcher: str, trace_level: int | None,
                                        soar_reports: dict[Path, Report]) -> None:
+    """Every agent, with both matchers, with and without a (full) trace: a
+    trace is a listener and must not change the run."""
     soar = soar_reports[agent_file]
-    adapt = run_adapt(agent_file, matcher=matcher)
+    adapt = run_adapt(agent_file, matcher=matcher, trace_level=trace_level)
     difference = first_difference(soar, adapt)
-    assert difference is None, f"{_file_id(agent_file)} ({matcher}): {difference}"
+    assert difference is None, f"{_file_id(agent_file)} ({matcher}, {trace_level}): {difference}"
 
 
 @requires_soar
@@ -142,3 +146,17 @@ def test_without_segments_the_whole_output_is_compared() -> None:
 
 def test_an_adapt_error_is_reported() -> None:
     assert first_difference(_report(), {"error": "boom"}) == "adapt failed: boom"
+
+
+@requires_soar
+@pytest.mark.soar
+@pytest.mark.parametrize("bound", [0, 1, 3])
+def test_a_decision_bound_stops_as_in_real_soar(bound: int) -> None:
+    """``run 0`` runs one decision in Soar; the bound is the same with or without a trace."""
+    water_jug = next(p for p in EXAMPLES if p.stem == "water-jug")
+    soar = run_soar(water_jug, max_decisions=bound)
+    for trace_level in (None, 5):
+        adapt = run_adapt(water_jug, max_decisions=bound, trace_level=trace_level)
+        difference = first_difference(soar, adapt)
+        assert difference is None, f"run {bound} (trace {trace_level}): {difference}"
+        assert adapt["decisions"] == max(bound, 1) and adapt["stop_reason"] == "max-decisions"

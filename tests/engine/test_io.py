@@ -130,3 +130,25 @@ def test_an_id_that_is_not_an_identifier_is_an_engine_error() -> None:
     agent.on_input(sense)
     with pytest.raises(EngineError, match="identifier"):
         agent.run(1)
+
+
+def test_values_of_a_non_identifier_is_an_engine_error() -> None:
+    agent = Agent()
+    seen: list[str] = []
+
+    def sense(w: InputWriter) -> None:
+        try:
+            w.values("I2", "v")
+        except EngineError as exc:
+            seen.append(str(exc))
+
+    agent.on_input(sense)
+    agent.run(1)
+    assert seen and "identifier" in seen[0]
+
+
+def test_print_state_needs_an_identifier() -> None:
+    agent = Agent()
+    assert agent.print_state().startswith("(S1 ")
+    with pytest.raises(EngineError, match="identifier"):
+        agent.print_state("S1")

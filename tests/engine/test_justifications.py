@@ -11,6 +11,7 @@ from __future__ import annotations
 import pytest
 
 from adapt.engine import Agent
+from adapt.engine.events import Event
 from adapt.engine.production import Condition, ConjunctiveNegation
 from adapt.engine.results import Justification
 
@@ -57,12 +58,7 @@ def run(text: str, n: int = 20) -> tuple[Agent, object, list[Justification]]:
     agent = Agent()
     agent.load_text(text)
     made: list[Justification] = []
-
-    def on_event(kind: str, payload: object) -> None:
-        if kind == "result":
-            made.append(payload[1])  # type: ignore[index]
-
-    agent.kernel.tracer = on_event
+    agent.events.subscribe(Event.RESULT, lambda payload: made.append(payload[1]))
     return agent, agent.run(n), made
 
 
@@ -333,10 +329,10 @@ sp {snc*apply*make
     k = agent.kernel
     key = (k.top.id, "foo", "bar", False)
     sub = k.top.lower
-    assert sub is not None and key in k.osup and [e[0] for e in sub.ungrounded] == [key]
+    assert sub is not None and key in k.preferences.osup and [e[0] for e in sub.ungrounded] == [key]
     k.remove_goal(sub)
     k.commit()
-    assert key not in k.osup and k.wm.get(*key) is None
+    assert key not in k.preferences.osup and k.wm.get(*key) is None
 
 
 def test_i_supported_result_without_grounds_retracts_with_its_instantiation() -> None:
@@ -371,7 +367,7 @@ def test_result_with_an_untraceable_local_basis_keeps_an_empty_justification() -
     agent = Agent()
     agent.load_file("tests/engine/agents/sub_nested.soar")
     made: list[object] = []
-    agent.kernel.tracer = lambda kind, p: made.append(p[1]) if kind == "result" else None
+    agent.events.subscribe(Event.RESULT, lambda payload: made.append(payload[1]))
     report = agent.run(10)
     assert report.halted and None not in made
 

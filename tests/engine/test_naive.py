@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import pytest
 
-from adapt.engine.naive import NaiveMatcher, relation_holds
+from adapt.engine.conditions import relation_holds
+from adapt.engine.naive import NaiveMatcher
 from adapt.engine.symbols import Float, Identifier
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
+
 from strategies import EXAMPLES, S1, cond, make_wmes, prod, rel
 
 

@@ -21,9 +21,11 @@ from adapt.engine.production import (
     EqualityTest,
     FunctionCall,
     MakeAction,
-    PreferenceKind as K,
     RelationalTest,
     Variable,
+)
+from adapt.engine.production import (
+    PreferenceKind as K,
 )
 from adapt.engine.symbols import Float
 

@@ -11,8 +11,20 @@ from adapt.engine.naive import NaiveMatcher
 from adapt.engine.rete import Rete
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
+
 from strategies import (
-    A1, A2, EXAMPLES, S1, Replay, cond, keys, make_wmes, ncc, prod, rel, scenarios,
+    A1,
+    A2,
+    EXAMPLES,
+    S1,
+    Replay,
+    cond,
+    keys,
+    make_wmes,
+    ncc,
+    prod,
+    rel,
+    scenarios,
 )
 
 MATCHERS = [NaiveMatcher, Rete]

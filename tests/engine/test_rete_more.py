@@ -15,10 +15,9 @@ import pytest
 from adapt.engine.matcher import Match
 from adapt.engine.naive import NaiveMatcher
 from adapt.engine.rete import Rete
-from adapt.engine.rete.state import make_match
 from adapt.engine.wme import WME
-from strategies import A1, A2, S1, cond, keys, make_wmes, ncc, prod
 
+from strategies import A1, A2, S1, cond, keys, make_wmes, ncc, prod
 
 
 def _bench() -> ModuleType:
@@ -31,10 +30,10 @@ def _bench() -> ModuleType:
     return module
 
 
-def test_make_match_is_match() -> None:
+def test_a_match_made_with_its_key_is_the_match() -> None:
     p = prod("p", cond("<s>", "a", "<x>"), cond("<x>", "b", "<y>"))
     wmes = tuple(make_wmes([(S1, "a", A1, False), (A1, "b", 3, False)]))
-    made = make_match(p, wmes, ("p", (1, 2)))
+    made = Match(p, wmes, ("p", (1, 2)))
     real = Match(p, wmes)
     for slot in Match.__slots__:
         assert getattr(made, slot) == getattr(real, slot), slot

@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from adapt.engine import Agent
+from adapt.errors import EngineError
 
 COUNTER = """
 sp {propose*init (state <s> ^superstate nil -^count) --> (<s> ^operator <o> +) (<o> ^name init)}
@@ -68,7 +69,7 @@ def test_footer_written_when_a_user_function_raises(tmp_path: Path) -> None:
 
     agent.register_function("boom", boom)
     agent.load_text(COUNTER + "sp {b (state <s> ^count 2) --> (boom)}")
-    with pytest.raises(Exception):
+    with pytest.raises(EngineError, match="sensor failed"):
         agent.run()
     agent.close()
     recs = records(path)

@@ -12,8 +12,8 @@ from adapt.errors import ScenarioError, SchemaError
 from adapt.geometry import Camera
 from adapt.imagination import RobotSpec, SceneSpec
 from adapt.mirror import Mirror
-from adapt.schemas import REGISTRY, Origin, SchemaNetwork, Status, check_settings
 from adapt.scenario import SchemaSettings, Source
+from adapt.schemas import REGISTRY, Origin, SchemaNetwork, Status, check_settings
 
 CAM = Camera.look_at(fx=200, fy=200, cx=80, cy=60, width=160, height=120,
                      position=(0, -2, 1), look_at=(0, 1, 0))

@@ -6,6 +6,7 @@ import cv2
 import numpy as np
 import pytest
 
+from adapt.errors import VisionError
 from adapt.geometry import Camera, rotation_exp, rotation_log
 from adapt.vision.camera_correction import (
     correct_pose,
@@ -16,7 +17,6 @@ from adapt.vision.camera_correction import (
 from adapt.vision.homography import corner_error
 from adapt.vision.mmd import mmd
 from adapt.vision.sync import synchronise
-from adapt.errors import VisionError
 
 from . import scenes
 

@@ -36,19 +36,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Sequence
 
+from adapt.engine.conditions import evaluation_order
 from adapt.engine.production import (
     FIELD_ATTR,
     FIELD_ID,
     FIELD_VALUE,
     Condition,
     ConditionElement,
-    ConjunctiveNegation,
     DisjunctionTest,
     EqualityTest,
+    Term,
     Variable,
     condition_equality_variables,
     simple_tests,
-    variables_in_test,
 )
 from adapt.engine.rete.alpha import ANY, AlphaKey, AlphaTest
 from adapt.engine.rete.join import JoinTest
@@ -85,7 +85,7 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> Condition
     token_fields: list[Site] = []
     wme_fields: list[int] = []
     tests: list[JoinTest] = []
-    relations: list[tuple[str, int, object]] = []
+    relations: list[tuple[str, int, Term]] = []
     for field, test in ((FIELD_ID, EqualityTest(cond.id)), (FIELD_ATTR, cond.attr),
                         (FIELD_VALUE, cond.value)):
         for t in simple_tests(test):
@@ -129,23 +129,12 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> Condition
     )
 
 
-def all_variables(element: ConditionElement) -> set[Variable]:
-    """Every variable an element mentions, nested ones included."""
-    if isinstance(element, ConjunctiveNegation):
-        out: set[Variable] = set()
-        for e in element.conditions:
-            out |= all_variables(e)
-        return out
-    return {element.id, *variables_in_test(element.attr), *variables_in_test(element.value)}
-
-
 def order_elements(elements: Sequence[ConditionElement], outer: set[Variable]) -> list[int]:
     """Indexes of ``elements`` in the order their nodes are built (see the
     module docstring); ``outer`` are the variables bound above."""
     remaining = [i for i, e in enumerate(elements) if is_positive(e)]
     known = set(outer)
     positives: list[int] = []
-    bound_after: list[set[Variable]] = [set(known)]
     while remaining:
         pick = next(
             (i for i in remaining
@@ -155,17 +144,4 @@ def order_elements(elements: Sequence[ConditionElement], outer: set[Variable]) -
         remaining.remove(pick)
         positives.append(pick)
         known |= condition_equality_variables(elements[pick])  # type: ignore[arg-type]
-        bound_after.append(set(known))
-    scope = known - outer
-    slots: list[list[int]] = [[] for _ in range(len(positives) + 1)]
-    for i, e in enumerate(elements):
-        if is_positive(e):
-            continue
-        needed = all_variables(e) & scope
-        k = next(k for k, have in enumerate(bound_after) if needed <= have)
-        slots[k].append(i)
-    order = list(slots[0])
-    for k, i in enumerate(positives):
-        order.append(i)
-        order.extend(slots[k + 1])
-    return order
+    return evaluation_order(elements, outer, positives)

@@ -22,7 +22,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Hashable, Iterable, Union
 
-from adapt.engine.rete.alpha import AlphaMemory, holds
+from adapt.engine.conditions import RELATIONS
+from adapt.engine.rete.alpha import AlphaMemory
 from adapt.engine.rete.token import BetaNode, Token
 from adapt.engine.wme import WME
 
@@ -41,18 +42,18 @@ def left_bucket(bucket: LeftBucket | None) -> Iterable[Token]:
     activating other nodes."""
     if bucket is None:
         return ()
-    if type(bucket) is dict:
+    if isinstance(bucket, dict):
         return list(bucket)
-    return (bucket,)  # type: ignore[return-value]
+    return (bucket,)
 
 
 def right_bucket(bucket: RightBucket | None) -> Iterable[WME]:
     """The WMEs of a right bucket."""
     if bucket is None:
         return ()
-    if type(bucket) is dict:
+    if isinstance(bucket, dict):
         return bucket.values()
-    return (bucket,)  # type: ignore[return-value]
+    return (bucket,)
 
 
 class TwoInputNode(BetaNode):
@@ -115,7 +116,7 @@ class TwoInputNode(BetaNode):
         for relation, al, af, bl, bf in self.tests:
             a = wme[af] if al < 0 else wmes[al][af]
             b = wme[bf] if bl < 0 else wmes[bl][bf]
-            if not holds(relation, a, b):
+            if not RELATIONS[relation](a, b):
                 return False
         return True
 
@@ -125,10 +126,10 @@ class TwoInputNode(BetaNode):
         bucket = left.get(key)
         if bucket is None:
             left[key] = token
-        elif type(bucket) is dict:
+        elif isinstance(bucket, dict):
             bucket[token] = None
         else:
-            left[key] = {bucket: None, token: None}  # type: ignore[dict-item]
+            left[key] = {bucket: None, token: None}
 
     def unindex_left(self, token: Token) -> None:
         """Take ``token`` out of the left memory."""
@@ -162,10 +163,10 @@ class TwoInputNode(BetaNode):
         bucket = right.get(key)
         if bucket is None:
             right[key] = wme
-        elif type(bucket) is dict:
+        elif isinstance(bucket, dict):
             bucket[wme[4]] = wme
         else:
-            right[key] = {bucket[4]: bucket, wme[4]: wme}  # type: ignore[index]
+            right[key] = {bucket[4]: bucket, wme[4]: wme}
         return key
 
     def right_remove(self, wme: WME) -> None:
@@ -179,12 +180,28 @@ class TwoInputNode(BetaNode):
             key = tuple([wme[field] for field in self.wme_fields])
         right = self.right
         bucket = right[key]
-        if type(bucket) is dict:
+        if isinstance(bucket, dict):
             del bucket[wme[4]]
             if not bucket:
                 del right[key]
         else:
             del right[key]
+
+    def left_add(self, token: Token) -> None:
+        """The parent node emitted ``token``."""
+        raise NotImplementedError
+
+    def left_remove(self, token: Token) -> None:
+        """The parent node withdrew ``token``."""
+        raise NotImplementedError
+
+    def right_add(self, wme: WME) -> None:
+        """``wme`` entered the alpha memory."""
+        raise NotImplementedError
+
+    def unblock(self, wme: WME) -> None:
+        """``wme`` left the network (negative nodes count the WMEs that block a token)."""
+        raise NotImplementedError
 
     def fill_right(self) -> None:
         """Load the alpha memory's current WMEs (a new node)."""
@@ -215,26 +232,26 @@ class JoinNode(TwoInputNode):
         bucket = left.get(key)
         if bucket is None:
             left[key] = token
-        elif type(bucket) is dict:
+        elif isinstance(bucket, dict):
             bucket[token] = None
         else:
-            left[key] = {bucket: None, token: None}  # type: ignore[dict-item]
-        partners = self.right.get(key)
-        if partners is None:
+            left[key] = {bucket: None, token: None}
+        found = self.right.get(key)
+        if found is None:
             return
         tests = self.tests
-        if type(partners) is not dict:
-            if tests and not self.check(wmes, partners):  # type: ignore[arg-type]
-                return
-            partners = (partners,)  # type: ignore[assignment]
-            tests = ()
-        else:
+        partners: Iterable[WME]
+        if isinstance(found, dict):
             # Emission never changes a right memory: no copy needed.
-            partners = partners.values()  # type: ignore[assignment]
-        state = self.state
-        registries = state.tokens_by_wme
+            partners = found.values()
+        else:
+            if tests and not self.check(wmes, found):
+                return
+            partners = (found,)
+            tests = ()
+        registries = self.state.tokens_by_wme
         children = self.children
-        for wme in partners:  # type: ignore[union-attr]
+        for wme in partners:
             if tests and not self.check(wmes, wme):
                 continue
             new = Token(token, wmes + (wme,), self, 0)
@@ -242,16 +259,17 @@ class JoinNode(TwoInputNode):
             registry = registries.get(timetag)
             if registry is None:
                 registries[timetag] = new
-            elif type(registry) is dict:
+            elif isinstance(registry, dict):
                 registry[new] = None
             else:
                 registries[timetag] = {registry: None, new: None}
             for child in children:
                 child.left_add(new)
 
-    #: The parent withdrew ``token``: forget it (its children go through the
-    #: token tree).
-    left_remove = TwoInputNode.unindex_left
+    def left_remove(self, token: Token) -> None:
+        """The parent withdrew ``token``: forget it (its children go through
+        the token tree)."""
+        self.unindex_left(token)
 
     def right_add(self, wme: WME) -> None:
         """``wme`` entered the alpha memory."""
@@ -267,32 +285,32 @@ class JoinNode(TwoInputNode):
         bucket = right.get(key)
         if bucket is None:
             right[key] = wme
-        elif type(bucket) is dict:
+        elif isinstance(bucket, dict):
             bucket[timetag] = wme
         else:
-            right[key] = {bucket[4]: bucket, timetag: wme}  # type: ignore[index]
-        tokens = self.left.get(key)
-        if tokens is None:
+            right[key] = {bucket[4]: bucket, timetag: wme}
+        found = self.left.get(key)
+        if found is None:
             return
         tests = self.tests
-        if type(tokens) is not dict:
-            if tests and not self.check(tokens.wmes, wme):  # type: ignore[union-attr]
-                return
-            tokens = (tokens,)  # type: ignore[assignment]
-            tests = ()
+        parents: Iterable[Token]
+        if isinstance(found, dict):
+            parents = list(found)
         else:
-            tokens = list(tokens)  # type: ignore[assignment]
-        state = self.state
-        registries = state.tokens_by_wme
+            if tests and not self.check(found.wmes, wme):
+                return
+            parents = (found,)
+            tests = ()
+        registries = self.state.tokens_by_wme
         children = self.children
-        for parent in tokens:  # type: ignore[union-attr]
+        for parent in parents:
             if tests and not self.check(parent.wmes, wme):
                 continue
             new = Token(parent, parent.wmes + (wme,), self, 0)
             registry = registries.get(timetag)
             if registry is None:
                 registries[timetag] = new
-            elif type(registry) is dict:
+            elif isinstance(registry, dict):
                 registry[new] = None
             else:
                 registries[timetag] = {registry: None, new: None}
@@ -305,7 +323,7 @@ class JoinNode(TwoInputNode):
         registry = registries.get(timetag)
         if registry is token:
             del registries[timetag]
-        elif type(registry) is dict:
+        elif isinstance(registry, dict):
             registry.pop(token, None)
             if not registry:
                 del registries[timetag]

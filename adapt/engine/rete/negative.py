@@ -32,7 +32,7 @@ class NegativeNode(TwoInputNode):
                 wmes = token.wmes
                 mine.count = sum(1 for w in right_bucket(partners) if self.check(wmes, w))
             else:
-                mine.count = len(partners) if type(partners) is dict else 1
+                mine.count = len(partners) if isinstance(partners, dict) else 1
         if mine.count == 0:
             for child in self.children:
                 child.left_add(mine)

@@ -120,21 +120,7 @@ class Rete:
             return
         wmes[timetag] = wme
         self.state.epoch += 1
-        # _alphas_of, inlined for the usual shapes.
-        both, attr_only, value_only, neither = self._shapes
-        if value_only or neither:
-            memories = self._alphas_of(wme)
-        else:
-            alpha = self._alpha
-            memories = alpha.get((wme[1], ANY, wme[3]), ()) if attr_only else ()
-            if both:
-                found = alpha.get((wme[1], wme[2], wme[3]))
-                if found:
-                    memories = memories + found if memories else found
-            for am in memories:
-                if am.check is not None:
-                    memories = tuple([m for m in memories if m.check is None or m.check(wme)])
-                    break
+        memories = self._alphas_of(wme)
         if not memories:
             return
         self._wme_alphas[timetag] = memories
@@ -146,9 +132,10 @@ class Rete:
     def remove_wme(self, wme: WME) -> None:
         """Remove a WME (a timetag not present is ignored)."""
         timetag = wme[4]
-        wme = self._wmes.pop(timetag, None)  # type: ignore[assignment]
-        if wme is None:
+        known = self._wmes.pop(timetag, None)
+        if known is None:
             return
+        wme = known
         state = self.state
         state.epoch += 1
         memories = self._wme_alphas.pop(timetag, None)
@@ -157,41 +144,20 @@ class Rete:
         for am in memories:
             del am.items[timetag]
             for node in am.successors:
-                # Inlined TwoInputNode.right_remove.
-                n = node._n
-                if n == 1:
-                    key: object = wme[node._wfield]
-                elif n == 0:
-                    key = None
-                else:
-                    key = tuple([wme[field] for field in node.wme_fields])
-                right = node.right
-                bucket = right[key]
-                if type(bucket) is dict:
-                    del bucket[timetag]
-                    if not bucket:
-                        del right[key]
-                else:
-                    del right[key]
+                node.right_remove(wme)
         tokens = state.tokens_by_wme.pop(timetag, None)
         if tokens is not None:
-            if type(tokens) is dict:
+            if isinstance(tokens, dict):
                 for token in tokens:
                     if not token.dead:
                         unlink(token)
                         delete_token(token)
             else:
-                # unlink, inlined (a join token always has a parent).
-                parent = tokens.parent  # type: ignore[union-attr]
-                siblings = parent.children
-                if siblings is tokens:
-                    parent.children = None
-                elif type(siblings) is dict:
-                    siblings.pop(tokens, None)
-                delete_token(tokens)  # type: ignore[arg-type]
+                unlink(tokens)
+                delete_token(tokens)
         for am in memories:
             for negative in am.negatives:
-                negative.unblock(wme)  # type: ignore[attr-defined]
+                negative.unblock(wme)
 
     # -- match set ------------------------------------------------------------
 
@@ -331,11 +297,13 @@ class Rete:
     ) -> TwoInputNode:
         am = self._alpha_memory(key, alpha_tests)
         sig = (cls, am, token_fields, wme_fields, tests)
-        for child in parent.children:
-            if isinstance(child, TwoInputNode) and child.signature() == sig:
-                return child
+        shared = parent.shared.get(sig)
+        if shared is not None:
+            assert isinstance(shared, TwoInputNode)
+            return shared
         node = cls(self.state, parent, am, token_fields, wme_fields, tests)
         parent.children.append(node)
+        parent.shared[sig] = node
         am.add_successor(node)
         node.fill_right()
         for token in parent.emitted():
@@ -343,15 +311,18 @@ class Rete:
         return node
 
     def _ncc(self, parent: BetaNode, bottom: BetaNode, depth: int) -> NccNode:
-        for child in parent.children:
-            if isinstance(child, NccNode) and child.signature() == (NccNode, bottom, depth):
-                return child
+        sig = (NccNode, bottom, depth)
+        shared = parent.shared.get(sig)
+        if shared is not None:
+            assert isinstance(shared, NccNode)
+            return shared
         partner = NccPartner(bottom, depth)
         bottom.children.append(partner)
         for token in bottom.emitted():
             partner.left_add(token)
         node = NccNode(self.state, parent, partner)
         parent.children.append(node)
+        parent.shared[sig] = node
         for token in parent.emitted():
             node.left_add(token)
         return node
@@ -365,6 +336,8 @@ class Rete:
                 unlink(token)
                 delete_token(token)
             parent.children.remove(node)  # type: ignore[arg-type]
+            if isinstance(node, (TwoInputNode, NccNode)):
+                del parent.shared[node.signature()]
             if isinstance(node, TwoInputNode):
                 am = node.alpha
                 am.remove_successor(node)

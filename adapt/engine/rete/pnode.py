@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Callable
 
 from adapt.engine.matcher import Match
 from adapt.engine.production import Production
-from adapt.engine.rete.state import FlatKey, make_match
+from adapt.engine.rete.state import FlatKey
 from adapt.engine.rete.token import BetaNode, Token
 from adapt.engine.wme import WME
 
@@ -22,7 +22,8 @@ if TYPE_CHECKING:
 
 __all__ = ["ProductionNode"]
 
-_timetag = itemgetter(4)
+_TIMETAG = itemgetter(4)
+
 
 
 class ProductionNode:
@@ -33,7 +34,7 @@ class ProductionNode:
     production's order.
     """
 
-    __slots__ = ("state", "parent", "production", "order", "name", "_size", "_reorder")
+    __slots__ = ("state", "parent", "production", "order", "name", "_reorder")
 
     def __init__(
         self,
@@ -47,7 +48,6 @@ class ProductionNode:
         self.production = production
         self.order = order
         self.name = production.name
-        self._size = len(production.positive_conditions)
         #: token WMEs -> production-ordered WMEs (None: already in order)
         self._reorder: Callable[[tuple[WME, ...]], tuple[WME, ...]] | None = (
             None if order is None else _reorderer(order)
@@ -55,41 +55,18 @@ class ProductionNode:
 
     def flat_key(self, token: Token) -> FlatKey:
         """``(name, timetag, ...)`` of the match ``token`` makes."""
+        return self.key_and_wmes(token)[0]
+
+    def key_and_wmes(self, token: Token) -> tuple[FlatKey, tuple[WME, ...]]:
+        """The match's flat key and its WMEs in the production's condition order."""
         wmes = token.wmes
         reorder = self._reorder
         if reorder is not None:
             wmes = reorder(wmes)
-        # Unrolled for the common lengths: this is on the hot path.
-        n = self._size
-        if n == 3:
-            a, b, c = wmes
-            return (self.name, a[4], b[4], c[4])
-        if n == 4:
-            a, b, c, d = wmes
-            return (self.name, a[4], b[4], c[4], d[4])
-        if n == 2:
-            a, b = wmes
-            return (self.name, a[4], b[4])
-        return (self.name, *map(_timetag, wmes))
+        return (self.name, *map(_TIMETAG, wmes)), wmes
 
     def left_add(self, token: Token) -> None:
-        # flat_key, inlined.
-        wmes = token.wmes
-        reorder = self._reorder
-        if reorder is not None:
-            wmes = reorder(wmes)
-        n = self._size
-        if n == 3:
-            a, b, c = wmes
-            key: FlatKey = (self.name, a[4], b[4], c[4])
-        elif n == 4:
-            a, b, c, d = wmes
-            key = (self.name, a[4], b[4], c[4], d[4])
-        elif n == 2:
-            a, b = wmes
-            key = (self.name, a[4], b[4])
-        else:
-            key = (self.name, *map(_timetag, wmes))
+        key, wmes = self.key_and_wmes(token)
         state = self.state
         removed = state.removed
         if key in removed:
@@ -98,23 +75,7 @@ class ProductionNode:
             state.added[key] = wmes
 
     def left_remove(self, token: Token) -> None:
-        # flat_key, inlined.
-        wmes = token.wmes
-        reorder = self._reorder
-        if reorder is not None:
-            wmes = reorder(wmes)
-        n = self._size
-        if n == 3:
-            a, b, c = wmes
-            key: FlatKey = (self.name, a[4], b[4], c[4])
-        elif n == 4:
-            a, b, c, d = wmes
-            key = (self.name, a[4], b[4], c[4], d[4])
-        elif n == 2:
-            a, b = wmes
-            key = (self.name, a[4], b[4])
-        else:
-            key = (self.name, *map(_timetag, wmes))
+        key, wmes = self.key_and_wmes(token)
         state = self.state
         added = state.added
         if key in added:
@@ -129,14 +90,14 @@ class ProductionNode:
 
     def matches(self) -> list[Match]:
         """The current matches (the parent's emitted tokens)."""
-        out = []
+        out: list[Match] = []
         for token in self.parent.emitted():
-            key = self.flat_key(token)
-            out.append(make_match(self.production, self.wmes_of(token), (self.name, key[1:])))
+            wmes = self.wmes_of(token)
+            out.append(Match(self.production, wmes))
         return out
 
 
 def _reorderer(order: tuple[int, ...]) -> Callable[[tuple[WME, ...]], tuple[WME, ...]]:
     if len(order) == 1:
         return lambda wmes: (wmes[order[0]],)
-    return itemgetter(*order)  # type: ignore[return-value]
+    return itemgetter(*order)

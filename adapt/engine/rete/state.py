@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Union
 
-from adapt.engine.matcher import Match, MatchKey
+from adapt.engine.matcher import FlatKey, Match
 from adapt.engine.production import Production
 from adapt.engine.wme import WME
 
@@ -22,25 +22,11 @@ if TYPE_CHECKING:
     from adapt.engine.rete.pnode import ProductionNode
     from adapt.engine.rete.token import Token
 
-__all__ = ["NetworkState", "Pending", "FlatKey", "make_match"]
+__all__ = ["NetworkState", "Pending", "FlatKey"]
 
-#: ``(production name, timetag, timetag, ...)``
-FlatKey = tuple[Union[str, int], ...]
 #: A pending match change: the matched WMEs, in the production's order.
 Pending = tuple[WME, ...]
 
-_new = object.__new__
-
-
-def make_match(production: Production, wmes: tuple[WME, ...], key: MatchKey) -> Match:
-    """``Match(production, wmes)`` without recomputing ``key`` (which must be
-    ``(production.name, timetags of wmes)``)."""
-    match: Match = _new(Match)
-    match.production = production
-    match.wmes = wmes
-    match.key = key
-    match._hash = hash(key)
-    return match
 
 
 class NetworkState:
@@ -97,20 +83,14 @@ class NetworkState:
     def _matches(self, pending: dict[FlatKey, Pending]) -> list[Match]:
         pnodes = self.pnodes
         orphans = self.orphans
-        out = []
+        out: list[Match] = []
         append = out.append
         for key, wmes in pending.items():
             name = key[0]
             production = orphans.get(key) if orphans else None
             if production is None:
-                production = pnodes[name].production  # type: ignore[index]
-            # make_match, inlined.
-            match: Match = _new(Match)
-            match.production = production
-            match.wmes = wmes
-            match.key = match_key = (name, key[1:])  # type: ignore[assignment]
-            match._hash = hash(match_key)
-            append(match)
+                production = pnodes[name].production
+            append(Match(production, wmes, (name, key[1:])))
         return out
 
     def take_raw(self) -> tuple[dict[FlatKey, Pending], dict[FlatKey, Pending]]:

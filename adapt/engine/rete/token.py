@@ -51,7 +51,7 @@ class Token:
             siblings = parent.children
             if siblings is None:
                 parent.children = self
-            elif type(siblings) is dict:
+            elif isinstance(siblings, dict):
                 siblings[self] = None
             else:
                 parent.children = {siblings: None, self: None}
@@ -65,9 +65,9 @@ def children_of(token: Token) -> Iterable[Token]:
     below = token.children
     if below is None:
         return ()
-    if type(below) is dict:
+    if isinstance(below, dict):
         return below
-    return (below,)  # type: ignore[return-value]
+    return (below,)
 
 
 def unlink(token: Token) -> None:
@@ -77,7 +77,7 @@ def unlink(token: Token) -> None:
         siblings = parent.children
         if siblings is token:
             parent.children = None
-        elif type(siblings) is dict:
+        elif isinstance(siblings, dict):
             siblings.pop(token, None)
 
 
@@ -99,17 +99,20 @@ class BetaNode:
     (``left_add``) and hear of their retraction (``left_remove``).
     """
 
-    #: what :func:`delete_token` must do to forget a token of this node:
-    #: 0 nothing, 1 take it out of the WME registry (join nodes, inlined),
-    #: 2 call :meth:`drop`
+    #: non-zero when :func:`delete_token` must call :meth:`drop` to forget a
+    #: token of this node (joins: the WME registry; negative nodes: the left memory)
     kind = 0
 
-    __slots__ = ("state", "parent", "children")
+    __slots__ = ("state", "parent", "children", "shared")
 
     def __init__(self, state: NetworkState, parent: BetaNode | None) -> None:
         self.state = state
         self.parent = parent
         self.children: list[Successor] = []
+        #: the children that productions may share, by their signature: a
+        #: new production finds a node to share in one lookup (a scan of
+        #: ``children`` made loading quadratic)
+        self.shared: dict[tuple[object, ...], BetaNode] = {}
 
     def drop(self, token: Token) -> None:
         """Forget ``token``, one of this node's own tokens, which is being
@@ -156,11 +159,11 @@ def retract(token: Token) -> None:
     below = token.children
     if below is not None:
         token.children = None
-        if type(below) is dict:
+        if isinstance(below, dict):
             for t in below:
                 delete_token(t)
         else:
-            delete_token(below)  # type: ignore[arg-type]
+            delete_token(below)
 
 
 def delete_token(token: Token) -> None:
@@ -174,22 +177,10 @@ def delete_token(token: Token) -> None:
     below = token.children
     if below is not None:
         token.children = None
-        if type(below) is dict:
+        if isinstance(below, dict):
             for t in below:
                 delete_token(t)
         else:
-            delete_token(below)  # type: ignore[arg-type]
-    kind = node.kind
-    if kind == 1:
-        # JoinNode.drop, inlined.
-        registries = node.state.tokens_by_wme
-        timetag = token.wmes[-1][4]
-        registry = registries.get(timetag)
-        if registry is token:
-            del registries[timetag]
-        elif type(registry) is dict:
-            registry.pop(token, None)
-            if not registry:
-                del registries[timetag]
-    elif kind == 2:
+            delete_token(below)
+    if node.kind:
         node.drop(token)

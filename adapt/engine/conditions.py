@@ -1,0 +1,484 @@
+"""What a condition means: the one definition every matcher and tool calls.
+
+This module is the semantics of a production's left-hand side.  The
+brute-force matcher (:mod:`adapt.engine.naive`), the justifications of
+substate results (:mod:`adapt.engine.results`) and the trace tools
+(:mod:`adapt.traceview.conditions`) all match conditions through it; the Rete
+(:mod:`adapt.engine.rete`) compiles the same tests into its network, uses
+:data:`RELATIONS` for every relational test, and is tested against this
+module on random productions and working memories.
+
+Tests on one field of a WME
+---------------------------
+* ``=`` (an equality test): the same symbol -- ``2`` and ``2.0`` differ;
+  identifiers are compared by identity.  A variable not yet bound is bound
+  to the field.
+* ``<> x``: not the same symbol.
+* ``< > <= >=``: both numbers (int or float, compared numerically) or both
+  symbolic constants (compared as strings); otherwise the test fails, and an
+  identifier never satisfies one.
+* ``<=> x``: the same *type* of symbol (identifier, string, int, float).
+* ``<< a b >>``: equal to one of the constants.
+
+Scope of variables
+------------------
+* A variable is bound by the first equality test on it among the positive
+  conditions of its conjunction, *wherever* that condition is written: a
+  relational test or a negated condition written before the condition that
+  binds its variable is evaluated once the variable is bound.
+* A relational test's variable must be bound by an equality test in its
+  scope (:func:`check_scope` raises otherwise).
+* Variables bound only inside a negated condition or a conjunctive negation
+  are local to it.
+
+Evaluation order
+----------------
+:func:`evaluation_order` puts a conjunction's positive conditions in source
+order and each negation right after the positive condition that binds the
+last variable it shares with them (first, when it shares none).  A relational
+test whose variable is bound later waits in the partial match
+(:class:`Partial`) and is checked by the condition that binds the variable.
+A match is a partial that passed every step; which step a production's
+partials run out at is what ``adapt trace why --rule`` reports.
+
+Examples
+--------
+>>> from adapt.engine.parse import parse_rules
+>>> from adapt.engine.symbols import Identifier
+>>> p, = parse_rules("sp {r (state <s> ^a {<x> > <y>}) (<s> ^b <y>) --> (write hi)}").productions
+>>> s1 = Identifier("S", 1)
+>>> wm = WmeIndex([WME(s1, "type", "state", False, 1), WME(s1, "a", 1, False, 2),
+...                WME(s1, "b", 5, False, 3)])
+>>> list(conjunction_matches(p.conditions, wm))
+[]
+>>> wm = WmeIndex([WME(s1, "type", "state", False, 1), WME(s1, "a", 9, False, 2),
+...                WME(s1, "b", 5, False, 3)])
+>>> [sorted(v.name for v in b) for b, _ in conjunction_matches(p.conditions, wm)]
+[['<s>', '<x>', '<y>']]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Final, Literal, Protocol
+
+from adapt.engine.production import (
+    Condition,
+    ConditionElement,
+    ConjunctiveNegation,
+    DisjunctionTest,
+    EqualityTest,
+    RelationalTest,
+    Test,
+    Variable,
+    condition_equality_variables,
+    relational_variables,
+    simple_tests,
+    variables_in_test,
+)
+from adapt.engine.symbols import Float, Identifier, Symbol
+from adapt.engine.wme import WME
+from adapt.errors import EngineError
+
+__all__ = [
+    "Relation",
+    "RELATIONS",
+    "relation_holds",
+    "Bindings",
+    "PendingRelation",
+    "Partial",
+    "WmeSource",
+    "WmeIndex",
+    "match_condition",
+    "evaluation_order",
+    "extend",
+    "conjunction_matches",
+    "exists",
+    "all_variables",
+    "check_scope",
+]
+
+#: A relational test's operator.
+Relation = Literal["=", "<>", "<", ">", "<=", ">=", "<=>"]
+
+#: Variable bindings of a (partial) match.
+Bindings = dict[Variable, Symbol]
+
+
+# -- relations -------------------------------------------------------------------
+
+
+def _kind(value: object) -> int:
+    """The symbol type for ``<=>``: identifier, string, int or float."""
+    t = type(value)
+    if t is Identifier:
+        return 0
+    if t is str:
+        return 1
+    if t is int:
+        return 2
+    return 3
+
+
+def _same(a: object, b: object) -> bool:
+    return a == b
+
+
+def _differ(a: object, b: object) -> bool:
+    return not a == b
+
+
+def _same_type(a: object, b: object) -> bool:
+    return _kind(a) == _kind(b)
+
+
+def _comparable(a: object, b: object) -> bool:
+    ta, tb = type(a), type(b)
+    if ta is int or ta is Float or ta is float:
+        return tb is int or tb is Float or tb is float
+    return ta is str and tb is str
+
+
+def _less(a: object, b: object) -> bool:
+    return _comparable(a, b) and a < b  # type: ignore[operator]
+
+
+def _greater(a: object, b: object) -> bool:
+    return _comparable(a, b) and a > b  # type: ignore[operator]
+
+
+def _less_equal(a: object, b: object) -> bool:
+    return _comparable(a, b) and a <= b  # type: ignore[operator]
+
+
+def _greater_equal(a: object, b: object) -> bool:
+    return _comparable(a, b) and a >= b  # type: ignore[operator]
+
+
+#: Each relation as a predicate ``(tested value, other) -> bool``: the one
+#: definition of the relations (the Rete's join and alpha tests call these).
+RELATIONS: Mapping[str, Callable[[object, object], bool]] = {
+    "=": _same,
+    "<>": _differ,
+    "<=>": _same_type,
+    "<": _less,
+    ">": _greater,
+    "<=": _less_equal,
+    ">=": _greater_equal,
+}
+
+
+def relation_holds(relation: str, value: object, other: object) -> bool:
+    """Whether ``value relation other`` holds, with Soar's semantics.
+
+    Examples
+    --------
+    >>> relation_holds("<", 2, Float(2.5)), relation_holds("<", "a", 3)
+    (True, False)
+    >>> relation_holds("<>", 2, Float(2.0)), relation_holds("<=>", 2, 7)
+    (True, True)
+
+    Raises
+    ------
+    EngineError
+        For a relation that is not one of :data:`RELATIONS`.
+    """
+    test = RELATIONS.get(relation)
+    if test is None:
+        raise EngineError(f"unknown relation {relation!r}")
+    return test(value, other)
+
+
+# -- working memory as the semantics reads it ---------------------------------------
+
+
+class WmeSource(Protocol):
+    """WMEs to match against: all of them, and those of one identifier.
+
+    :class:`WmeIndex` and :class:`adapt.engine.memory.WorkingMemory` are
+    sources.
+    """
+
+    def __iter__(self) -> Iterator[WME]:
+        """Every WME."""
+        ...
+
+    def of(self, ident: Symbol) -> Sequence[WME]:
+        """The WMEs whose identifier is ``ident``."""
+        ...
+
+
+class WmeIndex:
+    """A list of WMEs grouped by identifier (a :class:`WmeSource`).
+
+    Examples
+    --------
+    >>> s1 = Identifier("S", 1)
+    >>> index = WmeIndex([WME(s1, "a", 1, False, 1), WME("x", "b", 2, False, 2)])
+    >>> len(index.of(s1)), len(list(index))
+    (1, 2)
+    """
+
+    __slots__ = ("wmes", "by_id")
+
+    def __init__(self, wmes: Iterable[WME]) -> None:
+        self.wmes: list[WME] = list(wmes)
+        self.by_id: dict[Symbol, list[WME]] = {}
+        for w in self.wmes:
+            self.by_id.setdefault(w.id, []).append(w)
+
+    def __iter__(self) -> Iterator[WME]:
+        return iter(self.wmes)
+
+    def of(self, ident: Symbol) -> Sequence[WME]:
+        return self.by_id.get(ident, ())
+
+
+# -- one condition against one WME -----------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class PendingRelation:
+    """A relational test met before its variable was bound: ``value relation <var>``."""
+
+    relation: str
+    value: Symbol
+    variable: Variable
+
+
+@dataclass(frozen=True, slots=True)
+class Partial:
+    """A partial match: bindings, the WMEs matched by the positive conditions
+    so far (in evaluation order) and the relational tests waiting for a
+    variable."""
+
+    bindings: Bindings
+    wmes: tuple[WME, ...] = ()
+    pending: tuple[PendingRelation, ...] = ()
+
+
+def _bind_field(test: Test | None, value: Symbol, b: Bindings) -> bool:
+    """The equality and disjunction parts of ``test`` against ``value``;
+    binds unbound equality variables in ``b`` (mutated)."""
+    for t in simple_tests(test):
+        if isinstance(t, EqualityTest):
+            term = t.term
+            if isinstance(term, Variable):
+                bound = b.get(term, _UNBOUND)
+                if bound is _UNBOUND:
+                    b[term] = value
+                elif not bound == value:
+                    return False
+            elif not term == value:
+                return False
+        elif isinstance(t, DisjunctionTest):
+            if not any(c == value for c in t.values):
+                return False
+    return True
+
+
+_UNBOUND: Final = object()
+
+
+def _relations(test: Test | None, value: Symbol, b: Bindings,
+               pending: list[PendingRelation]) -> bool:
+    """The relational parts of ``test``: checked when their variable is bound,
+    else appended to ``pending``."""
+    for t in simple_tests(test):
+        if isinstance(t, RelationalTest):
+            term = t.term
+            if isinstance(term, Variable):
+                if term in b:
+                    if not relation_holds(t.relation, value, b[term]):
+                        return False
+                else:
+                    pending.append(PendingRelation(t.relation, value, term))
+            elif not relation_holds(t.relation, value, term):
+                return False
+    return True
+
+
+def match_condition(cond: Condition, wme: WME, partial: Partial) -> Partial | None:
+    """``partial`` extended by matching ``cond`` (its negation ignored) to ``wme``.
+
+    Equality tests bind first, so a relational test may use a variable bound
+    anywhere in the same condition; relational tests whose variable is still
+    unbound wait in the result's ``pending``, and pending tests whose
+    variable this condition binds are checked.  ``None`` when it does not match.
+    """
+    if wme.acceptable != cond.acceptable:
+        return None
+    b = dict(partial.bindings)
+    ident = b.get(cond.id, _UNBOUND)
+    if ident is _UNBOUND:
+        b[cond.id] = wme.id
+    elif ident is not wme.id and not ident == wme.id:
+        return None
+    if not (_bind_field(cond.attr, wme.attr, b) and _bind_field(cond.value, wme.value, b)):
+        return None
+    waiting: list[PendingRelation] = []
+    for p in partial.pending:
+        if p.variable in b:
+            if not relation_holds(p.relation, p.value, b[p.variable]):
+                return None
+        else:
+            waiting.append(p)
+    if not (_relations(cond.attr, wme.attr, b, waiting)
+            and _relations(cond.value, wme.value, b, waiting)):
+        return None
+    return Partial(b, partial.wmes + (wme,), tuple(waiting))
+
+
+# -- conjunctions --------------------------------------------------------------------------
+
+
+def all_variables(element: ConditionElement) -> set[Variable]:
+    """Every variable an element mentions, nested ones included."""
+    if isinstance(element, ConjunctiveNegation):
+        out: set[Variable] = set()
+        for e in element.conditions:
+            out |= all_variables(e)
+        return out
+    return {element.id, *variables_in_test(element.attr), *variables_in_test(element.value)}
+
+
+def _is_positive(element: ConditionElement) -> bool:
+    return isinstance(element, Condition) and not element.negated
+
+
+def evaluation_order(elements: Sequence[ConditionElement],
+                     outer: Iterable[Variable] = (),
+                     positives: Sequence[int] | None = None) -> list[int]:
+    """Indexes of ``elements`` in the order they are evaluated.
+
+    Positive conditions in source order (or in the order ``positives``
+    gives their indexes: the Rete orders them by connectivity); each
+    negation right after the positive condition that binds the last of the
+    variables it shares with the conjunction's positive conditions
+    (``outer`` are bound already).
+
+    Examples
+    --------
+    >>> from adapt.engine.parse import parse_rules
+    >>> p, = parse_rules("sp {r (state <s> -^a <v>) (<s> ^b <v>) --> (write x)}").productions
+    >>> [type(p.conditions[i]).__name__ + ("-" if p.conditions[i].negated else "")
+    ...  for i in evaluation_order(p.conditions)]
+    ['Condition', 'Condition', 'Condition-']
+    """
+    known = set(outer)
+    if positives is None:
+        positives = [i for i, e in enumerate(elements) if _is_positive(e)]
+    bound_after: list[set[Variable]] = [set(known)]
+    for i in positives:
+        known |= condition_equality_variables(elements[i])  # type: ignore[arg-type]
+        bound_after.append(set(known))
+    scope = known - set(outer)
+    slots: list[list[int]] = [[] for _ in range(len(positives) + 1)]
+    for i, e in enumerate(elements):
+        if _is_positive(e):
+            continue
+        needed = all_variables(e) & scope
+        k = next(k for k, have in enumerate(bound_after) if needed <= have)
+        slots[k].append(i)
+    order = list(slots[0])
+    for k, i in enumerate(positives):
+        order.append(i)
+        order.extend(slots[k + 1])
+    return order
+
+
+def _candidates(cond: Condition, source: WmeSource, b: Bindings) -> Iterable[WME]:
+    ident = b.get(cond.id, _UNBOUND)
+    if ident is _UNBOUND:
+        return source
+    return source.of(ident)  # type: ignore[arg-type]
+
+
+def extend(element: ConditionElement, partial: Partial, source: WmeSource) -> Iterator[Partial]:
+    """The partials that ``partial`` becomes after one evaluation step.
+
+    A positive condition yields one partial per WME it matches consistently;
+    a negated condition or conjunctive negation yields ``partial`` itself when
+    it has no match under its bindings, nothing otherwise.
+    """
+    if _is_positive(element):
+        assert isinstance(element, Condition)
+        for w in _candidates(element, source, partial.bindings):
+            extended = match_condition(element, w, partial)
+            if extended is not None:
+                yield extended
+    elif not exists(element, source, partial.bindings):
+        yield partial
+
+
+def _search(elements: Sequence[ConditionElement], order: Sequence[int], step: int,
+            partial: Partial, source: WmeSource) -> Iterator[Partial]:
+    if step == len(order):
+        yield partial
+        return
+    for p in extend(elements[order[step]], partial, source):
+        yield from _search(elements, order, step + 1, p, source)
+
+
+def conjunction_matches(elements: Sequence[ConditionElement], source: WmeSource,
+                        bindings: Bindings | None = None
+                        ) -> Iterator[tuple[Bindings, tuple[WME, ...]]]:
+    """Every consistent match of a conjunction, given the enclosing bindings.
+
+    Yields ``(bindings, wmes)``, ``wmes`` holding one WME per positive
+    condition in source order.  Matches come in backtracking order:
+    positive conditions left to right, each one's candidate WMEs in the
+    source's order.
+    """
+    outer = dict(bindings or {})
+    order = evaluation_order(elements, outer)
+    for p in _search(elements, order, 0, Partial(outer), source):
+        yield p.bindings, p.wmes
+
+
+def exists(element: ConditionElement, source: WmeSource, bindings: Bindings) -> bool:
+    """Whether a negated condition (read positively) or a conjunctive
+    negation's conjunction has a match under ``bindings``."""
+    if isinstance(element, ConjunctiveNegation):
+        return any(True for _ in conjunction_matches(element.conditions, source, bindings))
+    start = Partial(bindings)
+    for w in _candidates(element, source, bindings):
+        p = match_condition(element, w, start)
+        if p is not None and not p.pending:
+            return True
+    return False
+
+
+# -- scope -----------------------------------------------------------------------------------
+
+
+def check_scope(name: str, elements: Sequence[ConditionElement],
+                outer: Iterable[Variable] = ()) -> None:
+    """Raise :class:`~adapt.errors.EngineError` if a relational test uses a
+    variable that no equality test in its scope binds.
+
+    Examples
+    --------
+    >>> from adapt.engine.production import Condition, RelationalTest
+    >>> check_scope("bad", (Condition(Variable("<s>"), None,
+    ...                                RelationalTest("<", Variable("<y>"))),))
+    Traceback (most recent call last):
+    ...
+    adapt.errors.EngineError: production bad: variable <y> is tested with a relation but never bound
+    """
+    bound = set(outer)
+    for e in elements:
+        if _is_positive(e):
+            bound |= condition_equality_variables(e)  # type: ignore[arg-type]
+    for e in elements:
+        if isinstance(e, ConjunctiveNegation):
+            check_scope(name, e.conditions, bound)
+            continue
+        local = bound | condition_equality_variables(e) if e.negated else bound
+        unbound = set(relational_variables(e.attr) + relational_variables(e.value)) - local
+        if unbound:
+            var = sorted(v.name for v in unbound)[0]
+            raise EngineError(
+                f"production {name}: variable {var} is tested with a relation but never bound"
+            )

@@ -1,0 +1,208 @@
+"""Preference memory: which instantiations hold each WME, and with what support.
+
+One owner for the bookkeeping between preferences and working memory (the
+kernel's firings, the results of substates and their justifications all go
+through :meth:`PreferenceMemory.assert_preferences` and
+:meth:`PreferenceMemory.retract`):
+
+* an **acceptable** preference ``(id ^attr value +)`` for an ordinary
+  attribute keeps the WME in working memory while an i-supported holder of
+  it lives (:attr:`PreferenceMemory.isup`, a list of holders per WME) or an
+  o-supported one has made it (:attr:`PreferenceMemory.osup`, the last one);
+* a **reject** ``-`` of an o-supported holder removes every preference for
+  the WME, i-supported ones included (Soar's ``process_o_rejects``): the WME
+  goes; a reject of an i-supported holder keeps the WME out of working
+  memory while that holder lives (:attr:`PreferenceMemory.irej`);
+* a preference on a state's ``^operator`` goes to the goal's operator slot
+  (:class:`adapt.engine.goals.SlotPreference`); an acceptable or require
+  one also puts the WME ``(S ^operator O +)`` in working memory while a
+  holder lives.
+
+A *holder* is an :class:`~adapt.engine.instantiation.Instantiation` (a
+production's firing, or a justification); what it holds is recorded on it
+(``i_wmes``, ``slot_prefs``) so that :meth:`PreferenceMemory.retract`
+undoes exactly that.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Final
+
+from adapt.engine.goals import SlotPreference
+from adapt.engine.memory import WmeKey, WorkingMemory
+from adapt.engine.preferences import Preference
+from adapt.engine.production import PreferenceKind
+from adapt.engine.symbols import Identifier, Symbol, level_of
+
+if TYPE_CHECKING:  # pragma: no cover
+    from adapt.engine.goals import Goal
+    from adapt.engine.instantiation import Instantiation
+
+__all__ = ["PreferenceMemory", "MadePreference"]
+
+#: A preference made by a firing: ``(kind, id, attr, value, referent,
+#: o_supported)`` -- ``o_supported`` is the support of the firing that made it.
+MadePreference = tuple[PreferenceKind, Identifier, Symbol, Symbol, "Symbol | None", bool]
+
+_ACCEPTABLE: Final = PreferenceKind.ACCEPTABLE
+_REJECT: Final = PreferenceKind.REJECT
+_REQUIRE: Final = PreferenceKind.REQUIRE
+
+
+class PreferenceMemory:
+    """The support of every WME made by preferences (see the module docstring).
+
+    Parameters
+    ----------
+    wm : WorkingMemory
+        Where supported WMEs are added and unsupported ones removed.
+    goals : dict
+        The live goals by state identifier (shared with the kernel): a
+        preference on ``(S ^operator ...)`` for one of them goes to its slot.
+    """
+
+    __slots__ = ("wm", "goals", "isup", "osup", "irej")
+
+    def __init__(self, wm: WorkingMemory, goals: dict[Symbol, Goal]) -> None:
+        self.wm = wm
+        self.goals = goals
+        #: WME key -> the i-supported holders of its acceptable preference
+        self.isup: dict[WmeKey, list[Instantiation]] = {}
+        #: WME key -> the o-supported holder that made it
+        self.osup: dict[WmeKey, Instantiation] = {}
+        #: WME key -> the i-supported holders of a reject of it
+        self.irej: dict[WmeKey, list[Instantiation]] = {}
+
+    # -- asserting -------------------------------------------------------------
+    def assert_preferences(self, holder: Instantiation, prefs: list[MadePreference],
+                           o_supported: bool, *, o_rejects: bool = True) -> bool:
+        """Assert ``prefs`` held by ``holder`` with the given support.
+
+        ``o_rejects`` false: the caller has already applied the o-supported
+        rejects (a firing's o-rejects go before every other preference of
+        its elaboration cycle).  Returns True when an o-supported acceptable
+        preference for an ordinary WME was asserted (the caller may have to
+        extend a goal dependency set).
+        """
+        goals = self.goals
+        isup, irej, osup = self.isup, self.irej, self.osup
+        adds = self.wm.pending_adds
+        o_local = False
+        for p in prefs:
+            kind, ident, attr, value, ref, _ = p
+            if attr == "operator" and ident in goals:
+                self.add_slot_preference(goals[ident], Preference(kind, value, ref), holder)
+            elif kind is _ACCEPTABLE:
+                key = (ident, attr, value, False)
+                if o_supported:
+                    osup[key] = holder
+                    o_local = True
+                else:
+                    supporters = isup.get(key)
+                    if supporters is None:
+                        isup[key] = [holder]
+                    else:
+                        supporters.append(holder)
+                    holder.i_wmes.append(key)
+                if key not in irej:
+                    adds[key] = None
+            elif kind is _REJECT:
+                if o_supported:
+                    if o_rejects:
+                        self.o_reject(p)
+                else:
+                    key = (ident, attr, value, False)
+                    irej.setdefault(key, []).append(holder)
+                    holder.i_wmes.append(key)
+                    self.wm.remove_key(key)
+        return o_local
+
+    def add_slot_preference(self, goal: Goal, pref: Preference, holder: Instantiation) -> None:
+        """Put ``pref`` in ``goal``'s operator slot, held by ``holder``."""
+        sp = SlotPreference(pref, holder)
+        goal.prefs.append(sp)
+        goal.changed = True
+        holder.slot_prefs.append((goal, sp))
+        kind = pref.kind
+        if kind is _ACCEPTABLE or kind is _REQUIRE:
+            key = (goal.id, "operator", pref.value, True)
+            supporters = self.isup.get(key)
+            if supporters is None:
+                self.isup[key] = [holder]
+            else:
+                supporters.append(holder)
+            self.wm.pending_adds[key] = None
+
+    def o_reject(self, p: MadePreference) -> None:
+        """An o-supported reject: remove every preference for the WME, and the WME."""
+        _, ident, attr, value, _, _ = p
+        if attr == "operator" and ident in self.goals:
+            return
+        key = (ident, attr, value, False)
+        had = self.osup.pop(key, None) is not None
+        if self.isup.pop(key, None) is not None or had:
+            self.wm.remove_key(key)
+
+    # -- retracting ----------------------------------------------------------------
+    def retract(self, holder: Instantiation) -> list[Goal]:
+        """Remove everything ``holder`` supports with i-support.
+
+        Returns the goals whose *selected* operator just lost an acceptable
+        preference of ``holder`` (Soar deselects them at once).
+        """
+        isup, osup, wm = self.isup, self.osup, self.wm
+        irej = self.irej
+        for key in holder.i_wmes:
+            if irej:
+                rejecters = irej.get(key)
+                if rejecters is not None and holder in rejecters:
+                    rejecters.remove(holder)
+                    if not rejecters:
+                        del irej[key]
+                        if key in isup or key in osup:
+                            wm.add(*key)
+                    continue
+            supporters = isup.get(key)
+            if supporters is None or holder not in supporters:
+                continue
+            if len(supporters) == 1:
+                del isup[key]
+                if key not in osup:
+                    wm.remove_key(key)
+            else:
+                supporters.remove(holder)
+        deselect: list[Goal] = []
+        for goal, sp in holder.slot_prefs:
+            try:
+                goal.prefs.remove(sp)
+            except ValueError:
+                continue
+            goal.changed = True
+            kind = sp.preference.kind
+            if kind is _ACCEPTABLE or kind is _REQUIRE:
+                value = sp.preference.value
+                key = (goal.id, "operator", value, True)
+                supporters = isup.get(key)
+                if supporters is not None:
+                    supporters.remove(holder)
+                    if not supporters:
+                        del isup[key]
+                        wm.remove_key(key)
+                if kind is _ACCEPTABLE and goal.operator is value:
+                    deselect.append(goal)
+        return deselect
+
+    def drop_o_supported(self, key: WmeKey, holder: Instantiation | None = None) -> None:
+        """Forget the o-supported WME ``key`` (only if ``holder`` made it, when
+        given); the WME goes unless something i-supports it."""
+        if key not in self.osup or (holder is not None and self.osup[key] is not holder):
+            return
+        del self.osup[key]
+        if key not in self.isup:
+            self.wm.remove(*key)
+
+    def drop_levels(self, level: int) -> None:
+        """Forget the o-supported WMEs on identifiers of goal level ``level`` or lower
+        (a goal at ``level`` is being removed)."""
+        for key in [k for k in self.osup if level_of(k[0]) >= level]:
+            self.drop_o_supported(key)

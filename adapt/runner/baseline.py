@@ -1,0 +1,106 @@
+"""The baseline the mirror is measured against, run in the same run on the same sightings.
+
+A constant-velocity Kalman filter (:class:`~adapt.kalman.ConstantVelocityKF`,
+no bounce handling) follows each object from the sightings its perceptual
+schema makes; it predicts at the same horizons by straight-line
+extrapolation, and drives a simulated robot with the real robot's speed and
+acceleration limits, re-planned every frame towards the earliest point of
+its own predicted straight path the robot can reach.  That is the tracker the
+paper argues cannot foresee a bounce ("playing catch-up").
+
+The baseline sees what perception sees, never the truth; the evaluation
+scores it against the truth like the mirror.
+
+Examples
+--------
+>>> from adapt.imagination import RobotSpec
+>>> b = Baseline(RobotSpec(position=(0.0, -1.0), max_speed=1.0, max_accel=2.0), reach=0.3,
+...              horizons=(0.5, 1.0), dt=1 / 30)
+>>> for k in range(20):
+...     b.step(k / 30, (0.5 * k / 30, 1.0))
+>>> [round(v, 2) for v in b.predict(1.0)]
+[0.82, 1.0]
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+
+from adapt.imagination import RobotSpec
+from adapt.imagination.predict import Trajectory, intercept
+from adapt.kalman import ConstantVelocityKF
+
+__all__ = ["Baseline", "SimulatedRobot"]
+
+
+class SimulatedRobot:
+    """A point robot with bounded speed and acceleration, driven towards a target."""
+
+    def __init__(self, position: Sequence[float], max_speed: float, max_accel: float) -> None:
+        self.position = np.array(position[:2], float)
+        self.velocity = np.zeros(2)
+        self.max_speed = max_speed
+        self.max_accel = max_accel
+
+    def drive(self, target: Sequence[float] | None, seconds: float, substep: float = 1 / 240) -> None:
+        """Move for ``seconds`` towards ``target`` (None: brake), arriving at rest."""
+        n = max(1, int(round(seconds / substep)))
+        h = seconds / n
+        for _ in range(n):
+            if target is None:
+                want = np.zeros(2)
+            else:
+                d = np.asarray(target, float) - self.position
+                dist = float(np.linalg.norm(d))
+                speed = min(self.max_speed, math.sqrt(2.0 * self.max_accel * dist))
+                want = d / dist * speed if dist > 1e-9 else np.zeros(2)
+            dv = want - self.velocity
+            lim = self.max_accel * h
+            norm = float(np.linalg.norm(dv))
+            if norm > lim:
+                dv *= lim / norm
+            self.velocity += dv
+            self.position += self.velocity * h
+
+
+class Baseline:
+    """A constant-velocity Kalman filter and the robot it would drive (see the module docstring)."""
+
+    def __init__(self, robot: RobotSpec, *, reach: float, horizons: Sequence[float], dt: float,
+                 q: float = 0.3, r: float = 0.005, plan: float = 3.0) -> None:
+        self.kf = ConstantVelocityKF(q=q, r=r)
+        self.robot = SimulatedRobot(robot.position, robot.max_speed, robot.max_accel)
+        self.reach = reach
+        self.horizons = tuple(horizons)
+        self.dt = dt
+        self.plan = plan
+        self.target: tuple[float, float] | None = None
+
+    def step(self, time: float, sighting: Sequence[float] | None) -> None:
+        """Take this frame's sighting (None: not seen), re-plan, and drive for one frame."""
+        self.kf.step(time, sighting)
+        self.target = None
+        if self.kf.initialised and self.kf.updates >= 3:
+            p, v = np.array(self.kf.position), np.array(self.kf.velocity)
+            times = np.linspace(time, time + self.plan, 91)
+            path = Trajectory("baseline", times, p[None, :] + (times - time)[:, None] * v[None, :],
+                              np.tile(v, (len(times), 1)), ())
+            hit = intercept(path, self.robot.position, self.robot.max_speed, self.robot.max_accel,  # type: ignore[arg-type]
+                            reach=self.reach, start=time)
+            if hit is not None:
+                self.target = hit.position
+        self.robot.drive(self.target, self.dt)
+
+    def predict(self, horizon: float) -> tuple[float, float]:
+        """Where the filter expects the object ``horizon`` seconds after its last time."""
+        return self.kf.predict_position(horizon)
+
+    def predictions(self) -> list[dict[str, object]]:
+        """The report's form: ``[{"horizon", "position"}]`` (empty before any sighting)."""
+        if not self.kf.initialised:
+            return []
+        return [{"horizon": h, "position": [round(v, 4) for v in self.predict(h)]}
+                for h in self.horizons]
