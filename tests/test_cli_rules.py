@@ -114,3 +114,11 @@ def test_rule_files_with_productions_do_not_warn(tmp_path: Path,
     rules.write_text("sp {hello (state <s> ^superstate nil) --> (write |hi|) (halt)}\n")
     assert main(["rules", "run", str(rules)]) == 0
     assert "no productions" not in capsys.readouterr().err
+
+
+def test_a_byte_order_mark_is_accepted(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "bom.soar"
+    f.write_bytes(b"\xef\xbb\xbf" + GOOD.encode("utf-8"))
+    assert main(["rules", "check", str(f)]) == 0
+    assert main(["rules", "run", str(f)]) == 0
+    assert capsys.readouterr().out.startswith(f"{f}: 1 production ok\nhello\n")
