@@ -28,6 +28,9 @@ SKIPPED: dict[tuple[str, str], str] = {
     ("getting-started.md", "python -m pytest"): "the whole suite, which holds this test",
     ("getting-started.md", "python bench/"): "benchmarks: 5 s to 15 minutes each, run by hand "
                                              "(docs/performance.md)",
+    ("getting-started.md", "python -m adapt sync"): "about 9 s of camera loop; docs/mmd.md's sync of a "
+                                                    "turned camera, run by tests/vision/test_docs.py, "
+                                                    "is the same loop",
     ("performance.md", "python bench/"): "benchmarks: 5 s to 15 minutes each, run by hand",
     ("reality.md", "python bench/make_video_sequence.py"): "rewrites the shipped video sequence in "
                                                            "scenarios/video",
