@@ -40,6 +40,7 @@ __all__ = [
     "GroundTruthError",
     "RunError",
     "OutputError",
+    "AppearanceError",
 ]
 
 
@@ -158,3 +159,9 @@ class OutputError(AdaptError):
     another of its outputs, has an extension that does not fit what is written,
     is a folder or a special file, or cannot be written (``adapt/files.py``).
     Nothing has been written when it is raised before the work."""
+
+
+class AppearanceError(AdaptError):
+    """A learned-appearance folder cannot be read or written (a missing or
+    malformed ``index.json``, an image or mask that does not fit its entry, a
+    surface the scene does not have)."""

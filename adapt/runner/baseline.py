@@ -5,8 +5,9 @@ no bounce handling) follows each object from the sightings its perceptual
 schema makes; it predicts at the same horizons by straight-line
 extrapolation, and drives a simulated robot with the real robot's speed and
 acceleration limits, re-planned every frame towards the earliest point of
-its own predicted straight path the robot can reach.  That is the tracker the
-paper argues cannot foresee a bounce ("playing catch-up").
+its own predicted straight path the robot can reach, or, when no point of it
+is reachable, towards where the filter has the object now (pursuit).  That is
+the tracker the paper argues cannot foresee a bounce ("playing catch-up").
 
 The baseline sees what perception sees, never the truth; the evaluation
 scores it against the truth like the mirror.
@@ -90,8 +91,7 @@ class Baseline:
                               np.tile(v, (len(times), 1)), ())
             hit = intercept(path, self.robot.position, self.robot.max_speed, self.robot.max_accel,  # type: ignore[arg-type]
                             reach=self.reach, start=time)
-            if hit is not None:
-                self.target = hit.position
+            self.target = hit.position if hit is not None else (float(p[0]), float(p[1]))
         self.robot.drive(self.target, self.dt)
 
     def predict(self, horizon: float) -> tuple[float, float]:

@@ -49,6 +49,7 @@ from adapt.geometry import Camera, rotation_log
 from adapt.imagination.predict import Trajectory, intercept_reach
 from adapt.imagination.reach import meet
 from adapt.scenario import Scenario
+from adapt.schemas.intercept import CATCH_SLACK  # a contact's bodies are never quite touching
 
 __all__ = ["Evaluation", "Sample", "camera_error", "COMMIT_CONFIDENCE", "BOUNCE_TURN_DEG"]
 
@@ -58,9 +59,8 @@ COMMIT_CONFIDENCE = 0.7
 BOUNCE_TURN_DEG = 20.0
 #: True positions kept per object for the reachability oracle.
 PATH_LIMIT = 20_000
-#: A robot touching the object is at exactly the reach; this much more counts too (metres),
-#: since a contact's bodies are never quite touching in the physics.
-CATCH_SLACK = 0.02
+#: Scored predictions kept for ``prediction.png`` (the latest ones).
+TIMELINE = 20000
 
 
 class Sample:
@@ -175,6 +175,8 @@ class Evaluation:
         self.uncorrected: dict[str, Sample] = {}
         self.scores: dict[tuple[str, float], _Scores] = {}
         self._pending: dict[int, list[tuple[str, str, float, tuple[float, float], int, float]]] = {}
+        #: The latest scored predictions, for the figure: (time made, source, horizon, error m).
+        self.timeline: deque[tuple[float, str, float, float]] = deque(maxlen=TIMELINE)
         self._velocities: dict[str, deque[tuple[int, tuple[float, float]]]] = {}
         self.confident = 0
         self.confident_within = 0
@@ -216,6 +218,10 @@ class Evaluation:
                 vel = self._velocities.setdefault(name, deque(maxlen=int(self.fps * 65) + 4))
                 vel.append((index, (float(obj.velocity[0]), float(obj.velocity[1]))))
         record["truth"] = truth_pos
+        robot = getattr(t, "robot", None)
+        if robot is not None:
+            record["truth_robot"] = [round(float(robot.position[0]), 4),
+                                     round(float(robot.position[1]), 4)]
         if getattr(t, "camera", None) is not None:
             pos, rot = camera_error(camera, t.camera)
             record["camera_pose_error"] = {"position_m": round(pos, 5),
@@ -264,6 +270,7 @@ class Evaluation:
                 continue  # once the robot has the object, its path is the robot's doing
             err = math.dist(pos, true)
             self.scores.setdefault((source, h), _Scores()).add(err, self._bounced(name, made, index))
+            self.timeline.append((made / self.fps, source, h, err))
             if source == "mirror" and self.reach is not None and name == self.target and \
                     h == max(self.scenario.predict.horizons) and conf >= COMMIT_CONFIDENCE:
                 self.confident += 1

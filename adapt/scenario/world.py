@@ -46,7 +46,7 @@ __all__ = ["WorldReader", "CAMERA_KEYS", "WORLD_KEYS", "FLOOR_KEYS", "WALL_KEYS"
 
 CAMERA_KEYS = ("fx", "fy", "cx", "cy", "width", "height", "position", "look_at", "roll_deg",
                "mount")
-WORLD_KEYS = ("floor", "walls", "obstacles", "objects", "robot", "gravity", "dt")
+WORLD_KEYS = ("floor", "walls", "obstacles", "objects", "robot", "gravity", "dt", "appearance")
 FLOOR_KEYS = ("texture", "tile", "color", "extent")
 SURFACE_KEYS = ("name", "height", "texture", "tile", "color", "restitution", "friction")
 WALL_KEYS = ("name", "from", "to", "height", "texture", "tile", "color", "restitution", "friction")
@@ -272,6 +272,24 @@ class WorldReader(NodeReader):
                                  f"the ball {ball.name!r} (radius {r:g} m) at [{x:g}, {y:g}] {what} "
                                  f"the obstacle {obstacle.name!r} ({join(obstacles_path, i)}); "
                                  "expected a ball clear of every obstacle")
+
+    def world_appearance(self, node: Node, path: str) -> Path | None:
+        """``world.appearance``: a folder of learned surface looks (``index.json``
+        and images, as ``adapt run`` writes into ``appearance/``), or None."""
+        items = self.mapping(node, path)
+        if "appearance" not in items or self.is_null(items["appearance"][1]):
+            return None
+        key = join(path, "appearance")
+        value = items["appearance"][1]
+        folder = self.path_value(value, key)
+        if not folder.is_dir():
+            raise self.error(value, key, f"appearance folder {str(folder)!r} not found; expected "
+                             "a folder written by `adapt run` (its appearance/ folder), relative "
+                             "to the scenario")
+        if not (folder / "index.json").is_file():
+            raise self.error(value, key, f"{str(folder)!r} has no index.json; expected a folder "
+                             "written by `adapt run` (its appearance/ folder)")
+        return folder
 
     def floor(self, node: Node, path: str) -> Floor:
         spec: dict[str, Callable[[Node, str], Any]] = {
