@@ -409,7 +409,7 @@ def _floor_plot(runner: "Runner", path: Path) -> Path:
         xs = [q[0] for q in ob.polygon] + [ob.polygon[0][0]]
         ys = [q[1] for q in ob.polygon] + [ob.polygon[0][1]]
         ax.fill(xs, ys, color=np.array(ob.color) / 255.0, alpha=0.8)
-    for i, (made, pts) in enumerate(p.predicted):
+    for i, (_made, pts) in enumerate(p.predicted):
         ax.plot(pts[:, 0], pts[:, 1], ":", color="tab:purple", lw=1.0, alpha=0.8,
                 label="predicted (from t=" + ", ".join(f"{t:.1f}" for t, _ in p.predicted)
                 + " s)" if i == 0 else None)

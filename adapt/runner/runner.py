@@ -42,6 +42,7 @@ import numpy as np
 from adapt.engine import Agent
 from adapt.engine.trace import TraceWriter
 from adapt.errors import AppearanceError, RuleError, RunError
+from adapt.files import Output, check_outputs, same_file
 from adapt.frames import Frame, FrameSource, VideoSink
 from adapt.geometry import Camera
 from adapt.mirror import Mirror
@@ -205,22 +206,26 @@ class Runner:
 
     def _check_outputs(self) -> None:
         """Refuse, before any work, an output folder that cannot be written or an output that
-        would replace an input."""
+        would replace an input (:func:`adapt.files.check_outputs` for the files; a folder
+        output may not hold an input either)."""
         if self.out is None:
             return
         if self.out.exists() and not self.out.is_dir():
             raise RunError(f"--out {str(self.out)!r} is a file; expected a folder")
-        probe = self.out
-        while not probe.exists():
-            probe = probe.parent
-        if not os.access(probe, os.W_OK | os.X_OK):
-            raise RunError(f"cannot write into {str(probe)!r} (permission denied)")
-        inputs = {p.resolve() for p in self._inputs()}
-        for name, path in self._paths().items():
-            if path.resolve() in inputs or any(i.is_relative_to(path.resolve()) for i in inputs
-                                               if name in ("figures", "appearance")):
-                raise RunError(f"the {name} output {str(path)!r} would replace an input of the "
-                               "run; choose another --out folder")
+        inputs = [(f"an input of the run ({p})", p) for p in self._inputs()]
+        folders = ("figures", "appearance")
+        paths = self._paths()
+        suffixes = {"report": (".json",), "trace": (".jsonl",), "video": (".mp4",)}
+        check_outputs([Output(f"the {name} output", path, suffixes[name])
+                       for name, path in paths.items() if name not in folders], inputs)
+        for name in folders:
+            path = paths.get(name)
+            if path is None:
+                continue
+            for what, p in inputs:
+                if same_file(p, path) or Path(p).resolve().is_relative_to(path.resolve()):
+                    raise RunError(f"the {name} output {str(path)!r} would replace {what}; "
+                                   "choose another --out folder")
 
     def _inputs(self) -> Iterator[Path]:
         sc = self.scenario
@@ -404,13 +409,11 @@ class Runner:
         if uncorrected is None or corrected is None:
             return
         name = created[0]
-        boxes = [self._ball_box(camera, p, name) for p in
+        found = [self._ball_box(camera, p, name) for p in
                  (self.twin.positions().get(name),
                   self.mirror.world.position(name) if self.mirror.has_body(name) else None)]
-        seen = self._sighting_box(name)
-        if seen is not None:
-            boxes.append(seen)
-        boxes = [b for b in boxes if b is not None]
+        found.append(self._sighting_box(name))
+        boxes = [b for b in found if b is not None]
         if not boxes:
             return  # the object is out of view: nothing to compare
         h, w = frame.image.shape[:2]
