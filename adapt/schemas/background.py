@@ -141,6 +141,7 @@ class SceneBackground(Schema):
         self.tracker = RegionTracker()
         self.result: MMDResult | None = None
         self.synthetic: NDArray[np.uint8] | None = None
+        self.background_image: NDArray[np.uint8] | None = None
         self.labels: NDArray[np.int32] | None = None
         self.regions: list[RegionReport] = []
         self.pixel_error = math.nan
@@ -210,6 +211,9 @@ class SceneBackground(Schema):
             self.stage = AppearanceStage.LEARNED
         rendered = mirror.render()
         self.synthetic, self.labels = rendered.image, rendered.labels
+        # the background through this frame's camera, before any correction moves it: what
+        # H_e maps onto the real frame (an object's difference is taken against it)
+        self.background_image = mirror.background.image
         self._label_of = {name: label for label, name in rendered.names.items()}
         robot = mirror.scene.robot
         self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
@@ -544,7 +548,10 @@ class SceneBackground(Schema):
         applied: its Gaussians, centred on background corners matched next to the object,
         would eat into the object's outline and bias its fitted position.
         """
-        return self._difference(real, self.network.mirror.background.image, window)
+        bg = self.background_image
+        if bg is None:
+            return None
+        return self._difference(real, bg, window)
 
     def _difference(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8],
                     window: BBox) -> NDArray[Any] | None:
