@@ -37,6 +37,9 @@ SKIPPED: dict[tuple[str, str], str] = {
     ("runner.md", "adapt run SCENARIO.yaml"): "a synopsis with placeholders, not a command",
     ("runner.md", "adapt check SCENARIO.yaml"): "a synopsis with placeholders, not a command",
     ("mmd.md", ""): "its commands are run, with their outputs checked, by tests/vision/test_docs.py",
+    ("mirror.md", "adapt run scenarios/"): "whole 640x480 runs, 15-40 s each; tests/mirror runs the "
+                                           "same scenarios at 320x240 and tests/runner/test_cli.py "
+                                           "runs the main job's command for a few frames",
 }
 
 
