@@ -39,6 +39,8 @@ __all__ = [
     "RealityError",
     "GroundTruthError",
     "RunError",
+    "OutputError",
+    "AppearanceError",
     "SweepError",
     "SweepSpecError",
 ]
@@ -152,6 +154,19 @@ class GroundTruthError(RealityError, LocatedError):
 class RunError(AdaptError):
     """The scenario runner cannot start or go on (an output folder that cannot
     be written, a reality whose frames do not fit the camera)."""
+
+
+class OutputError(AdaptError):
+    """An output path cannot be used: it is one of the command's inputs or
+    another of its outputs, has an extension that does not fit what is written,
+    is a folder or a special file, or cannot be written (``adapt/files.py``).
+    Nothing has been written when it is raised before the work."""
+
+
+class AppearanceError(AdaptError):
+    """A learned-appearance folder cannot be read or written (a missing or
+    malformed ``index.json``, an image or mask that does not fit its entry, a
+    surface the scene does not have)."""
 
 
 class SweepError(AdaptError):
