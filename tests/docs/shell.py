@@ -53,8 +53,20 @@ def commands(page: Path, block: Block) -> list[Command]:
     name = page.name
     lines = block.text.splitlines()
     if block.lang in ("sh", "bash"):
-        return [Command(line.strip(), (), name, block.line + i) for i, line in enumerate(lines)
-                if line.strip() and not line.lstrip().startswith("#")]
+        pending = ""
+        start = 0
+        for i, line in enumerate(lines):
+            if not pending and (not line.strip() or line.lstrip().startswith("#")):
+                continue
+            if not pending:
+                start = i
+            text = line.strip()
+            if text.endswith("\\"):  # a continued line: one command with the next
+                pending += text[:-1] + " "
+                continue
+            found.append(Command(pending + text, (), name, block.line + start))
+            pending = ""
+        return found
     if block.lang == "console":
         for i, line in enumerate(lines):
             if line.startswith("$ "):

@@ -37,6 +37,12 @@ SKIPPED: dict[tuple[str, str], str] = {
     ("runner.md", "adapt run SCENARIO.yaml"): "a synopsis with placeholders, not a command",
     ("runner.md", "adapt check SCENARIO.yaml"): "a synopsis with placeholders, not a command",
     ("mmd.md", ""): "its commands are run, with their outputs checked, by tests/vision/test_docs.py",
+    ("sweeps.md", "adapt sweep SCENARIO.yaml"): "a synopsis with placeholders, not a command",
+    ("sweeps.md", "pip install"): "installs an extra (network)",
+    ("sweeps.md", "adapt sweep scenarios/"): "sweeps of 50 to 2,400 whole runs (minutes to hours); "
+                                             "tests/sweep runs small sweeps of the same command",
+    ("sweeps.md", "dask "): "starts a Dask cluster on other machines",
+    ("sweeps.md", "srun "): "starts Dask workers under Slurm",
     ("mirror.md", "adapt run scenarios/"): "whole 640x480 runs, 15-40 s each; tests/mirror runs the "
                                            "same scenarios at 320x240 and tests/runner/test_cli.py "
                                            "runs the main job's command for a few frames",
