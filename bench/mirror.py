@@ -58,7 +58,13 @@ def one(seed: int, extra: tuple[str, ...] = ()) -> dict[str, Any]:
     sc = load_scenario(SCENARIO, overrides=OVERRIDES + extra)
     quiet = OutputSettings(report=False, trace=False, video=False, figures=False)
     started = time.perf_counter()
-    summary = Runner(sc, out=None, seed=seed, outputs=quiet).run().summary
+    try:
+        summary = Runner(sc, out=None, seed=seed, outputs=quiet).run().summary
+    except Exception as exc:  # a throw that fails is counted and named, not the end of the bench
+        import traceback
+
+        return {"seed": seed, "error": f"{type(exc).__name__}: {exc}",
+                "where": traceback.format_exc(limit=-4)}
     summary["bench_wall_s"] = time.perf_counter() - started
     summary["seed"] = seed
     return summary
@@ -89,6 +95,9 @@ def main() -> int:
     if args.json:
         Path(args.json).write_text(json.dumps(runs))
     ok = [r for r in runs if not r.get("error")]
+    for r in runs:
+        if r.get("error"):
+            print(f"seed {r['seed']} FAILED: {r['error']}\n{r['where']}", file=sys.stderr)
     print(f"{len(runs)} throws ({len(runs) - len(ok)} failed) in {wall:.0f} s with "
           f"{args.workers} worker(s); seeds {seeds[0]}-{seeds[-1]}; scenario {SCENARIO.name} "
           f"with {', '.join(o for o in OVERRIDES + tuple(args.extra) if not o.startswith('outputs'))}")

@@ -641,8 +641,9 @@ class Runner:
         if self._trace is not None:
             if interrupted:
                 self.agent.stop_reason = "interrupted"
-            self.agent.write_footer(wall, error)
+            # the summary before the footer: readers take the footer as the trace's last record
             self._trace.event("summary", {"d": self.agent.decisions, **summary})
+            self.agent.write_footer(wall, error)
             self._trace.close()
             assert self._trace_tmp is not None
             os.replace(self._trace_tmp, paths["trace"])

@@ -113,3 +113,20 @@ def test_engine_traces(tmp_path: Path, example: str) -> None:
     agent.run(max_decisions=60)
     agent.close()
     check(tmp_path / "run.jsonl")
+
+
+def test_runner_traces(tmp_path: Path) -> None:
+    """A scenario run's trace: schema events, frames, the network and the summary too."""
+    from adapt.runner import Runner
+    from adapt.scenario import load_scenario
+
+    root = Path(__file__).resolve().parents[2]
+    scenario = load_scenario(root / "scenarios" / "unexpected-object.yaml",
+                             overrides=("run.duration=0.3", "outputs.video=false",
+                                        "outputs.figures=false", "outputs.report=false"))
+    Runner(scenario, out=tmp_path / "run").run()
+    path = tmp_path / "run" / "trace.jsonl"
+    kinds = [r["kind"] for r in all_records(path)]
+    assert {"schema", "frame", "network", "summary"} <= set(kinds)
+    assert kinds[-1] == "footer" and kinds[-2] == "summary"
+    check(path)
