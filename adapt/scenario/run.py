@@ -128,6 +128,11 @@ class RunReader(RealityReader):
         kw = self.fields(node, path, spec)
         items = self.mapping(node, path)
         if "duration" in kw and "max_frames" in kw:
+            # a --set of one replaces the file's other: how long to run is one setting
+            given = [k for k in ("duration", "max_frames") if id(items[k][1]) in self._override_text]
+            if len(given) == 1:
+                del kw["max_frames" if given[0] == "duration" else "duration"]
+        if "duration" in kw and "max_frames" in kw:
             raise self.error(items["max_frames"][0], join(path, "max_frames"),
                              "give either duration or max_frames, not both")
         for key, limit in (("fps", MAX_FPS), ("max_frames", MAX_FRAMES),

@@ -315,6 +315,14 @@ def test_overrides_replace_values_by_name_or_index_and_add_keys() -> None:
     assert sc.run.fps == 15.0
 
 
+def test_an_override_of_the_run_length_replaces_the_files_other_one() -> None:
+    assert load(CAMERA + WORLD + "run: {duration: 1}\n", overrides=["run.max_frames=7"]).run.frames == 7
+    assert load(CAMERA + WORLD + "run: {max_frames: 7, fps: 10}\n",
+                overrides=["run.duration=2"]).run.frames == 20
+    e = err(CAMERA + WORLD, overrides=["run.max_frames=7", "run.duration=1"])
+    assert "not both" in e.message
+
+
 def test_a_bad_override_is_reported_in_the_override() -> None:
     e = err(CAMERA + WORLD, overrides=["world.objects.ball.restitution=7"])
     assert e.file == "--set" and e.message.startswith("world.objects[0].restitution: expected a "
