@@ -46,7 +46,7 @@ from typing import Any, Sequence
 
 from adapt.cli.exits import Exit
 from adapt.errors import AdaptError, ImageError, VisionError
-from adapt.files import write_atomic
+from adapt.files import Output, check_outputs, write_atomic
 
 __all__ = ["register"]
 
@@ -88,13 +88,11 @@ def register(sub: Any) -> None:
     s.set_defaults(func=_run_sync)
 
 
-def _refuse_overwriting(inputs: Sequence[str], outputs: Sequence[Path]) -> None:
-    """Raise before anything is written if an output is one of the inputs."""
-    resolved = {Path(i).resolve(): i for i in inputs}
-    for out in outputs:
-        hit = resolved.get(out.resolve())
-        if hit is not None:
-            raise ImageError(f"{out}: is the input {hit}; choose another --out directory")
+def _refuse_overwriting(inputs: Sequence[tuple[str, str]], outputs: Sequence[Path]) -> None:
+    """Raise before anything is written if an output is an input or cannot be written
+    (:func:`adapt.files.check_outputs`; the folder is created later)."""
+    check_outputs([Output("--out", p, (p.suffix,)) for p in outputs],
+                  [(f"the input {path!r} ({what})", path) for what, path in inputs])
 
 
 def _out_dir(path: str | None) -> Path | None:
@@ -152,7 +150,8 @@ def _run_mmd(args: argparse.Namespace) -> int:
 
     names = ("warped.png", "mask.png", "mmd.png")
     if args.out is not None:
-        _refuse_overwriting([args.real, args.synthetic], [Path(args.out) / n for n in names])
+        _refuse_overwriting([("real", args.real), ("synthetic", args.synthetic)],
+                           [Path(args.out) / n for n in names])
     set_threads(DEFAULT_THREADS)
     real = read_image(args.real)
     synthetic = read_image(args.synthetic)
@@ -275,7 +274,8 @@ def _run_sync(args: argparse.Namespace) -> int:
         raise VisionError(f"--tolerance must be a positive number of pixels, got {args.tolerance}")
     if args.out is not None:
         outs = [Path(args.out) / f"step_{i:02d}.png" for i in range(args.max_iter)]
-        _refuse_overwriting([args.real, args.scenario], outs + [Path(args.out) / "sync.json"])
+        _refuse_overwriting([("real", args.real), ("scenario", args.scenario)],
+                           outs + [Path(args.out) / "sync.json"])
     set_threads(DEFAULT_THREADS)
     scenario = load_scenario(args.scenario)
     real = check_image(read_image(args.real), "real", source=args.real)
