@@ -46,6 +46,7 @@ import cv2
 import numpy as np
 
 from adapt.imagination import Ball
+from adapt.imagination.sight import behind_wall
 from adapt.kalman import ConstantVelocityKF
 from adapt.schemas.base import BBox, Schema, Status
 from adapt.schemas.estimator import PARAMETERS, ParameterEstimator
@@ -100,6 +101,8 @@ class ForegroundObject(Schema):
         self.last: Observation | None = None
         self.sightings = 0
         self.misses = 0
+        #: sightings refused because a wall stands between the camera and where they fit
+        self.refused = 0
         self.status = Status.WAITING
         self.region = int(parameters["region"])
         self._window: BBox | None = None
@@ -340,6 +343,12 @@ class ForegroundObject(Schema):
                            to_camera=bg.pixels_to_synthetic)
             if fit is None:
                 return None
+        eye = (float(cam.position[0]), float(cam.position[1]))
+        if behind_wall(self.network.mirror.scene, eye, fit.position) is not None:
+            # a wall hides whatever is behind it: the blob is something else (a fragment
+            # merged with the wall's difference, a misfit near the horizon)
+            self.refused += 1
+            return None
         if self.ball is None:
             self._measure_unknown(frame, fit.radius, mask, bbox)
         centre = (float(cents[best][0] + x0), float(cents[best][1] + y0))
@@ -384,6 +393,12 @@ class ForegroundObject(Schema):
         c = 2.0 * float(self.parameters["damping"]) * math.sqrt(k)
         ax = k * (px - body.position[0]) + c * (vx - body.velocity[0])
         ay = k * (py - body.position[1]) + c * (vy - body.velocity[1])
+        # bounded: a target the body cannot reach (a wall between them) must not pump
+        # energy into the contact solver without end
+        limit = float(self.parameters["max_accel"])
+        a = math.hypot(ax, ay)
+        if a > limit:
+            ax, ay = ax * limit / a, ay * limit / a
         world.apply_force(self.body, (body.mass * ax, body.mass * ay))
 
     # -- the input-link and the image ------------------------------------------------------------
@@ -494,7 +509,8 @@ class ForegroundObject(Schema):
                     "observed": None if self.observed() is None else
                     [round(v, 4) for v in self.kf.position],
                     "imagined": None if self.imagined() is None else
-                    [round(v, 4) for v in self.imagined()]})  # type: ignore[union-attr]
+                    [round(v, 4) for v in self.imagined()],  # type: ignore[union-attr]
+                    "refused": self.refused})
         return out
 
 
@@ -520,6 +536,9 @@ FOREGROUND_OBJECT = SchemaSpec(
         Parameter("k", float, 632.0, "spring stiffness (acceleration per metre of error); "
                   "0 leaves the imagination uncorrected", unit="1/s^2", low=0.0),
         Parameter("damping", float, 1.0, "damping ratio of the spring (1: critical)", low=0.0),
+        Parameter("max_accel", float, 400.0, "the spring's largest acceleration (a target "
+                  "behind a wall or far off pulls no harder)", unit="m/s^2", low=0.0,
+                  low_open=True),
         Parameter("confirm", int, 2, "sightings before the object is created in the imagination",
                   low=1),
         Parameter("lost_after", int, 5, "frames without a sighting before it is lost", low=0),
