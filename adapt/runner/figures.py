@@ -322,6 +322,7 @@ def _prediction_plot(runner: "Runner", path: Path) -> Path:
     if reach is not None:
         ax.axhline(100 * reach, color="gray", lw=0.8, ls="--", label="catch reach")
     ax.set_yscale("symlog", linthresh=10.0)
+    ax.set_ylim(bottom=0.0)  # errors are distances: no negative decades
     ax.set_ylabel("prediction error (cm)")
     ax.set_title("predictions against the truth, by the time they were made")
     if horizons or reach is not None:
@@ -376,6 +377,7 @@ def _camera_plot(runner: "Runner", path: Path) -> Path:
     ax = axes[0][0]
     ax.plot(p.time, p.pixel_error, lw=1.2, color="tab:blue")
     ax.set_yscale("symlog", linthresh=1.0)
+    ax.set_ylim(bottom=0.0)
     ax.axhline(0.5, color="gray", lw=0.8, ls="--", label="tolerance 0.5 px")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("pixel error of H_e (px)")
@@ -422,14 +424,21 @@ def _floor_plot(runner: "Runner", path: Path) -> Path:
             if np.isfinite(pts).any():
                 ax.plot(pts[:, 0], pts[:, 1], style, ms=2.5, lw=1.2, color=color,
                         label=f"{name} {label}")
-    for label, series, style, color in (("robot (imagined)", p.robot, "-", "dimgray"),
-                                        ("robot (truth)", p.robot_truth, "-", "black"),
-                                        ("baseline robot", p.robot_baseline, "-", "tab:orange")):
+    fps = runner.fps
+    ev = runner.evaluation
+    for label, series, color, lw, caught in (
+            ("robot (imagined)", p.robot, "lightsteelblue", 4.0, None),
+            ("robot (truth)", p.robot_truth, "tab:blue", 1.8, ev.caught),
+            ("baseline robot", p.robot_baseline, "tab:orange", 1.8, ev.baseline_caught)):
         pts = np.array([v if v is not None else (np.nan, np.nan) for v in series], float)
         if len(pts) and np.isfinite(pts).any():
-            ax.plot(pts[:, 0], pts[:, 1], style, color=color, lw=2.2, alpha=0.55, label=label)
+            ax.plot(pts[:, 0], pts[:, 1], "-", color=color, lw=lw, alpha=0.8, label=label)
             last = pts[np.isfinite(pts[:, 0])][-1]
             ax.plot([last[0]], [last[1]], "s", color=color, ms=5)
+            k = None if caught is None else min(int(round(caught * fps)), len(pts) - 1)
+            if k is not None and np.isfinite(pts[k]).all():
+                ax.plot([pts[k, 0]], [pts[k, 1]], "*", color=color, ms=13, mec="black", mew=0.6,
+                        label=f"{label.split(' (')[0]} caught the ball, t={caught:.2f} s")
     if runner.scenario.mount.kind is not Mount.ROBOT:
         cam = runner.scenario.camera.position
         ax.plot([cam[0]], [cam[1]], "^", color="purple", label="camera")
