@@ -32,6 +32,7 @@ from collections import deque
 from typing import Any, Callable, Iterator, MutableSequence
 
 from adapt.engine import cycle
+from adapt.engine.commands import Chunking, Setting
 from adapt.engine.events import Event, EventBus
 from adapt.engine.functions import FunctionTable, default_functions
 from adapt.engine.goals import Goal
@@ -182,6 +183,8 @@ class Agent:
         self.functions: FunctionTable = default_functions()
         self.max_elaborations = max_elaborations
         self.max_goal_depth = max_goal_depth
+        #: whether ``(write ...)`` output is kept (Soar's ``output agent-writes``)
+        self.agent_writes = True
         self.warnings: list[str] = []
         self.messages: MutableSequence[str] = self._log()
         self.files: list[str] = []
@@ -211,8 +214,11 @@ class Agent:
         return [] if self.history is None else deque(maxlen=self.history)
 
     # -- rules --------------------------------------------------------------
-    def load_text(self, text: str, file: str = "<string>") -> RuleFile:
-        """Load rules from text; a production with an existing name replaces it.
+    def load_text(self, text: str, file: str = "<string>", *,
+                  chunking: Chunking = "refuse") -> RuleFile:
+        """Load agent text: productions (one with an existing name replaces it)
+        and agent-file commands (see :mod:`adapt.engine.commands`; ``source``
+        reads files relative to the current directory).
 
         Raises
         ------
@@ -221,21 +227,25 @@ class Agent:
         """
         saved_gc = _raise_gc_threshold(self.gc_threshold)
         try:
-            return self._load(parse_rules(text, file=file, functions=self.functions))
+            return self._load(parse_rules(text, file=file, functions=self.functions,
+                                          chunking=chunking))
         finally:
             if saved_gc is not None:
                 gc.set_threshold(*saved_gc)
 
-    def load_file(self, path: str | os.PathLike[str]) -> RuleFile:
-        """Load a rule file (see :meth:`load_text`).
+    def load_file(self, path: str | os.PathLike[str], *,
+                  chunking: Chunking = "refuse") -> RuleFile:
+        """Load an agent file and the files it sources (see :meth:`load_text`).
 
-        Loading follows the garbage-collection policy of :meth:`run` (see
+        ``chunking="off"``: an agent written for chunking runs with learning
+        off (its chunking commands are accepted and do nothing).  Loading
+        follows the garbage-collection policy of :meth:`run` (see
         ``gc_threshold``): a large rule base is many long-lived objects.
         """
         saved_gc = _raise_gc_threshold(self.gc_threshold)
         try:
-            rules = load_rule_file(path, functions=self.functions)
-            self.files.append(os.fspath(path))
+            rules = load_rule_file(path, functions=self.functions, chunking=chunking)
+            self.files.extend(rules.files)
             return self._load(rules)
         finally:
             if saved_gc is not None:
@@ -243,13 +253,45 @@ class Agent:
 
     def _load(self, rules: RuleFile) -> RuleFile:
         self.warnings.extend(rules.warnings)
-        for p in rules.productions:
+        settings = list(rules.settings)
+        k = 0
+        for i, p in enumerate(rules.productions):
+            while k < len(settings) and settings[k][0] <= i:
+                self._apply(settings[k][1])
+                k += 1
             if p.name in self.kernel.rules:
                 where = f"{p.location}: " if p.location is not None else ""
                 self.warnings.append(f"{where}production {p.name} replaces an earlier one")
             self.kernel.add_production(p)
+        for _, setting in settings[k:]:
+            self._apply(setting)
         self.kernel.commit()
         return rules
+
+    def _apply(self, setting: Setting) -> None:
+        """Do what an accepted agent-file command asks (see :mod:`adapt.engine.commands`)."""
+        kind, value = setting.kind, setting.value
+        if kind == "seed":
+            assert isinstance(value, int)
+            self.reseed(value)
+        elif kind == "multi-attributes":
+            assert isinstance(value, int) and setting.name is not None
+            self.kernel.multi_attributes[setting.name] = value
+        elif kind == "max-elaborations":
+            assert isinstance(value, int)
+            self.max_elaborations = value
+        elif kind == "max-goal-depth":
+            assert isinstance(value, int)
+            self.max_goal_depth = value
+        elif kind == "agent-writes":
+            self.agent_writes = bool(value)
+        elif kind == "echo":
+            self.message(str(value))
+
+    def reseed(self, seed: int) -> None:
+        """Seed the agent's random numbers (Soar's ``srand``)."""
+        self.seed = seed
+        self.rng.seed(seed)
 
     def register_function(self, name: str, fn: Callable[..., object], *, min_args: int = 0,
                           max_args: int | None = None) -> None:
@@ -386,6 +428,8 @@ class Agent:
         self.events.emit(Event.MESSAGE, text)
 
     def _write(self, text: str) -> None:
+        if not self.agent_writes:
+            return
         self._output.append(text)
         self.events.emit(Event.WRITE, text)
 

@@ -422,19 +422,27 @@ def _search(elements: Sequence[ConditionElement], order: Sequence[int], step: in
 
 
 def conjunction_matches(elements: Sequence[ConditionElement], source: WmeSource,
-                        bindings: Bindings | None = None
+                        bindings: Bindings | None = None,
+                        positives: Sequence[int] | None = None,
                         ) -> Iterator[tuple[Bindings, tuple[WME, ...]]]:
     """Every consistent match of a conjunction, given the enclosing bindings.
 
     Yields ``(bindings, wmes)``, ``wmes`` holding one WME per positive
     condition in source order.  Matches come in backtracking order:
-    positive conditions left to right, each one's candidate WMEs in the
-    source's order.
+    positive conditions left to right (or in the order ``positives`` gives
+    their indexes: a join order), each one's candidate WMEs in the source's
+    order.  The set of matches does not depend on the order.
     """
     outer = dict(bindings or {})
-    order = evaluation_order(elements, outer)
+    order = evaluation_order(elements, outer, positives)
+    if positives is None:
+        for p in _search(elements, order, 0, Partial(outer), source):
+            yield p.bindings, p.wmes
+        return
+    rank = {i: k for k, i in enumerate(positives)}
+    written = sorted(positives)
     for p in _search(elements, order, 0, Partial(outer), source):
-        yield p.bindings, p.wmes
+        yield p.bindings, tuple(p.wmes[rank[i]] for i in written)
 
 
 def exists(element: ConditionElement, source: WmeSource, bindings: Bindings) -> bool:

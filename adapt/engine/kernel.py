@@ -77,6 +77,9 @@ class Kernel:
                  context: RhsContext, events: EventBus | None = None) -> None:
         self.ids = IdentifierFactory()
         self.matcher = matcher
+        #: the ``multi-attributes`` hints (the matcher's: they order the
+        #: conditions of productions added from now on)
+        self.multi_attributes = matcher.multi_attributes
         #: the matcher's changes as :data:`~adapt.engine.matcher.MatchChanges`
         self.take_changes: Callable[[], MatchChanges] = (
             matcher.take_raw if isinstance(matcher, RawMatcher) else partial(_raw_changes, matcher))
