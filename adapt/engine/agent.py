@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import gc
 import os
-import random
 import time
 from collections import deque
 from typing import Any, Callable, Iterator, MutableSequence
@@ -41,6 +40,7 @@ from adapt.engine.kernel import Kernel
 from adapt.engine.matcher import Matcher
 from adapt.engine.parse import RuleFile, load_rule_file, parse_rules
 from adapt.engine.report import RunReport
+from adapt.engine.soar_random import SoarRandom
 from adapt.engine.symbols import Identifier, Symbol
 from adapt.engine.trace import TraceWriter
 from adapt.engine.tracing import TraceRecorder
@@ -93,11 +93,13 @@ def _raise_gc_threshold(threshold: int | None) -> tuple[int, ...] | None:
 class _Context:
     """What right-hand-side functions may do to the agent (``RhsContext``)."""
 
-    __slots__ = ("agent", "_constants")
+    __slots__ = ("agent", "_constants", "copies", "copied_ids")
 
     def __init__(self, agent: Agent) -> None:
         self.agent = agent
         self._constants = 0
+        self.copies: list[tuple[Identifier, Symbol, Symbol]] = []
+        self.copied_ids: list[Identifier] = []
 
     def write(self, text: str) -> None:
         self.agent._write(text)
@@ -118,6 +120,62 @@ class _Context:
             name = f"{prefix}{self._constants}"
             if name not in self.agent._symbols_in_use():
                 return name
+
+    def decision_count(self) -> int:
+        return self.agent.decisions
+
+    def soar_random(self) -> SoarRandom:
+        return self.agent.rng
+
+    def wmes_of(self, ident: Identifier) -> list[WME]:
+        return [w for w in self.agent.kernel.wm.of(ident) if not w[3]]
+
+    def count(self, name: str) -> None:
+        counters = self.agent.counters
+        counters[name] = counters.get(name, 0) + 1
+
+    def traces(self, level: int) -> bool:
+        return level == 1  # Soar's default trace: decisions only
+
+    def deep_copy(self, ident: Identifier) -> Identifier:
+        """Soar's ``deep-copy``: identifiers made depth first, each identifier's
+        WMEs visited as Soar keeps them (the newest attribute first, the newest
+        WME first), the WMEs queued in :attr:`copies` for the firing."""
+        ids = self.agent.kernel.ids
+        root = ids.new("D")
+        made: dict[Identifier, Identifier] = {}
+        copies = self.copies
+        self.copied_ids.append(root)
+
+        def visit(source: Identifier, target: Identifier) -> None:
+            if source in made:
+                return
+            made[source] = target
+            for w in _soar_slot_order(self.wmes_of(source)):
+                new: list[Symbol] = []
+                for field in (w[1], w[2]):
+                    if type(field) is Identifier:
+                        copy = made.get(field)
+                        if copy is None:
+                            copy = ids.new(field.letter)
+                            self.copied_ids.append(copy)
+                        visit(field, copy)
+                        new.append(copy)
+                    else:
+                        new.append(field)
+                copies.append((target, new[0], new[1]))
+
+        visit(ident, root)
+        return root
+
+
+def _soar_slot_order(wmes: list[WME]) -> list[WME]:
+    """WMEs in the order Soar walks an identifier's slots: the slot created
+    last first, in a slot the newest WME first."""
+    first_seen: dict[Symbol, int] = {}
+    for w in wmes:
+        first_seen.setdefault(w[1], w[4])
+    return sorted(wmes, key=lambda w: (-first_seen[w[1]], -w[4]))
 
 
 class Agent:
@@ -179,7 +237,10 @@ class Agent:
         self.history = history
         self.gc_threshold = gc_threshold or None
         self.seed = seed
-        self.rng = random.Random(seed)
+        #: Soar's random numbers, seeded as Soar's ``srand`` seeds them
+        self.rng = SoarRandom(seed)
+        #: the counters of ``(count ...)``
+        self.counters: dict[str, int] = {}
         self.functions: FunctionTable = default_functions()
         self.max_elaborations = max_elaborations
         self.max_goal_depth = max_goal_depth

@@ -49,6 +49,7 @@ from adapt.engine.wme import WME
 __all__ = ["Kernel"]
 
 _REJECT: Final = PreferenceKind.REJECT
+_ACCEPTABLE: Final = PreferenceKind.ACCEPTABLE
 _O: Final = Support.O
 _I: Final = Support.I
 
@@ -261,7 +262,13 @@ class Kernel:
         rules = self.rules
         o_reject = self.preferences.o_reject
         made: list[tuple[Instantiation, list[MadePreference]]] = []
-        for key, wmes in matches.items():
+        # Soar takes the newest match first (its match lists grow at the head):
+        # instantiations -- their new identifiers and writes -- come in that
+        # order; their preferences are asserted oldest match first, each
+        # firing's in reverse action order (both lists also grow at the head)
+        order = list(matches.items())
+        order.reverse()
+        for key, wmes in order:
             del pending_goal[key]
             rule = rules[key[0]]
             if kind is _I:
@@ -274,6 +281,7 @@ class Kernel:
             fired[key] = pair[0]
             made.append(pair)
         self.firings += len(made)
+        made.reverse()
         # o-rejects first, then everything else (Soar's assert_new_preferences)
         # (every match fired in an IE cycle is i-supported or unsupported)
         if kind is _O:
@@ -284,6 +292,7 @@ class Kernel:
         assert_ = self._assert
         for inst, prefs in made:
             if prefs:
+                prefs.reverse()
                 assert_(inst, prefs)
         return len(made)
 
@@ -339,9 +348,23 @@ class Kernel:
                     continue
                 ref = None if rsrc is None else value_of(rsrc, wmes, new)
                 prefs.append((pref, ident, attr, value, ref, o_support))
+                if self.context.copied_ids:  # deep-copy: its WMEs are this firing's too
+                    self._add_copies(ident.level, prefs, o_support)
             else:
                 value_of(step[1], wmes, new)
         return inst, prefs
+
+    def _add_copies(self, level: int, prefs: list[MadePreference], o_support: bool) -> None:
+        """Acceptable preferences for the WMEs ``deep-copy`` made, their new
+        identifiers at the level of the identifier the copy is attached to
+        (Soar's ``add_deep_copy_prefs_to_inst``)."""
+        context = self.context
+        for made in context.copied_ids:
+            made.level = level
+        for ident, attr, value in context.copies:
+            prefs.append((_ACCEPTABLE, ident, attr, value, None, o_support))
+        context.copied_ids.clear()
+        context.copies.clear()
 
     def _rhs_value(self, src: CompiledValue, wmes: tuple[WME, ...],
                    new: list[Identifier] | None) -> Symbol | None:

@@ -8,7 +8,12 @@ production's conditions when it is loaded (``production_reorder.cpp``,
 estimates:
 
 * a positive condition whose identifier is not bound yet costs
-  ``MAX_COST`` (it would be a cross product);
+  ``MAX_COST`` (it would be a cross product) -- unless its value (or
+  attribute) is a bound variable: adapt's joins hash every bound field, not
+  only the identifier as Soar's do, so such a condition costs as if its
+  identifier were bound and its value were not (Soar gives it
+  ``MAX_COST``; ``(<x> ^v <v>) (<y> ^w <v>) (<s> ^b <y>)`` is a linear join
+  in adapt);
 * otherwise its cost is the expected number of WMEs per bound identifier:
   the attribute's ``multi-attributes`` hint (1 when there is none) when the
   attribute is a constant or a bound variable, 8 when it is an unbound
@@ -45,8 +50,13 @@ Examples
 >>> [str(p.conditions[i].attr.term) + " " + str(p.conditions[i].value.term)
 ...  for i in join_order(p.conditions, multi_attributes={"holds": 8})]
 ... # doctest: +NORMALIZE_WHITESPACE
-['type state', 'holds <h1>', 'disk <d1>', 'name 1', 'on <peg>', 'holds <h2>', 'on <peg>',
- 'disk <d2>', 'name 2']
+['type state', 'holds <h1>', 'disk <d1>', 'name 1', 'on <peg>', 'on <peg>', 'disk <d2>',
+ 'name 2', 'holds <h2>']
+
+Written in this order, the second ``^holds`` would be joined as a cross
+product of the holdings (adapt before it reordered: 11 holdings gave
+11^11 partial matches); reordered, each join is constrained by what is
+already bound: the second holding is reached from the peg it is on.
 """
 
 from __future__ import annotations
@@ -125,18 +135,24 @@ def _cost(e: _Element, bound: set[Variable], roots: frozenset[Variable],
     """Soar's ``cost_of_adding_condition``."""
     if not e.positive:
         return 1 if e.needs <= bound else MAX_COST
+    attr = e.attr
     if not roots:  # Soar's common case: every root is bound
-        if not _covered(e.ident, bound, roots):
-            return MAX_COST
-        attr = e.attr
         if attr is not None and (not isinstance(attr, Variable) or attr in bound):
             cost = hints.get(attr, 1) if isinstance(attr, str) else 1
         else:
             cost = BRANCHING
     else:
-        if not _covered(e.ident, bound, roots):
-            return MAX_COST
-        cost = 1 if _covered(e.attr, bound, roots) else BRANCHING
+        cost = 1 if _covered(attr, bound, roots) else BRANCHING
+    if not _covered(e.ident, bound, roots):
+        # adapt's joins hash every bound field: a bound value (or attribute)
+        # connects the condition as a bound identifier would, the identifier
+        # counting as an unbound value
+        value = e.value
+        if isinstance(value, Variable) and value in bound:
+            return cost * BRANCHING
+        if isinstance(attr, Variable) and attr in bound:
+            return BRANCHING * BRANCHING
+        return MAX_COST
     if not _covered(e.value, bound, roots):
         cost *= BRANCHING
     return cost

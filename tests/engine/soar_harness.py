@@ -52,12 +52,16 @@ def max_decisions_of(path: Path) -> int:
 
 
 def run_soar(path: Path, *, max_decisions: int | None = None, seed: int = 1,
-             timeout: float = DEFAULT_TIMEOUT_S) -> Report:
-    """Run ``path`` in real Soar in a child process; never raises for agent trouble."""
+             timeout: float = DEFAULT_TIMEOUT_S, learning_off: bool = False) -> Report:
+    """Run ``path`` in real Soar in a child process; never raises for agent trouble.
+
+    ``learning_off``: ``chunk never`` again after loading (an agent that turns
+    chunking on, run with learning off).
+    """
     path = Path(path).resolve()
     bound = max_decisions if max_decisions is not None else max_decisions_of(path)
     argv = [sys.executable, str(Path(__file__).resolve()), "--child", str(path),
-            str(bound), str(seed), str(timeout)]
+            str(bound), str(seed), str(timeout), "learning-off" if learning_off else "-"]
     try:
         proc = subprocess.run(argv, capture_output=True, timeout=timeout + 15.0)
     except subprocess.TimeoutExpired:
@@ -86,7 +90,8 @@ def _failed(path: Path, reason: str, error: str) -> Report:
 # --------------------------------------------------------------------------
 
 
-def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
+def _child(path: str, max_decisions: int, seed: int, timeout: float,
+           learning_off: bool = False) -> Report:
     import xml.etree.ElementTree as ET
 
     import soar_sml  # only ever imported in the child
@@ -137,6 +142,8 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
     if not agent.GetLastCommandLineResult():
         return {"agent": os.path.basename(path), "error": "load failed: " + text.strip(),
                 "halted": False, "stop_reason": "load-error"}
+    if learning_off:
+        agent.ExecuteCommandLine("chunk never")
     load_messages = [e["text"] for e in events if e["t"] == "msg"]
     events.clear()
     agent.ExecuteCommandLine(f"run {max_decisions}")
@@ -178,7 +185,8 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
 
 
 def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
-              matcher: str = "rete", trace_level: int | None = 2) -> Report:
+              matcher: str = "rete", trace_level: int | None = 2,
+              chunking: str = "refuse") -> Report:
     """Run ``path`` in adapt.
 
     Writes are segmented by decision from a trace of ``trace_level``; with
@@ -199,7 +207,10 @@ def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
         heard: list[list[Any]] = []
         agent.on_write(lambda text: heard.append([agent.decisions, text]))
         try:
-            agent.load_file(str(path))
+            if chunking == "refuse":
+                agent.load_file(str(path))
+            else:
+                agent.load_file(str(path), chunking=chunking)
             report: Report = dict(agent.run(max_decisions=bound).to_dict())
         except Exception as exc:  # the test reports it against Soar's run
             return {"error": f"{type(exc).__name__}: {exc}", "halted": False,
@@ -306,9 +317,10 @@ def _show(value: object, limit: int = 200) -> str:
     return text if len(text) <= limit else text[:limit] + "..."
 
 
-if __name__ == "__main__" and len(sys.argv) == 6 and sys.argv[1] == "--child":
+if __name__ == "__main__" and len(sys.argv) == 7 and sys.argv[1] == "--child":
     try:
-        result = _child(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), float(sys.argv[5]))
+        result = _child(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), float(sys.argv[5]),
+                        sys.argv[6] == "learning-off")
     except Exception as exc:  # reported, not raised: the parent reads stdout
         result = {"agent": os.path.basename(sys.argv[2]), "error": f"{type(exc).__name__}: {exc}",
                   "halted": False, "stop_reason": "crashed"}
