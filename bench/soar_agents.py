@@ -195,7 +195,15 @@ def scan(top: Path) -> tuple[set[str], set[str]]:
     ``(missing, chunking)``, read by the rule of the module docstring."""
     sys.path.insert(0, str(ROOT))
     from adapt.engine.commands import (
-        CommandSyntaxError, Popd, Pushd, Refusal, Source, interpret, read_command, skip_blank)
+        CommandSyntaxError,
+        Popd,
+        Pushd,
+        Refusal,
+        Source,
+        interpret,
+        read_command,
+        skip_blank,
+    )
 
     missing: set[str] = set()
     chunking: set[str] = set()
@@ -292,9 +300,9 @@ def _limit_memory() -> None:
 def child_adapt(path: str, bound: int, chunking: str) -> dict[str, object]:
     sys.path.insert(0, os.environ.get("ADAPT_BENCH_ROOT") or str(ROOT))
     sys.path.insert(0, str(HARNESS.parent))
-    from soar_harness import run_adapt
-
     from adapt.engine import Agent
+
+    from soar_harness import run_adapt
 
     loads = True
     try:

@@ -559,7 +559,11 @@ class _Parser:
         return bound
 
     def check_links(self, elements: tuple[ConditionElement, ...] | list[ConditionElement],
-                    reach_in: set[Variable]) -> None:
+                    reach_in: set[Variable], negated: bool = False) -> None:
+        """Every positive condition's identifier reachable from a state; inside a
+        negation (``negated``) a condition may instead reach the bound variables
+        through its attribute or value (``-(<x> ^on <block>)``: no WME on any
+        identifier is on the block -- Soar's own agents write this)."""
         reach = set(reach_in)
         positives = [c for c in elements if isinstance(c, Condition) and not c.negated]
         reach |= {c.id for c in positives if _is_state_test(c)}
@@ -568,14 +572,16 @@ class _Parser:
         while changed:
             changed = False
             for p in list(pending):
-                if p.id in reach:
+                if p.id in reach or (negated and not reach.isdisjoint(
+                        condition_equality_variables(p))):
                     reach |= condition_equality_variables(p)
                     pending.remove(p)
                     changed = True
         for c in elements:
             if isinstance(c, ConjunctiveNegation):
-                self.check_links(c.conditions, reach)
-            elif c in pending or (c.negated and c.id not in reach):
+                self.check_links(c.conditions, reach, negated=True)
+            elif c in pending or (c.negated and c.id not in reach and reach.isdisjoint(
+                    condition_equality_variables(c))):
                 assert c.location is not None
                 raise self.semantic(
                     f"condition on {c.id} is not linked to a state: {c.id} is not the value "

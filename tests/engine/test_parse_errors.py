@@ -120,7 +120,8 @@ CASES = [
     ("sp {t -(state <s>) -->}", SEM, "1:8",
      "the first condition must test a state: '(state <s> ...)'"),
     ("sp {t --> (halt)}", SEM, "1:7", "the first condition must test a state: '(state <s> ...)'"),
-    # Soar 9.6.5 accepts conditions that are not linked to a state.
+    # Soar 9.6.5 accepts conditions that are not linked to a state.  (A negation
+    # linked through its value, -(<x> ^on <b>), is accepted: test_agent_files.py.)
     ("sp {t (state <s>)\n   (<x> ^a 1) -->}", SEM, "2:4",
      "condition on <x> is not linked to a state: <x> is not the value of any condition "
      "reachable from a state variable"),
