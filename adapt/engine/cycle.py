@@ -45,8 +45,9 @@ from adapt.engine.vocabulary import NO_CHANGE, ImpasseAttribute, ImpasseType, Ph
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.engine.agent import Agent
+    from adapt.engine.kernel import Kernel
 
-__all__ = ["run", "run_phase", "decide_context_slots", "goal_stack_consistent"]
+__all__ = ["run", "run_phase", "decide_context_slots", "goal_stack_consistent", "waterfall"]
 
 _MAX_ELAB: Final = "Warning: reached max-elaborations; proceeding to {} phase."
 
@@ -167,11 +168,32 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
                 return
         firing = _O if apply and not (active.pending_i or active.retractions) else _I
         fire(active, firing)
+        if active.lower is not None:
+            waterfall(k, active, firing, apply)
+        if firing is _I:
+            k.retract_pending(active)
         cycles += 1
         agent.elaboration_cycles += 1
         commit()
         if agent.halted or agent.stop_reason is not None:
             return
+
+
+def waterfall(k: Kernel, active: Goal, firing: Support, apply: bool) -> None:
+    """The rest of an elaboration cycle below the active goal (Soar's inner
+    elaboration loop): each lower goal with pending work in turn fires its
+    pending matches of the cycle's kind whose actions stay below the *change
+    level* -- the deepest goal above it that had such matches -- and leaves
+    the others (and its retractions) for a later cycle."""
+    change = active.level
+    goal = active.lower
+    while goal is not None:
+        if goal.pending_i or goal.retractions or (apply and goal.pending_o):
+            pending = goal.pending_i if firing is _I else goal.pending_o
+            if pending:
+                k.fire(goal, firing, change)
+                change = goal.level
+        goal = goal.lower
 
 
 # -- consistency (operator retention) -------------------------------------------

@@ -49,7 +49,7 @@ from adapt.engine.production import (
     Test,
     Variable,
 )
-from adapt.engine.symbols import Symbol
+from adapt.engine.symbols import Identifier, Symbol
 from adapt.engine.vocabulary import Support
 from adapt.engine.wme import WME
 
@@ -115,7 +115,7 @@ class RuleInfo:
 
     __slots__ = ("production", "name", "has_make", "makes_operator_prefs", "declared",
                  "new_variables", "elaborates_operator", "static_support", "operator_slots",
-                 "new_hints", "plan")
+                 "new_hints", "plan", "id_sites")
 
     def __init__(self, production: Production) -> None:
         self.production = production
@@ -159,6 +159,10 @@ class RuleInfo:
         self.operator_slots = tuple(i for i, c in enumerate(production.positive_conditions)
                                     if _may_test_operator(c))
         self.plan = self._compile(production)
+        #: where each make action's identifier comes from in a match, when it
+        #: is bound on the left-hand side: (WME index, field)
+        self.id_sites: tuple[tuple[int, int], ...] = tuple(sorted(
+            {(step[1][1], step[1][2]) for step in self.plan if step[0] and step[1][0] == SRC_WME}))
 
     def _compile(self, production: Production) -> tuple[PlanStep, ...]:
         """The actions as tuples the kernel evaluates from a match's WMEs directly.
@@ -189,6 +193,17 @@ class RuleInfo:
             else:
                 plan.append((False, src(action.call)))
         return tuple(plan)
+
+    def changes_below(self, wmes: tuple[WME, ...], level: int) -> bool:
+        """Whether every make action of the match over ``wmes`` changes an
+        identifier below goal level ``level`` (deeper: a greater level) or a new
+        one (Soar's ``shouldCreateInstantiation``, which lets a lower goal's
+        match fire in the waterfall of an elaboration cycle)."""
+        for i, field in self.id_sites:
+            ident = wmes[i][field]
+            if type(ident) is Identifier and ident.level <= level:
+                return False
+        return True
 
     def support(self, match: Match, goal_id: Symbol) -> Support:
         """The support a match of this production gets when its match goal is ``goal_id``."""

@@ -101,6 +101,9 @@ class Kernel:
         self.firings = 0
         #: the matcher may hold match-set changes not yet scheduled
         self.matcher_dirty = True
+        #: productions were added since the last commit (their matches come
+        #: in the order they were added, as in Soar)
+        self.productions_added = False
         # the live listener lists of the events raised on hot paths
         self._on_fire = self.events.listeners(Event.FIRE)
         self._on_retract = self.events.listeners(Event.RETRACT)
@@ -124,6 +127,7 @@ class Kernel:
         self.rules[production.name] = RuleInfo(production)
         self.matcher.add_production(production)
         self.matcher_dirty = True
+        self.productions_added = True
 
     # -- working-memory phase ----------------------------------------------
     def commit(self) -> tuple[list[WME], list[WME]]:
@@ -135,6 +139,11 @@ class Kernel:
         if not wm.pending and not self.matcher_dirty:
             return [], []
         self.matcher_dirty = False
+        # Soar meets the matches that working-memory changes make newest first
+        # (it adds the newest WME first, and its Rete lists a node's children
+        # newest first); the matches of newly added productions oldest first
+        newest_first = not self.productions_added
+        self.productions_added = False
         all_added: list[WME] | None = None
         all_removed: list[WME] | None = None
         take_changes = self.take_changes
@@ -167,7 +176,8 @@ class Kernel:
             results = self.results
             if results.negated_index or results.ncc_justs:  # justifications' negations
                 results.check_negations(added, removed)
-            self._schedule(*take_changes())
+            added_matches, removed_matches = take_changes()
+            self._schedule(added_matches, removed_matches, newest_first)
             if doomed is None:
                 break
             live = [g for g in doomed if self.goals.get(g.id) is g]
@@ -182,9 +192,10 @@ class Kernel:
         return all_added, all_removed
 
     def _schedule(self, added: dict[FlatKey, tuple[WME, ...]],
-                  removed: dict[FlatKey, tuple[WME, ...]]) -> None:
+                  removed: dict[FlatKey, tuple[WME, ...]], newest_first: bool = False) -> None:
         """File the matcher's changes (flat key -> wmes): a new match waits at
-        its goal, a vanished one is unscheduled or its instantiation retracts."""
+        its goal (in reverse order with ``newest_first``), a vanished one is
+        unscheduled or its instantiation retracts."""
         pending_goal = self.pending_goal
         for key in removed:
             goal = pending_goal.pop(key, None)
@@ -201,7 +212,8 @@ class Kernel:
         rules = self.rules
         top = self.top
         only_top = top.lower is None
-        for key, wmes in added.items():
+        found = reversed(list(added.items())) if newest_first else added.items()
+        for key, wmes in found:
             if only_top:
                 goal = top
             else:
@@ -234,28 +246,53 @@ class Kernel:
             self.retract(inst)
 
     # -- firing ----------------------------------------------------------------
-    def fire(self, goal: Goal, kind: Support) -> int:
-        """One elaboration cycle at ``goal``: ``kind`` is ``Support.I``
-        (retractions and i-assertions) or ``Support.O`` (o-assertions).
-        Returns the number of productions fired."""
+    def fire(self, goal: Goal, kind: Support, below: int = -1) -> int:
+        """The firings of one elaboration cycle at ``goal``: ``kind`` is
+        ``Support.I`` (i-assertions) or ``Support.O`` (o-assertions).  Returns
+        the number of productions fired.  The active goal's retractions are
+        :meth:`retract_pending`'s, after the waterfall.
+
+        ``below`` >= 0: ``goal`` is a lower goal in the waterfall of an
+        elaboration cycle whose active goal already fired: only the matches
+        whose actions change nothing at level ``below`` or higher fire (Soar's
+        ``shouldCreateInstantiation``); the others wait.
+        """
         if kind is _I:
-            retractions = goal.retractions
-            if retractions:
-                goal.retractions = {}
-                on_retract = self._on_retract
-                for inst in retractions.values():
-                    if on_retract:
-                        self.events.emit(Event.RETRACT, inst)
-                    self.retract(inst)
-            matches = goal.pending_i
-            if not matches:
-                return 0
-            goal.pending_i = {}
+            pending = goal.pending_i
         else:
-            matches = goal.pending_o
-            if not matches:
-                return 0
-            goal.pending_o = {}
+            pending = goal.pending_o
+        if not pending:
+            fired_count = 0
+        else:
+            if below < 0:
+                matches = pending
+                if kind is _I:
+                    goal.pending_i = {}
+                else:
+                    goal.pending_o = {}
+            else:
+                matches = {key: wmes for key, wmes in pending.items()
+                           if self.rules[key[0]].changes_below(wmes, below)}
+                for key in matches:
+                    del pending[key]
+            fired_count = self._fire_matches(goal, kind, matches) if matches else 0
+        return fired_count
+
+    def retract_pending(self, goal: Goal) -> None:
+        """Retract the instantiations waiting to retract at ``goal``."""
+        retractions = goal.retractions
+        if retractions:
+            goal.retractions = {}
+            on_retract = self._on_retract
+            for inst in retractions.values():
+                if on_retract:
+                    self.events.emit(Event.RETRACT, inst)
+                self.retract(inst)
+
+    def _fire_matches(self, goal: Goal, kind: Support,
+                      matches: dict[FlatKey, tuple[WME, ...]]) -> int:
+        """Instantiate ``matches`` (taken from ``goal``'s pending matches) in
+        parallel and assert their preferences."""
         pending_goal = self.pending_goal
         fired = self.fired
         instantiate = self._instantiate
@@ -418,8 +455,11 @@ class Kernel:
             if self.goals.get(goal.id) is goal:
                 self.deselect(goal)  # case (a): its acceptable preference retracted
         goal = inst.goal
-        if goal.instantiations:
-            goal.instantiations.pop(inst.key if inst.key is not None else id(inst), None)
+        instantiations = goal.instantiations
+        if instantiations:
+            key = inst.key if inst.key is not None else id(inst)
+            if instantiations.get(key) is inst:  # (a new firing of the same match may hold it)
+                del instantiations[key]
 
     # -- decisions ---------------------------------------------------------------
     def select(self, goal: Goal, operator: Identifier) -> None:
