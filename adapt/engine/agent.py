@@ -108,8 +108,7 @@ class _Context:
         self.agent.halted = True
 
     def interrupt(self) -> None:
-        if self.agent.stop_reason is None:
-            self.agent.stop_reason = "interrupted"
+        self.agent.interrupt_pending = True
 
     def error(self, message: str) -> None:
         self.agent.message(f"Error: {message}")
@@ -250,6 +249,8 @@ class Agent:
         self.messages: MutableSequence[str] = self._log()
         self.files: list[str] = []
         self.halted = False
+        #: ``(interrupt)`` fired: the run stops before the next decision phase
+        self.interrupt_pending = False
         self.stop_reason: StopReason | None = None
         self.decisions = 0
         self.elaboration_cycles = 0

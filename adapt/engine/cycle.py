@@ -28,7 +28,9 @@ preferences no longer give, is removed on the spot -- and the phase ends
 (apply goes to output, proposal to decision).
 
 ``halt`` finishes its elaboration cycle and stops the agent (no output
-phase).  ``run N`` stops before the apply phase of the run's ``N``-th
+phase).  ``(interrupt)`` stops the run before the next decision phase: the
+phase it fires in, and the output, input and proposal phases after it, run
+to their end (as in Soar).  ``run N`` stops before the apply phase of the run's ``N``-th
 decision.
 """
 
@@ -82,6 +84,11 @@ def run(agent: Agent, max_decisions: int | None) -> None:
         phase = agent.next_phase
         if phase is _APPLY and max_decisions is not None and done >= max_decisions:
             agent.stop_reason = "max-decisions"
+            break
+        if phase is _DECISION and agent.interrupt_pending:
+            # (interrupt) lets the phases before the next decision finish, as in Soar
+            agent.interrupt_pending = False
+            agent.stop_reason = "interrupted"
             break
         if on_begin:
             events.emit(Event.PHASE_BEGIN, (agent.decisions + (phase is _DECISION), phase))
@@ -175,7 +182,7 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
         cycles += 1
         agent.elaboration_cycles += 1
         commit()
-        if agent.halted or agent.stop_reason is not None:
+        if agent.halted or agent.stop_reason is not None:  # halt; the goal-depth limit
             return
 
 

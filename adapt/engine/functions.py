@@ -98,7 +98,7 @@ class RhsContext(Protocol):
         """Halt the agent once the current elaboration cycle completes."""
 
     def interrupt(self) -> None:
-        """Stop the run after the current elaboration cycle, without halting."""
+        """Stop the run before the next decision phase, without halting."""
 
     def error(self, message: str) -> None:
         """Report a run-time error of a function (Soar prints ``Error: message``)."""

@@ -185,11 +185,25 @@ class Kernel:
                 break
             top = min(live, key=lambda g: g.level)
             self.events.emit(Event.GDS, top)
+            sup = top.superstate
+            if sup is not None and not self._any_slot_changed():
+                # Soar marks the superstate's slot changed when nothing else
+                # changed, so that the next decision makes the impasse again
+                # (Soar's fix of its bug 1011)
+                sup.changed = True
             self.remove_goal(top)
         assert all_added is not None and all_removed is not None
         if self._on_wm and (all_added or all_removed):
             self.events.emit(Event.WM_CHANGES, (all_added, all_removed))
         return all_added, all_removed
+
+    def _any_slot_changed(self) -> bool:
+        goal: Goal | None = self.top
+        while goal is not None:
+            if goal.changed:
+                return True
+            goal = goal.lower
+        return False
 
     def _schedule(self, added: dict[FlatKey, tuple[WME, ...]],
                   removed: dict[FlatKey, tuple[WME, ...]], newest_first: bool = False) -> None:
@@ -227,7 +241,7 @@ class Kernel:
             info = rules[key[0]]
             support = info.static_support
             if support is None:
-                support = info.support_of(wmes, goal.id)
+                support = info.support_of(wmes, goal.id, goals)
             if support is _O:
                 goal.pending_o[key] = wmes
             else:
@@ -321,11 +335,19 @@ class Kernel:
         made.reverse()
         # o-rejects first, then everything else (Soar's assert_new_preferences)
         # (every match fired in an IE cycle is i-supported or unsupported)
+        # An o-reject removes every preference for its value, in any slot
+        # (operator slots too), and is not asserted itself -- nor is it a result.
         if kind is _O:
+            deselect: list[Goal] = []
             for _, prefs in made:
-                for p in prefs:
-                    if p[0] is _REJECT and p[5]:
-                        o_reject(p)
+                if any(p[0] is _REJECT and p[5] for p in prefs):
+                    for p in prefs:
+                        if p[0] is _REJECT and p[5]:
+                            deselect.extend(o_reject(p))
+                    prefs[:] = [p for p in prefs if not (p[0] is _REJECT and p[5])]
+            for g in deselect:
+                if self.goals.get(g.id) is g:
+                    self.deselect(g)
         assert_ = self._assert
         for inst, prefs in made:
             if prefs:

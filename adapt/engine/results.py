@@ -173,6 +173,11 @@ class ResultMaker:
         for p in results:
             self._promote(p, target)
         k.events.emit(Event.RESULT, (inst, just, results))
+        if inst.support is Support.O:
+            # Soar keeps the firing's own o-supported preferences too (the
+            # justification holds clones of them) until the substate goes: the
+            # result outlives a justification that retracts meanwhile
+            self._keep_own(inst, results)
         k.preferences.assert_preferences(just, results, support is Support.O)
         if just.slot_prefs and support is Support.O:
             # o-supported operator-slot preferences stay, as in Soar, until
@@ -277,6 +282,13 @@ class ResultMaker:
         for p in results:
             self._promote(p, target)
         k.events.emit(Event.RESULT, (inst, None, results))
+        self._keep_own(inst, results)
+
+    def _keep_own(self, inst: Instantiation, results: list[MadePreference]) -> None:
+        """Assert ``results`` held by the substate instantiation that made them,
+        with its support; o-supported ones are removed with its goal."""
+        k = self.kernel
+        goal = inst.goal
         o_supported = inst.support is Support.O
         k.preferences.assert_preferences(inst, results, o_supported)
         if o_supported:

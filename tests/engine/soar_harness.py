@@ -159,7 +159,7 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float,
     elif any("infinite loop" in m or "Goal stack depth" in m for m in messages):
         stop = "max-goal-depth"
     else:
-        stop = "stopped"
+        stop = "interrupted"  # (interrupt), or a stop the agent asked for
     writes = [[e["d"], e["text"]] for e in events if e["t"] == "write"]
     firings = re.search(r"^(\d+) production firings", stats, re.MULTILINE)
     return {
