@@ -14,9 +14,10 @@ Tests on one field of a WME
   identifiers are compared by identity.  A variable not yet bound is bound
   to the field.
 * ``<> x``: not the same symbol.
-* ``< > <= >=``: both numbers (int or float, compared numerically) or both
-  symbolic constants (compared as strings); otherwise the test fails, and an
-  identifier never satisfies one.
+* ``< > <= >=``: Soar's order (:func:`soar_compare`): numbers numerically
+  (int or float), strings as strings, identifiers by letter, then number;
+  between two types the tested value is *less* than the other, so ``<`` and
+  ``<=`` hold and ``>`` and ``>=`` do not.
 * ``<=> x``: the same *type* of symbol (identifier, string, int, float).
 * ``<< a b >>``: equal to one of the constants.
 
@@ -85,6 +86,7 @@ __all__ = [
     "Relation",
     "RELATIONS",
     "relation_holds",
+    "soar_compare",
     "Bindings",
     "PendingRelation",
     "Partial",
@@ -133,27 +135,58 @@ def _same_type(a: object, b: object) -> bool:
     return _kind(a) == _kind(b)
 
 
-def _comparable(a: object, b: object) -> bool:
+def soar_compare(a: object, b: object) -> int:
+    """Soar's ``compare_symbols`` (``rete.cpp``): -1, 0 or 1.
+
+    Numbers compare numerically (an int with a float too), strings as strings,
+    identifiers by letter, then number (``O2 < O10 < S1``); a value compared
+    with one of another type is always *less* -- so between types ``<`` and
+    ``<=`` hold and ``>`` and ``>=`` do not, whatever the values.
+
+    Examples
+    --------
+    >>> soar_compare(2, Float(2.5)), soar_compare("b", "a"), soar_compare("a", 3)
+    (-1, 1, -1)
+    >>> soar_compare(Identifier("O", 10), Identifier("O", 2)), soar_compare(3, "a")
+    (1, -1)
+    """
     ta, tb = type(a), type(b)
     if ta is int or ta is Float or ta is float:
-        return tb is int or tb is Float or tb is float
-    return ta is str and tb is str
+        if tb is int or tb is Float or tb is float:
+            return (a > b) - (a < b)  # type: ignore[operator]
+        return -1
+    if ta is str:
+        if tb is str:
+            return (a > b) - (a < b)  # type: ignore[operator]
+        return -1
+    if ta is Identifier and tb is Identifier:
+        x, y = a.sort_key(), b.sort_key()  # type: ignore[attr-defined]
+        return (x > y) - (x < y)
+    return -1
 
 
 def _less(a: object, b: object) -> bool:
-    return _comparable(a, b) and a < b  # type: ignore[operator]
+    if type(a) is int and type(b) is int:
+        return a < b  # type: ignore[operator]
+    return soar_compare(a, b) < 0
 
 
 def _greater(a: object, b: object) -> bool:
-    return _comparable(a, b) and a > b  # type: ignore[operator]
+    if type(a) is int and type(b) is int:
+        return a > b  # type: ignore[operator]
+    return soar_compare(a, b) > 0
 
 
 def _less_equal(a: object, b: object) -> bool:
-    return _comparable(a, b) and a <= b  # type: ignore[operator]
+    if type(a) is int and type(b) is int:
+        return a <= b  # type: ignore[operator]
+    return soar_compare(a, b) <= 0
 
 
 def _greater_equal(a: object, b: object) -> bool:
-    return _comparable(a, b) and a >= b  # type: ignore[operator]
+    if type(a) is int and type(b) is int:
+        return a >= b  # type: ignore[operator]
+    return soar_compare(a, b) >= 0
 
 
 #: Each relation as a predicate ``(tested value, other) -> bool``: the one
@@ -174,7 +207,7 @@ def relation_holds(relation: str, value: object, other: object) -> bool:
 
     Examples
     --------
-    >>> relation_holds("<", 2, Float(2.5)), relation_holds("<", "a", 3)
+    >>> relation_holds("<", 2, Float(2.5)), relation_holds(">", "a", 3)
     (True, False)
     >>> relation_holds("<>", 2, Float(2.0)), relation_holds("<=>", 2, 7)
     (True, True)

@@ -42,7 +42,7 @@ from adapt.engine.memory import WorkingMemory
 from adapt.engine.production import PreferenceKind, Production
 from adapt.engine.results import ResultMaker
 from adapt.engine.support import MadePreference, PreferenceMemory
-from adapt.engine.symbols import Identifier, IdentifierFactory, Symbol, format_symbol
+from adapt.engine.symbols import Float, Identifier, IdentifierFactory, Symbol, format_symbol
 from adapt.engine.vocabulary import ImpasseAttribute, ImpasseType, Support
 from adapt.engine.wme import WME
 
@@ -50,6 +50,8 @@ __all__ = ["Kernel"]
 
 _REJECT: Final = PreferenceKind.REJECT
 _ACCEPTABLE: Final = PreferenceKind.ACCEPTABLE
+_BINARY_INDIFFERENT: Final = PreferenceKind.BINARY_INDIFFERENT
+_NUMERIC_INDIFFERENT: Final = PreferenceKind.NUMERIC_INDIFFERENT
 _O: Final = Support.O
 _I: Final = Support.I
 
@@ -405,7 +407,13 @@ class Kernel:
                     self.context.error(
                         f"RHS makes a preference for a non-identifier ({format_symbol(ident)})")
                     continue
-                ref = None if rsrc is None else value_of(rsrc, wmes, new)
+                ref = None
+                if rsrc is not None:
+                    ref = value_of(rsrc, wmes, new)
+                    if pref is _BINARY_INDIFFERENT and (type(ref) is int or type(ref) is Float):
+                        # = <x> or = (f ...) that gives a number: numeric indifference
+                        # (Soar's add_pref_to_inst decides it when the rule fires)
+                        pref = _NUMERIC_INDIFFERENT
                 prefs.append((pref, ident, attr, value, ref, o_support))
                 if self.context.copied_ids:  # deep-copy: its WMEs are this firing's too
                     self._add_copies(ident.level, prefs, o_support)
