@@ -111,6 +111,7 @@ class Kernel:
         self._on_retract = self.events.listeners(Event.RETRACT)
         self._on_wm = self.events.listeners(Event.WM_CHANGES)
         s1 = self.ids.new("S")
+        self._reserve_module_ids(0)
         io, il, ol = self.ids.new("I"), self.ids.new("I"), self.ids.new("I")
         self.top = Goal(s1, 0, None)
         self.bottom = self.top
@@ -514,6 +515,7 @@ class Kernel:
         if goal.lower is not None:
             self.remove_goal(goal.lower)
         ident = self.ids.new("S", goal.level + 1)
+        self._reserve_module_ids(goal.level + 1)
         sub = Goal(ident, goal.level + 1, goal)
         sub.impasse, sub.attribute = impasse, attribute
         sub.items, sub.non_numeric = items, non_numeric
@@ -526,6 +528,15 @@ class Kernel:
             self.wm.add(*t)
             sub.arch.append((t[0], t[1], t[2], False))
         return sub
+
+    def _reserve_module_ids(self, level: int) -> None:
+        """Use up the identifiers Soar gives each new state's ``^reward-link``,
+        ``^epmem`` and ``^smem`` structures (R, E, C, R, L, C, R, in that order),
+        which adapt does not build, so that every other identifier gets the
+        number it has in Soar."""
+        new = self.ids.new
+        for letter in "RECRLCR":
+            new(letter, level)
 
     def update_items(self, goal: Goal, items: tuple[Symbol, ...],
                      non_numeric: tuple[Symbol, ...]) -> None:

@@ -10,10 +10,13 @@ file, runs ``run N`` and prints one JSON report.  Adapt runs in-process through
     halted, stop_reason, decisions, output, operators [[d, level, name]],
     impasses [[d, level, type, attribute]], writes [[d, text]] (optional)
 
-``writes`` segments the output by decision: ``d`` is the value of the decision
-counter while the text was written (0 = before the first decision; ``n`` = the
-apply and output phases of decision ``n`` and the next input and proposal
-phases), the convention of ``docs/trace-format.md``.
+``writes`` holds every ``(write ...)`` action's text with its decision: ``d``
+is the value of the decision counter while the text was written (0 = before
+the first decision; ``n`` = the apply and output phases of decision ``n`` and
+the next input and proposal phases), the convention of
+``docs/trace-format.md``.  The writes of one decision are compared as a
+multiset of texts, one per write action (Soar's order within an elaboration
+cycle is its Rete's, which adapt does not reproduce).
 
 An agent may state its own bound in a comment line ``# max-decisions: N``.
 """
@@ -144,6 +147,9 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float,
                 "halted": False, "stop_reason": "load-error"}
     if learning_off:
         agent.ExecuteCommandLine("chunk never")
+    # an agent's own `watch 0` would hide the decisions this harness reads
+    agent.ExecuteCommandLine("trace 1")
+    agent.ExecuteCommandLine("trace --phases")
     load_messages = [e["text"] for e in events if e["t"] == "msg"]
     events.clear()
     agent.ExecuteCommandLine(f"run {max_decisions}")
@@ -217,12 +223,12 @@ def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
                     "stop_reason": "error", "decisions": None}
         finally:
             agent.close()
-        report["writes"] = _merge(heard)
+        report["writes"] = heard
         if trace_level is not None and trace_level >= 2:
             from_trace = _merge(_writes_from_trace(trace))
-            if from_trace != report["writes"]:
+            if from_trace != _merge(heard):
                 report["error"] = (f"the trace's writes {from_trace!r} differ from the "
-                                   f"writes heard {report['writes']!r}")
+                                   f"writes heard {_merge(heard)!r}")
     return report
 
 
@@ -290,8 +296,8 @@ def _warnings(report: Report) -> int:
 
 
 def _segment(writes: list[list[Any]], d: int) -> list[str]:
-    text = "".join(t for dd, t in writes if dd == d)
-    return text.splitlines(keepends=True)
+    """The texts of the ``(write ...)`` actions of decision ``d``, one per action."""
+    return [t for dd, t in writes if dd == d]
 
 
 def _output_difference(soar: Report, adapt_output: str) -> str:
