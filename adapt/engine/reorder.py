@@ -10,10 +10,13 @@ estimates:
 * a positive condition whose identifier is not bound yet costs
   ``MAX_COST`` (it would be a cross product) -- unless its value (or
   attribute) is a bound variable: adapt's joins hash every bound field, not
-  only the identifier as Soar's do, so such a condition costs as if its
-  identifier were bound and its value were not (Soar gives it
-  ``MAX_COST``; ``(<x> ^v <v>) (<y> ^w <v>) (<s> ^b <y>)`` is a linear join
-  in adapt);
+  only the identifier as Soar's do, so such a condition is a join too,
+  estimated at 8 times the cost it would have with a bound identifier and an
+  unbound value (Soar gives it ``MAX_COST``).  So it comes after the joins
+  through bound identifiers that Soar would choose, unless a
+  ``multi-attributes`` hint says those have many values:
+  ``multi-attributes b 1000`` lets ``(<x> ^v <v>) (<y> ^w <v>) (<s> ^b <y>)``
+  join on ``<v>``, in linear time, where Soar builds every ``(<x>, <y>)`` pair;
 * otherwise its cost is the expected number of WMEs per bound identifier:
   the attribute's ``multi-attributes`` hint (1 when there is none) when the
   attribute is a constant or a bound variable, 8 when it is an unbound
@@ -50,13 +53,13 @@ Examples
 >>> [str(p.conditions[i].attr.term) + " " + str(p.conditions[i].value.term)
 ...  for i in join_order(p.conditions, multi_attributes={"holds": 8})]
 ... # doctest: +NORMALIZE_WHITESPACE
-['type state', 'holds <h1>', 'disk <d1>', 'name 1', 'on <peg>', 'on <peg>', 'disk <d2>',
- 'name 2', 'holds <h2>']
+['type state', 'holds <h1>', 'disk <d1>', 'name 1', 'on <peg>', 'holds <h2>', 'on <peg>',
+ 'disk <d2>', 'name 2']
 
-Written in this order, the second ``^holds`` would be joined as a cross
-product of the holdings (adapt before it reordered: 11 holdings gave
-11^11 partial matches); reordered, each join is constrained by what is
-already bound: the second holding is reached from the peg it is on.
+Joined as written, every ``^holds`` would be joined before any test on the
+holdings (adapt before it reordered: 11 holdings made 11^11 partial
+matches); reordered, each holding is narrowed to its disk before the next
+one is joined.
 """
 
 from __future__ import annotations
@@ -149,9 +152,9 @@ def _cost(e: _Element, bound: set[Variable], roots: frozenset[Variable],
         # counting as an unbound value
         value = e.value
         if isinstance(value, Variable) and value in bound:
-            return cost * BRANCHING
+            return cost * BRANCHING * BRANCHING
         if isinstance(attr, Variable) and attr in bound:
-            return BRANCHING * BRANCHING
+            return BRANCHING * BRANCHING * BRANCHING
         return MAX_COST
     if not _covered(e.value, bound, roots):
         cost *= BRANCHING
