@@ -39,6 +39,10 @@ __all__ = [
     "RealityError",
     "GroundTruthError",
     "RunError",
+    "OutputError",
+    "AppearanceError",
+    "SweepError",
+    "SweepSpecError",
 ]
 
 
@@ -150,3 +154,27 @@ class GroundTruthError(RealityError, LocatedError):
 class RunError(AdaptError):
     """The scenario runner cannot start or go on (an output folder that cannot
     be written, a reality whose frames do not fit the camera)."""
+
+
+class OutputError(AdaptError):
+    """An output path cannot be used: it is one of the command's inputs or
+    another of its outputs, has an extension that does not fit what is written,
+    is a folder or a special file, or cannot be written (``adapt/files.py``).
+    Nothing has been written when it is raised before the work."""
+
+
+class AppearanceError(AdaptError):
+    """A learned-appearance folder cannot be read or written (a missing or
+    malformed ``index.json``, an image or mask that does not fit its entry, a
+    surface the scene does not have)."""
+
+
+class SweepError(AdaptError):
+    """A sweep cannot start or go on (no Dask installed, a scheduler that cannot be
+    reached, workers that cannot see the scenario, an output folder that holds runs
+    of another version of the scenario)."""
+
+
+class SweepSpecError(SweepError, LocatedError):
+    """A ``--seeds`` or ``--set`` argument of a sweep that cannot be read; the
+    message points at the column of the argument (``--set:1:31:``)."""

@@ -88,7 +88,7 @@ def test_nothing_imports_the_cli() -> None:
 
 
 def test_geometry_errors_and_files_are_leaves() -> None:
-    for leaf, allowed in (("errors.py", set()), ("files.py", set()),
+    for leaf, allowed in (("errors.py", set()), ("files.py", {"adapt.errors"}),
                           ("geometry.py", {"numpy", "adapt.errors"})):
         for name in imports_of(PACKAGE / leaf):
             top = name.split(".")[0]
@@ -120,7 +120,9 @@ def test_vision_does_not_draw_figures() -> None:
 
 #: What each layer above the foundations may import from adapt (prefixes).
 ALLOWED = {
-    "mirror.py": ("adapt.imagination", "adapt.geometry", "adapt.errors"),
+    # the mirror (the imagination kept in step, and the appearance it learns): no vision, no rules
+    "mirror": ("adapt.mirror", "adapt.imagination", "adapt.geometry", "adapt.errors",
+               "adapt.files"),
     "kalman.py": (),
     "seeds.py": (),
     "frames.py": ("adapt.errors", "adapt.files"),
@@ -131,6 +133,10 @@ ALLOWED = {
     # reality: never the engine or vision (it is what perception looks at, not a perceiver)
     "reality": ("adapt.reality", "adapt.imagination", "adapt.scenario", "adapt.geometry",
                 "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds"),
+    # sweep: runs the runner; checks a grid with the scenario reader, the schema registry's
+    # check_settings and the rule parser before running it
+    "sweep": ("adapt.sweep", "adapt.runner", "adapt.scenario", "adapt.schemas",
+              "adapt.engine.parse", "adapt.engine.functions", "adapt.errors", "adapt.files"),
 }
 
 
@@ -140,12 +146,12 @@ def test_layers_import_only_what_is_below_them(layer: str) -> None:
     paths = [target] if target.is_file() else modules_in(layer)
     for path in paths:
         for name in imports_of(path):
-            if name.split(".")[0] != "adapt":
+            if name.split(".")[0] != "adapt" or name == "adapt":  # the version only
                 continue
             assert name.startswith(ALLOWED[layer]), f"{layer}: {path.name} imports {name}"
 
 
-PERCEIVING = ("engine", "vision", "imagination", "schemas", "mirror.py", "kalman.py")
+PERCEIVING = ("engine", "vision", "imagination", "schemas", "mirror", "kalman.py")
 
 
 @pytest.mark.parametrize("layer", PERCEIVING)
@@ -171,7 +177,30 @@ def test_only_the_runner_and_the_cli_open_the_reality() -> None:
             continue
         for name in imports_of(path):
             assert not name.startswith("adapt.reality"), f"{path} imports {name}"
+            if parts[0] == "sweep":  # a sweep runs whole runs: the runner, never the reality
+                continue
             assert not name.startswith("adapt.runner"), f"{path} imports {name}"
+
+
+def test_only_the_cli_imports_the_sweep() -> None:
+    for path in PACKAGE.rglob("*.py"):
+        parts = path.relative_to(PACKAGE).parts
+        if parts[0] in ("sweep", "cli"):
+            continue
+        for name in imports_of(path):
+            assert not name.startswith("adapt.sweep"), f"{path} imports {name}"
+
+
+def test_the_sweep_imports_dask_only_inside_functions() -> None:
+    # `import adapt.sweep` works without the optional extra; the command says how to install it
+    for path in modules_in("sweep"):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in tree.body:
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                names = [a.name for a in node.names] if isinstance(node, ast.Import) else [
+                    node.module or ""]
+                assert not any(n.split(".")[0] in ("dask", "distributed") for n in names), (
+                    f"sweep/{path.name} imports Dask at module level")
 
 
 def test_relative_imports_are_resolved() -> None:

@@ -45,9 +45,10 @@ def test_run_with_trace_and_bound(tmp_path: Path, capsys: pytest.CaptureFixture[
     f.write_text("sp {p (state <s> ^superstate nil) --> (<s> ^operator <o> +) (<o> ^name x)}\n")
     trace = tmp_path / "t.jsonl"
     assert main(["rules", "run", str(f), "--json", "--max-decisions", "3",
-                 "--trace", str(trace), "--trace-level", "2"]) == 0
+                 "--trace", str(trace), "--trace-level", "2"]) == 3
     report = json.loads(capsys.readouterr().out)
     assert report["stop_reason"] == "max-decisions" and report["decisions"] == 3
+    assert report["exit_status"] == 3
     assert json.loads(trace.read_text().splitlines()[-1])["kind"] == "footer"
 
 
@@ -75,7 +76,7 @@ def test_replaced_production_warns_once(tmp_path: Path, capsys: pytest.CaptureFi
     assert captured.out == f"{f}: 1 production ok\n"
 
 
-@pytest.mark.parametrize("where", ["missing/t.jsonl", "."])
+@pytest.mark.parametrize("where", ["t.txt", ".", "a.soar"])
 def test_trace_path_that_cannot_be_written(tmp_path: Path, capsys: pytest.CaptureFixture[str],
                                            where: str) -> None:
     f = tmp_path / "a.soar"
@@ -100,7 +101,7 @@ def test_rule_files_without_productions_warn(tmp_path: Path,
                                              capsys: pytest.CaptureFixture[str]) -> None:
     empty = tmp_path / "empty.soar"
     empty.write_text("# only a comment\n")
-    assert main(["rules", "run", str(empty), "--max-decisions", "2", "--json"]) == 0
+    assert main(["rules", "run", str(empty), "--max-decisions", "2", "--json"]) == 3
     captured = capsys.readouterr()
     assert "no productions" in captured.err
     report = json.loads(captured.out)
@@ -113,3 +114,11 @@ def test_rule_files_with_productions_do_not_warn(tmp_path: Path,
     rules.write_text("sp {hello (state <s> ^superstate nil) --> (write |hi|) (halt)}\n")
     assert main(["rules", "run", str(rules)]) == 0
     assert "no productions" not in capsys.readouterr().err
+
+
+def test_a_byte_order_mark_is_accepted(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    f = tmp_path / "bom.soar"
+    f.write_bytes(b"\xef\xbb\xbf" + GOOD.encode("utf-8"))
+    assert main(["rules", "check", str(f)]) == 0
+    assert main(["rules", "run", str(f)]) == 0
+    assert capsys.readouterr().out.startswith(f"{f}: 1 production ok\nhello\n")

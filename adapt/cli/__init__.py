@@ -6,18 +6,28 @@ Each subcommand group lives in its own module of this package and exposes
 inside the handlers, so ``adapt rules ...`` starts without them.
 
 Every :class:`adapt.errors.AdaptError` is printed as ``adapt: error: ...`` on
-standard error with exit status 1 (2 for usage errors, as argparse does); so is
-an :class:`OSError` (an output path that cannot be written), with its path.
+standard error with exit status 1; so is an :class:`OSError` (a file that
+cannot be read or written), with its path.  A bad command line is ``adapt:
+error: SUBCOMMAND: ...`` after the usage line, with status 2, as argparse's
+own.  Ctrl-C is status 130.  Anything else is a bug in adapt: one line,
+``adapt: internal error: ... (please report it ...)``, with status 70
+(``EX_SOFTWARE``), and the Python traceback only when the environment
+variable ``ADAPT_DEBUG`` is set to ``1``.  The statuses are
+:class:`adapt.cli.exits.Exit`; ``docs/cli.md`` lists them per subcommand.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
+import traceback
 from collections.abc import Sequence
+from typing import NoReturn
 
 from adapt import __version__
+from adapt.cli.exits import Exit
 from adapt.errors import AdaptError
 
 __all__ = ["main", "build_parser"]
@@ -25,6 +35,7 @@ __all__ = ["main", "build_parser"]
 #: Modules of this package that add subcommands, in the order ``--help`` lists them.
 SUBCOMMAND_MODULES = (
     "adapt.cli.run",
+    "adapt.cli.sweep",
     "adapt.cli.schemas",
     "adapt.cli.rules",
     "adapt.cli.imagination",
@@ -33,9 +44,25 @@ SUBCOMMAND_MODULES = (
 )
 
 
+#: Set to ``1`` to see the Python traceback of an internal error.
+DEBUG_VARIABLE = "ADAPT_DEBUG"
+
+#: Where to report internal errors.
+REPORT_TO = "the adapt issue tracker"
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, with its errors worded as every other ``adapt: error: ...`` line."""
+
+    def error(self, message: str) -> NoReturn:
+        self.print_usage(sys.stderr)
+        where = self.prog.removeprefix("adapt").strip()
+        self.exit(int(Exit.USAGE), f"adapt: error: {where + ': ' if where else ''}{message}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Build the argument parser with every subcommand module that is present."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="adapt",
         description="ADAPT mirror system: rules, imagination, MMD and traces.",
     )
@@ -53,22 +80,58 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _internal_error(exc: BaseException) -> int:
+    """The last resort: one line (the traceback with ``ADAPT_DEBUG=1``), status 70."""
+    if os.environ.get(DEBUG_VARIABLE) == "1":
+        traceback.print_exception(exc, file=sys.stderr)
+    detail = str(exc).splitlines()[0][:200] if str(exc) else ""
+    print(f"adapt: internal error: {type(exc).__name__}{': ' + detail if detail else ''} "
+          f"(a bug in adapt, not in your input: please report it to {REPORT_TO} with the "
+          f"command line; set {DEBUG_VARIABLE}=1 to see the traceback)", file=sys.stderr)
+    return int(Exit.INTERNAL)
+
+
+def _quiet_stdout() -> None:
+    """After a broken pipe, point standard output at /dev/null so that the
+    interpreter's final flush does not complain."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
+def _safe_streams() -> None:
+    """File names that are not UTF-8 reach Python as surrogates (U+DC80..U+DCFF):
+    standard output writes them back as the bytes they were (as ``ls`` does),
+    standard error as ``\\udcff`` (Python's own choice for it)."""
+    for stream, errors in ((sys.stdout, "surrogateescape"), (sys.stderr, "backslashreplace")):
+        if getattr(stream, "errors", None) == "strict" and hasattr(stream, "reconfigure"):
+            try:
+                stream.reconfigure(errors=errors)
+            except (ValueError, OSError):
+                pass
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    _safe_streams()
     try:
+        args = build_parser().parse_args(argv)
         status = args.func(args)
     except AdaptError as exc:
         print(f"adapt: error: {exc}", file=sys.stderr)
-        return 1
+        return int(Exit.ERROR)
     except KeyboardInterrupt:
         print("adapt: interrupted", file=sys.stderr)
-        return 130
-    except BrokenPipeError:
-        return 0
-    except OSError as exc:  # an output path in a missing directory, unwritable, a directory...
+        return int(Exit.INTERRUPTED)
+    except BrokenPipeError:  # `adapt trace show ... | head`
+        _quiet_stdout()
+        return int(Exit.OK)
+    except OSError as exc:  # a file that cannot be read or written
         where = f"{exc.filename}: " if exc.filename is not None else ""
         print(f"adapt: error: {where}{exc.strerror or exc}", file=sys.stderr)
-        return 1
+        return int(Exit.ERROR)
+    except Exception as exc:  # noqa: BLE001 - the last resort: never a traceback by default
+        return _internal_error(exc)
     return int(status or 0)

@@ -19,13 +19,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import tempfile
 from pathlib import Path
 from typing import Any, Iterable
 
 from adapt.errors import AdaptError, ImaginationError
-from adapt.files import atomic_path, write_atomic
+from adapt.files import Output, atomic_path, check_outputs, write_output
 
 #: Most frames ``imagine --video`` writes (20 minutes at 30 frames/s).
 MAX_VIDEO_FRAMES = 36_000
@@ -81,54 +79,15 @@ def _inputs(sc: Any) -> list[tuple[str, Path]]:
     return found
 
 
-def _same_file(a: Path, b: Path) -> bool:
-    if a.resolve() == b.resolve():
-        return True
-    try:
-        return a.exists() and b.exists() and os.path.samefile(a, b)
-    except OSError:
-        return False
-
-
 def _check_outputs(outputs: Iterable[tuple[str, Path]], inputs: Iterable[tuple[str, Path]]) -> None:
     """Refuse, before any work, outputs that would collide, replace an input, or
-    cannot be written."""
-    inputs = list(inputs)
-    seen: list[tuple[str, Path]] = []
-    for option, path in outputs:
-        for other, earlier in seen:
-            if _same_file(path, earlier):
-                raise AdaptError(f"{option} {str(path)!r} is the same file as {other} "
-                                 f"{str(earlier)!r}; expected a different file for each output")
-        for what, source in inputs:
-            if _same_file(path, source):
-                raise AdaptError(f"{option} {str(path)!r} is {what}; an output never replaces an "
-                                 "input: choose another file name")
-        if path.exists() and not path.is_file():
-            kind = "a directory" if path.is_dir() else "not a regular file"
-            raise AdaptError(f"{option} {str(path)!r} is {kind}; expected a file name")
-        folder = path.resolve().parent
-        while not folder.exists() and folder != folder.parent:
-            folder = folder.parent
-        if not folder.is_dir():
-            raise AdaptError(f"{option} {str(path)!r}: {str(folder)!r} is not a folder")
-        try:  # a real probe: os.access says yes to root even on read-only file systems
-            fd, probe = tempfile.mkstemp(dir=folder, prefix=".adapt-probe-")
-            os.close(fd)
-            os.unlink(probe)
-        except OSError as exc:
-            raise AdaptError(f"{option} {str(path)!r}: cannot write in the folder {str(folder)!r} "
-                             f"({exc.strerror or exc})") from None
-        seen.append((option, path))
+    cannot be written (:func:`adapt.files.check_outputs`)."""
+    check_outputs([Output(option, path) for option, path in outputs], inputs)
 
 
 def _write(path: Path, data: bytes, option: str) -> None:
     """Write atomically, creating missing folders; errors name the output, never a temporary file."""
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        write_atomic(path, data)
-    except OSError as exc:
-        raise AdaptError(f"{option} {str(path)!r}: cannot write it ({exc.strerror or exc})") from None
+    write_output(Output(option, path), data)
 
 
 def _check_image_path(path: Path, option: str, sixteen_bit: bool = False) -> None:

@@ -1,9 +1,16 @@
 """``adapt rules run`` and ``adapt rules check``: run and lint Soar rule files.
 
-``adapt rules run FILE...`` loads the files into one agent, runs it, prints
-what the rules wrote and a one-line summary (or, with ``--json``, one JSON
-object with the run report's keys).  ``adapt rules check FILE...`` parses
-every file and prints its first positioned error or its warnings.
+``adapt rules run FILE...`` loads the files into one agent and runs it,
+printing what the rules ``write`` as they write it (as Soar does), then a
+one-line summary -- or, with ``--json``, one JSON object with the run report's
+keys.  Ctrl-C stops the run and still prints the summary (or the report) of
+what ran.  Each way a run can end has its exit status (:func:`run_status`,
+``docs/cli.md``).  ``--trace PATH`` is checked before the rules are loaded (a
+``.jsonl`` file name that is not one of the rule files; missing folders are
+made) and written as the run goes.
+
+``adapt rules check FILE...`` parses every file and prints its first
+positioned error or its warnings.
 """
 
 from __future__ import annotations
@@ -11,10 +18,41 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from typing import Any
 
-from adapt.errors import AdaptError, RuleError
+from adapt.cli.exits import Exit
+from adapt.errors import AdaptError, EngineError, RuleError
 
-__all__ = ["register", "run_command", "check_command", "info_command"]
+__all__ = ["register", "run_command", "check_command", "info_command", "run_status",
+           "TRACE_SUFFIXES"]
+
+#: File name extensions ``--trace`` accepts (JSON Lines).
+TRACE_SUFFIXES = (".jsonl", ".ndjson")
+
+#: The exit status of each stop reason of a run report.
+STOP_STATUS = {
+    "halt": Exit.OK,
+    "max-decisions": Exit.DECISION_LIMIT,
+    "max-goal-depth": Exit.GOAL_DEPTH,
+    "interrupted": Exit.RULE_INTERRUPT,
+}
+
+
+def run_status(stop_reason: str, messages: list[str]) -> Exit:
+    """The exit status of a run: :attr:`Exit.RULE_ERROR` if a rule had a run-time
+    error (an ``Error:`` message, such as a division by zero), however the run
+    ended; otherwise that of its stop reason.
+
+    >>> run_status("halt", ["This Agent halted."]).name
+    'OK'
+    >>> run_status("max-decisions", []), run_status("interrupted", [])
+    (<Exit.DECISION_LIMIT: 3>, <Exit.RULE_INTERRUPT: 5>)
+    >>> run_status("halt", ["Error: attempt to divide ('/') by zero."]).name
+    'RULE_ERROR'
+    """
+    if any(m.startswith("Error") for m in messages):
+        return Exit.RULE_ERROR
+    return STOP_STATUS.get(stop_reason, Exit.ERROR)
 
 
 def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -29,7 +67,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
                      help="stop before the apply phase of the N-th decision")
     run.add_argument("--seed", type=int, default=1, metavar="N", help="random seed (default 1)")
     run.add_argument("--json", action="store_true", help="print the report as one JSON object")
-    run.add_argument("--trace", metavar="PATH", help="write a JSON Lines trace")
+    run.add_argument("--trace", metavar="PATH.jsonl",
+                     help="write a JSON Lines trace as the run goes (missing folders are made)")
     run.add_argument("--trace-level", type=int, default=5, choices=range(1, 6),
                      metavar="1..5", help="trace detail (default 5)")
     run.add_argument("--matcher", choices=("rete", "naive"), default="rete",
@@ -58,14 +97,48 @@ def _warning_line(warning: object) -> str:
     return text if "warning:" in text else f"warning: {text}"
 
 
+class _Echo:
+    """Prints ``write`` text as the rules produce it; remembers whether a line is open."""
+
+    def __init__(self) -> None:
+        self.open_line = False
+
+    def __call__(self, text: str) -> None:
+        if text:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+            self.open_line = not text.endswith("\n")
+
+    def end_line(self) -> None:
+        if self.open_line:
+            sys.stdout.write("\n")
+            self.open_line = False
+
+
+def _check_trace(args: argparse.Namespace) -> Any:
+    """Refuse, before any rule is loaded, a ``--trace`` that cannot be written or
+    is a rule file; return it as an :class:`adapt.files.Output`."""
+    from adapt.files import Output, check_outputs
+
+    out = Output("--trace", args.trace, TRACE_SUFFIXES)
+    check_outputs([out], [("a rule file of the run", f) for f in args.files])
+    return out
+
+
 def run_command(args: argparse.Namespace) -> int:
-    """Run the files; exit 0 (a run that stops on its bound is not an error)."""
+    """Run the files; the exit status says how the run ended (:func:`run_status`)."""
     from adapt.engine import Agent
 
     if args.max_decisions is not None and args.max_decisions < 0:
-        raise AdaptError("--max-decisions must be >= 0")
+        raise AdaptError(f"--max-decisions must be >= 0, got {args.max_decisions}")
+    trace = _check_trace(args) if args.trace is not None else None
     agent = Agent(seed=args.seed, matcher=args.matcher, trace=args.trace,
                   trace_level=args.trace_level)
+    echo = _Echo()
+    if not args.json:
+        agent.on_write(echo)
+    ctrl_c = False
+    failure: EngineError | None = None
     try:
         loaded = sum(len(agent.load_file(path).productions) for path in args.files)
         if loaded == 0:
@@ -73,23 +146,48 @@ def run_command(args: argparse.Namespace) -> int:
                   "state no-change impasses", file=sys.stderr)
         for warning in agent.warnings:
             print(_warning_line(warning), file=sys.stderr)
-        report = agent.run(args.max_decisions)
+        if trace is not None:  # the rules loaded: now make the trace's folder
+            from adapt.files import make_folder
+
+            make_folder(trace)
+        try:
+            agent.run(args.max_decisions)
+        except KeyboardInterrupt:
+            ctrl_c = True
+        except EngineError as exc:  # a rule's action failed at run time
+            failure = exc
     finally:
         agent.close()
+    report = agent.report()
+    if ctrl_c:
+        status = Exit.INTERRUPTED
+    elif failure is not None:
+        status = Exit.RULE_ERROR
+    else:
+        status = run_status(report.stop_reason, report.messages)
+    _print_outcome(args, report, echo, ctrl_c, status)
+    if failure is not None:
+        print(f"adapt: error: {failure}", file=sys.stderr)
+    return int(status)
+
+
+def _print_outcome(args: argparse.Namespace, report: Any, echo: _Echo, ctrl_c: bool,
+                   status: Exit) -> None:
     if args.json:
-        print(json.dumps(report.to_dict()))
-        return 0
-    out = report.output
-    sys.stdout.write(out)
-    if out and not out.endswith("\n"):
-        sys.stdout.write("\n")
-    print(f"-- {report.stop_reason}: {report.decisions} decisions, "
-          f"{report.production_firings} firings, {len(report.operators)} operators, "
-          f"{len(report.impasses)} impasses, {report.wm_size_final} WMEs")
+        data = report.to_dict()
+        data["exit_status"] = int(status)
+        print(json.dumps(data))
+    else:
+        echo.end_line()
+        how = "interrupted by Ctrl-C" if ctrl_c else report.stop_reason
+        print(f"-- {how}: {report.decisions} decisions, "
+              f"{report.production_firings} firings, {len(report.operators)} operators, "
+              f"{len(report.impasses)} impasses, {report.wm_size_final} WMEs")
     for message in report.messages:
         if message.startswith("Warning") or message.startswith("Error"):
             print(message.strip(), file=sys.stderr)
-    return 0
+    if ctrl_c:
+        print("adapt: interrupted", file=sys.stderr)
 
 
 def info_command(args: argparse.Namespace) -> int:

@@ -1,13 +1,13 @@
 """``adapt run`` and ``adapt check``: run a scenario, or validate it without running.
 
-``adapt run SCENARIO.yaml [--out DIR] [--seed N] [--max-frames N] [--trace-level N]``
+``adapt run SCENARIO.yaml [--set KEY=VALUE ...] [--out DIR] [--seed N] [--max-frames N] [--trace-level N]``
     runs the perception-deliberation loop and writes ``report.json``,
     ``trace.jsonl``, ``mmd.mp4`` and ``figures/`` into DIR (default
     ``runs/<scenario name>``).  The rules' ``(write ...)`` text is printed as
     it happens; a progress line shows on a terminal; a short summary ends the
     run.  Ctrl-C stops the run and still writes complete outputs of the
     frames done (exit status 130).
-``adapt check SCENARIO.yaml``
+``adapt check SCENARIO.yaml [--set KEY=VALUE ...]``
     reads the scenario, checks its schema parameters against the schema
     types and parses its rule files, and prints what it found.
 """
@@ -32,6 +32,7 @@ def register(sub: Any) -> None:
                        description="Run SCENARIO's perception-deliberation loop frame by frame "
                        "and write its report, trace, MMD video and figures.")
     p.add_argument("scenario", metavar="SCENARIO.yaml")
+    _overrides(p)
     p.add_argument("--out", metavar="DIR", help="output folder (default runs/<scenario name>)")
     p.add_argument("--seed", type=int, default=None, metavar="N",
                    help="random seed (default: the scenario's)")
@@ -49,8 +50,15 @@ def register(sub: Any) -> None:
                        description="Read SCENARIO, check its schema parameters and parse its rule "
                        "files; errors point at file:line:col.")
     c.add_argument("scenario", metavar="SCENARIO.yaml")
+    _overrides(c)
     c.add_argument("--json", action="store_true", help="print what was found as JSON")
     c.set_defaults(func=_check)
+
+
+def _overrides(p: Any) -> None:
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="overrides",
+                   help="override one scenario value: a dotted key (list items by name or "
+                   "index, e.g. reality.objects.ball.restitution) and a YAML value; repeatable")
 
 
 class _ProgressLine:
@@ -80,7 +88,7 @@ def _run(args: argparse.Namespace) -> int:
     from adapt.runner import Runner
     from adapt.scenario import load_scenario
 
-    sc = load_scenario(args.scenario)
+    sc = load_scenario(args.scenario, overrides=args.overrides)
     if args.max_frames is not None and args.max_frames < 1:
         raise AdaptError(f"--max-frames must be at least 1, got {args.max_frames}")
     outputs = sc.outputs
@@ -157,9 +165,10 @@ def _print_summary(result: Any, sc: Any) -> None:
         m, b = by.get("mirror") or {}, by.get("baseline") or {}
         for kind, label in (("bounce", "with a bounce"), ("no_bounce", "without")):
             mm, bm = m.get(f"{kind}_median"), b.get(f"{kind}_median")
-            if mm is not None and bm is not None:
-                print(f"prediction {horizon} s ahead, {label}: mirror {100 * mm:.1f} cm, "
-                      f"Kalman baseline {100 * bm:.1f} cm (median of {m.get(kind + '_n')})")
+            if mm is not None:
+                beside = "" if bm is None else f", Kalman baseline {100 * bm:.1f} cm"
+                print(f"prediction {horizon} s ahead, {label}: mirror {100 * mm:.1f} cm"
+                      f"{beside} (median of {m.get(kind + '_n')})")
     conf = s.get("confidence")
     if conf and conf.get("within_reach") is not None:
         print(f"confident predictions ({conf['threshold']} at {conf['horizon']:g} s): "
@@ -175,7 +184,7 @@ def _check(args: argparse.Namespace) -> int:
     from adapt.scenario import load_scenario
     from adapt.schemas import check_settings
 
-    sc = load_scenario(args.scenario)
+    sc = load_scenario(args.scenario, overrides=args.overrides)
     check_settings(sc.schemas)
     table = default_functions()
     rules = []

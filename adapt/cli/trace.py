@@ -1,13 +1,18 @@
 """``adapt trace show|wm|why|stats|diff|html``: reading a run's trace.
 
 Thin: parse arguments, call :mod:`adapt.traceview`, print.  Warnings about a
-truncated trace go to standard error as ``adapt: warning: ...``.
+truncated trace go to standard error as ``adapt: warning: ...``.  A trace
+record that breaks the format is an ``adapt: error: FILE:LINE: ...`` (the
+reader checks every record); ``show`` with ``--rule`` or ``--id`` that matches
+nothing says so and exits 1; ``html`` refuses an ``--out`` that is the trace
+or not an ``.html`` file name, and creates its folder (``adapt/files.py``).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import warnings
 from collections.abc import Callable, Iterator
@@ -36,6 +41,23 @@ def parse_range(text: str) -> tuple[int | None, int | None]:
     if first is not None and last is not None and first > last:
         raise argparse.ArgumentTypeError(f"{text!r}: the range is empty ({first} > {last})")
     return first, last
+
+
+def _depth(text: str) -> int:
+    """``--depth`` of ``trace why``: 0 to :data:`adapt.traceview.why.MAX_DEPTH`.
+
+    >>> _depth("3")
+    3
+    """
+    from adapt.traceview.why import MAX_DEPTH
+
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if not 0 <= value <= MAX_DEPTH:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected a depth from 0 to {MAX_DEPTH}")
+    return value
 
 
 def _level(text: str) -> int:
@@ -80,8 +102,16 @@ def _cmd_show(args: argparse.Namespace) -> int:
               f"showing what it has", file=sys.stderr)
     flt = ShowFilter(first=first, last=last, rule=args.rule, ident=args.id, level=args.level)
     out = sys.stdout
+    shown = 0
     for line in show_lines(trace, flt):
         out.write(line + "\n")
+        shown += 1
+    if not shown:
+        from adapt.traceview.show import nothing_shown
+
+        reason = nothing_shown(trace, flt)
+        if reason is not None:
+            raise TraceError(reason)
     return 0
 
 
@@ -90,7 +120,8 @@ def _cmd_wm(args: argparse.Namespace) -> int:
 
     trace = _open(args.trace)
     wm = memory_at(trace, args.at)
-    print(f"; working memory at the end of decision {args.at}: {len(wm)} WMEs")
+    end = " (the end of the trace)" if args.at is None else ""
+    print(f"; working memory at the end of decision {wm.cycle}{end}: {len(wm)} WMEs")
     print(format_tree(wm, args.root, args.depth, internal=args.internal))
     return 0
 
@@ -115,10 +146,10 @@ def parse_wme(text: str) -> tuple[int | None, tuple[str, str, str | None, bool |
     (None, ('S1', 'operator', 'O3', True))
     """
     text = text.strip()
-    if text.isdigit():
+    if text.isascii() and text.isdigit():
         return int(text), None
     parts = text.strip("()").replace("^", " ^").split()
-    acceptable = None if len(parts) == 2 else parts[-1] == "+"
+    acceptable = None if len(parts) == 2 else bool(parts) and parts[-1] == "+"
     if acceptable:
         parts = parts[:-1]
     if len(parts) in (2, 3) and parts[1].startswith("^") and len(parts[1]) > 1:
@@ -164,10 +195,17 @@ def _cmd_diff(args: argparse.Namespace) -> int:
 
 
 def _cmd_html(args: argparse.Namespace) -> int:
-    from adapt.traceview.html import write_html
+    from adapt.files import Output, check_outputs, write_output
+    from adapt.traceview.html import build_payload, render_page
 
-    path = write_html(_open(args.trace), args.out)
-    print(path)
+    trace = _open(args.trace)
+    target = args.out if args.out is not None else os.path.splitext(args.trace)[0] + ".html"
+    out = Output("--out" if args.out is not None else "the HTML page", target,
+                 (".html", ".htm"))
+    check_outputs([out], [("the trace", args.trace)])
+    # backslashreplace: a file name that is not UTF-8 (in the header) stays valid UTF-8 in the page
+    write_output(out, render_page(build_payload(trace)).encode("utf-8", "backslashreplace"))
+    print(target)
     return 0
 
 
@@ -200,8 +238,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
     p = cmds.add_parser("wm", help="working memory at a decision, as a tree")
     p.add_argument("trace", metavar="TRACE")
-    p.add_argument("--at", type=int, required=True, metavar="D",
-                   help="the decision cycle (memory as it was when the cycle ended)")
+    p.add_argument("--at", type=int, default=None, metavar="D",
+                   help="the decision cycle (memory as it was when the cycle ended; "
+                        "default: the end of the trace)")
     p.add_argument("--root", default="S1", metavar="ID", help="the identifier to print from (S1)")
     p.add_argument("--depth", type=int, default=2, metavar="N", help="levels to print (2)")
     p.add_argument("--internal", action="store_true", help="one WME per line, with timetags")
@@ -213,8 +252,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
                    help="a timetag, or '(ID ^attr value)' (the latest such WME by --at)")
     p.add_argument("--rule", metavar="NAME", help="why this rule did not fire at --at D")
     p.add_argument("--at", type=int, metavar="D", help="the decision cycle")
-    p.add_argument("--depth", type=int, default=1, metavar="N",
-                   help="explain the matched WMEs this many levels deep (1)")
+    p.add_argument("--depth", type=_depth, default=1, metavar="N",
+                   help="explain the matched WMEs this many levels deep (1; at most 100)")
     p.add_argument("--rules", nargs="+", metavar="FILE",
                    help="the rule files (default: those named in the trace header)")
     p.set_defaults(func=_with_warnings(_cmd_why))
@@ -228,7 +267,8 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
     p = cmds.add_parser("html", help="one self-contained HTML page to browse the trace")
     p.add_argument("trace", metavar="TRACE")
-    p.add_argument("--out", metavar="FILE", help="where to write it (default: TRACE with .html)")
+    p.add_argument("--out", metavar="FILE.html",
+                   help="where to write it (default: TRACE with .html); missing folders are made")
     p.set_defaults(func=_with_warnings(_cmd_html))
 
     p = cmds.add_parser("stats", help="decisions, firings per rule, WM size, impasses")

@@ -853,7 +853,7 @@ def read_text_file(name: str) -> str:
     except OSError as exc:
         raise RuleError(f"cannot read rule file: {exc.strerror or exc}", file=name) from None
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # a byte-order mark (as some editors write) is not text
     except UnicodeDecodeError as exc:
         before = data[: exc.start]
         line = before.count(b"\n") + 1

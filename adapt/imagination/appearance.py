@@ -61,6 +61,12 @@ class Appearance:
         Valid pixels (non-zero); ``None`` means all.
     extent : (s_min, t_min, s_max, t_max)
         Face coordinates the image covers, metres.
+    aligned : bool
+        Draw it from mip levels of 2 x 2 averages, whose pixels lie exactly
+        where the renderer samples them (an appearance learned from a camera,
+        whose texels must land where they were seen); the default Gaussian
+        levels, like a texture's, are sampled up to half a coarse texel off
+        (see :func:`~adapt.imagination.texture.mip_levels`).
 
     The arrays are copied and kept read-only.
 
@@ -78,8 +84,10 @@ class Appearance:
     image: NDArray[np.uint8]
     mask: NDArray[np.bool_]
     extent: Extent
+    aligned: bool
 
-    def __init__(self, image: ArrayLike, mask: ArrayLike | None, extent: Sequence[float]) -> None:
+    def __init__(self, image: ArrayLike, mask: ArrayLike | None, extent: Sequence[float],
+                 aligned: bool = False) -> None:
         img = np.asarray(image)
         if img.ndim != 3 or img.shape[2] != 3 or img.dtype != np.uint8:
             raise ImaginationError(
@@ -107,6 +115,7 @@ class Appearance:
         object.__setattr__(self, "image", img)
         object.__setattr__(self, "mask", m)
         object.__setattr__(self, "extent", check_extent(extent))
+        object.__setattr__(self, "aligned", bool(aligned))
 
     @property
     def size(self) -> tuple[int, int]:
@@ -223,8 +232,8 @@ def prepare_atlas(surface: Surface, appearance: Appearance) -> Atlas | None:
         cv2.convertScaleAbs(base, dst=base, alpha=shade)
     valid = appearance.mask.view(np.uint8) * np.uint8(255)
     cv2.copyTo(cv2.cvtColor(appearance.image, cv2.COLOR_BGR2BGRA), valid, base)
-    return Atlas(mip_levels(base), np.asarray(np.linalg.inv(to_face), np.float64), tuple(poly),
-                 covers)
+    return Atlas(mip_levels(base, box=appearance.aligned),
+                 np.asarray(np.linalg.inv(to_face), np.float64), tuple(poly), covers)
 
 
 def _area(poly: Sequence[tuple[float, float]]) -> float:

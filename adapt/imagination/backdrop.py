@@ -171,6 +171,7 @@ class Backdrop:
         mask: ArrayLike | None = None,
         *,
         extent: Sequence[float] | None = None,
+        aligned: bool = False,
     ) -> Appearance:
         """Draw ``image`` on ``surface`` where ``mask`` is valid, from now on.
 
@@ -186,6 +187,10 @@ class Backdrop:
         extent : (s_min, t_min, s_max, t_max), optional
             Face coordinates the image covers; default the surface's polygon
             (required for a floor without extent).
+        aligned : bool
+            Mip levels of 2 x 2 averages, exact where the renderer samples
+            them (for an appearance learned from a camera; see
+            :class:`~adapt.imagination.appearance.Appearance`).
 
         Returns the :class:`Appearance` stored.  Its preparation (one warp of
         the scenario's texture and a mip pyramid, at the image's resolution)
@@ -193,14 +198,14 @@ class Backdrop:
         """
         target = self.surface(surface)
         if isinstance(image, Appearance):
-            if mask is not None or extent is not None:
+            if mask is not None or extent is not None or aligned:
                 raise ImaginationError(
-                    "image: an Appearance carries its own mask and extent; pass neither"
+                    "image: an Appearance carries its own mask, extent and alignment; pass none"
                 )
             look = image
         else:
             look = Appearance(image, mask, target._extent_or(
-                None if extent is None else check_extent(extent)))
+                None if extent is None else check_extent(extent)), aligned)
         atlas = prepare_atlas(target, look)
         self._appearances[surface] = look
         if atlas is None:
@@ -351,7 +356,14 @@ def _draw_atlas(
 
 
 def _set(roi: NDArray[Any], value: float | tuple[float, ...], mask: NDArray[np.uint8]) -> None:
-    """``roi[mask] = value`` in place, by two masked OpenCV operations (no allocation)."""
+    """``roi[mask] = value`` in place, by two masked OpenCV operations (no allocation).
+
+    A region of four pixels or fewer is set with numpy: OpenCV takes a 4x1 array
+    for a scalar, and adds a Python number to it as an array of another type.
+    """
+    if roi.shape[0] * roi.shape[1] <= 4:
+        roi[mask.astype(bool)] = value
+        return
     cv2.bitwise_and(roi, 0, dst=roi, mask=mask)  # type: ignore[call-overload]
     cv2.add(roi, value, dst=roi, mask=mask)  # type: ignore[call-overload]
 

@@ -214,11 +214,12 @@ class Renderer:
         mask: ArrayLike | None = None,
         *,
         extent: Sequence[float] | None = None,
+        aligned: bool = False,
     ) -> Appearance:
         """Draw an image on a surface where ``mask`` is valid
         (:meth:`Backdrop.set_appearance`); every renderer sharing the backdrop
         sees it from its next render."""
-        return self.backdrop.set_appearance(surface, image, mask, extent=extent)
+        return self.backdrop.set_appearance(surface, image, mask, extent=extent, aligned=aligned)
 
     def clear_appearance(self, surface: str | None = None) -> None:
         """Return a surface (default: all) to the scenario's look."""

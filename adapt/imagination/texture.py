@@ -126,22 +126,43 @@ def load_texture(ref: str) -> Texture:
     return Texture(ref, (w, h), mip_levels(tile), (mean[0], mean[1], mean[2]))
 
 
-def mip_levels(image: NDArray[np.uint8], max_levels: int = 8) -> tuple[NDArray[np.uint8], ...]:
-    """A read-only mip pyramid of ``image``: level ``k`` is ``cv2.pyrDown``
-    applied ``k`` times, down to about 8 pixels a side.
+def mip_levels(image: NDArray[np.uint8], max_levels: int = 8, *, box: bool = False
+               ) -> tuple[NDArray[np.uint8], ...]:
+    """A read-only mip pyramid of ``image``, down to about 8 pixels a side.
 
-    The centre of pixel ``i`` of level ``k`` lies at ``(i + 0.5) * 2**k - 0.5``
-    in level-0 pixels.
+    Level ``k + 1`` halves level ``k``: by ``cv2.pyrDown`` (a Gaussian; the
+    default, for textures), or, with ``box``, by averages of 2 x 2 pixels (an
+    odd last row or column is repeated first), for appearances.  With ``box``
+    the centre of pixel ``i`` of level ``k`` lies at ``(i + 0.5) * 2**k - 0.5``
+    in level-0 pixels, where :func:`~adapt.imagination.appearance.level_matrix`
+    samples it.  ``cv2.pyrDown`` centres its pixel ``i`` on pixel ``2 i`` of its
+    source instead, so a texture's level ``k`` is sampled ``(2**k - 1) / 2``
+    level-0 pixels off: nothing shows it in a tiled pattern whose phase is
+    arbitrary anyway, but an appearance's texels must land where they were
+    seen (a learned one was drawn 0.4 px off at 320x240 with pyrDown levels).
 
     Examples
     --------
     >>> [lv.shape for lv in mip_levels(np.zeros((64, 40, 3), np.uint8))]
     [(64, 40, 3), (32, 20, 3), (16, 10, 3)]
+    >>> ramp = np.tile(np.arange(64, dtype=np.uint8) * 2, (16, 1))
+    >>> mip_levels(ramp, box=True)[1][0, :3].tolist()   # pixel i: the mean of 2i and 2i + 1
+    [1, 5, 9]
     """
     levels = [np.ascontiguousarray(image)]
     while min(levels[-1].shape[:2]) >= 2 * _MIN_LEVEL and len(levels) < max_levels:
-        levels.append(cv2.pyrDown(levels[-1]))  # type: ignore[arg-type]
+        levels.append(_halve(levels[-1]) if box else cv2.pyrDown(levels[-1]))  # type: ignore[arg-type]
     levels[0] = levels[0].copy() if levels[0] is image else levels[0]
     for level in levels:
         level.setflags(write=False)
     return tuple(levels)
+
+
+def _halve(image: NDArray[np.uint8]) -> NDArray[np.uint8]:
+    """Averages of 2 x 2 pixels (an odd last row or column repeated)."""
+    h, w = image.shape[:2]
+    if h % 2 or w % 2:
+        image = np.asarray(cv2.copyMakeBorder(image, 0, h % 2, 0, w % 2, cv2.BORDER_REPLICATE),
+                           np.uint8)
+        h, w = image.shape[:2]
+    return np.asarray(cv2.resize(image, (w // 2, h // 2), interpolation=cv2.INTER_AREA), np.uint8)

@@ -5,8 +5,9 @@ no bounce handling) follows each object from the sightings its perceptual
 schema makes; it predicts at the same horizons by straight-line
 extrapolation, and drives a simulated robot with the real robot's speed and
 acceleration limits, re-planned every frame towards the earliest point of
-its own predicted straight path the robot can reach.  That is the tracker the
-paper argues cannot foresee a bounce ("playing catch-up").
+its own predicted straight path the robot can reach, or, when no point of it
+is reachable, towards where the filter has the object now (pursuit).  That is
+the tracker the paper argues cannot foresee a bounce ("playing catch-up").
 
 The baseline sees what perception sees, never the truth; the evaluation
 scores it against the truth like the mirror.
@@ -69,10 +70,12 @@ class SimulatedRobot:
 class Baseline:
     """A constant-velocity Kalman filter and the robot it would drive (see the module docstring)."""
 
-    def __init__(self, robot: RobotSpec, *, reach: float, horizons: Sequence[float], dt: float,
-                 q: float = 0.3, r: float = 0.005, plan: float = 3.0) -> None:
+    def __init__(self, robot: RobotSpec | None, *, reach: float, horizons: Sequence[float],
+                 dt: float, q: float = 0.3, r: float = 0.005, plan: float = 3.0) -> None:
         self.kf = ConstantVelocityKF(q=q, r=r)
-        self.robot = SimulatedRobot(robot.position, robot.max_speed, robot.max_accel)
+        #: The simulated robot (None in a world without a robot: predictions only).
+        self.robot = None if robot is None else SimulatedRobot(robot.position, robot.max_speed,
+                                                               robot.max_accel)
         self.reach = reach
         self.horizons = tuple(horizons)
         self.dt = dt
@@ -83,6 +86,8 @@ class Baseline:
         """Take this frame's sighting (None: not seen), re-plan, and drive for one frame."""
         self.kf.step(time, sighting)
         self.target = None
+        if self.robot is None:
+            return
         if self.kf.initialised and self.kf.updates >= 3:
             p, v = np.array(self.kf.position), np.array(self.kf.velocity)
             times = np.linspace(time, time + self.plan, 91)
@@ -90,8 +95,7 @@ class Baseline:
                               np.tile(v, (len(times), 1)), ())
             hit = intercept(path, self.robot.position, self.robot.max_speed, self.robot.max_accel,  # type: ignore[arg-type]
                             reach=self.reach, start=time)
-            if hit is not None:
-                self.target = hit.position
+            self.target = hit.position if hit is not None else (float(p[0]), float(p[1]))
         self.robot.drive(self.target, self.dt)
 
     def predict(self, horizon: float) -> tuple[float, float]:

@@ -19,9 +19,9 @@ the truth), and the summary gets:
 * the **interception**: whether the true robot came within the catch reach
   of the true object, when, and whether a robot with its limits could have
   reached the object at all (from where the robot stood when the object
-  first appeared, knowing its whole true path: the earliest point of that
-  path it could reach in time, straight, from rest); the same for the
-  baseline's simulated robot.
+  first came into the true camera's view, knowing its whole true path: the
+  earliest point of that path it could reach in time, straight, from rest);
+  the same for the baseline's simulated robot.
 
 Nothing that perceives may call this module; the runner calls it after each
 frame's loop is done.  Statistics over a run of any length use
@@ -49,6 +49,7 @@ from adapt.geometry import Camera, rotation_log
 from adapt.imagination.predict import Trajectory, intercept_reach
 from adapt.imagination.reach import meet
 from adapt.scenario import Scenario
+from adapt.schemas.intercept import CATCH_SLACK  # a contact's bodies are never quite touching
 
 __all__ = ["Evaluation", "Sample", "camera_error", "COMMIT_CONFIDENCE", "BOUNCE_TURN_DEG"]
 
@@ -58,9 +59,8 @@ COMMIT_CONFIDENCE = 0.7
 BOUNCE_TURN_DEG = 20.0
 #: True positions kept per object for the reachability oracle.
 PATH_LIMIT = 20_000
-#: A robot touching the object is at exactly the reach; this much more counts too (metres),
-#: since a contact's bodies are never quite touching in the physics.
-CATCH_SLACK = 0.02
+#: Scored predictions kept for ``prediction.png`` (the latest ones).
+TIMELINE = 20000
 
 
 class Sample:
@@ -175,6 +175,8 @@ class Evaluation:
         self.uncorrected: dict[str, Sample] = {}
         self.scores: dict[tuple[str, float], _Scores] = {}
         self._pending: dict[int, list[tuple[str, str, float, tuple[float, float], int, float]]] = {}
+        #: The latest scored predictions, for the figure: (time made, source, horizon, error m).
+        self.timeline: deque[tuple[float, str, float, float]] = deque(maxlen=TIMELINE)
         self._velocities: dict[str, deque[tuple[int, tuple[float, float]]]] = {}
         self.confident = 0
         self.confident_within = 0
@@ -216,6 +218,10 @@ class Evaluation:
                 vel = self._velocities.setdefault(name, deque(maxlen=int(self.fps * 65) + 4))
                 vel.append((index, (float(obj.velocity[0]), float(obj.velocity[1]))))
         record["truth"] = truth_pos
+        robot = getattr(t, "robot", None)
+        if robot is not None:
+            record["truth_robot"] = [round(float(robot.position[0]), 4),
+                                     round(float(robot.position[1]), 4)]
         if getattr(t, "camera", None) is not None:
             pos, rot = camera_error(camera, t.camera)
             record["camera_pose_error"] = {"position_m": round(pos, 5),
@@ -264,6 +270,7 @@ class Evaluation:
                 continue  # once the robot has the object, its path is the robot's doing
             err = math.dist(pos, true)
             self.scores.setdefault((source, h), _Scores()).add(err, self._bounced(name, made, index))
+            self.timeline.append((made / self.fps, source, h, err))
             if source == "mirror" and self.reach is not None and name == self.target and \
                     h == max(self.scenario.predict.horizons) and conf >= COMMIT_CONFIDENCE:
                 self.confident += 1
@@ -282,7 +289,7 @@ class Evaluation:
         if ball is None:
             return
         self._path.append((time, ball[0], ball[1]))
-        if self._appeared is None and robot is not None:
+        if self._appeared is None and robot is not None and self._in_view(t, ball):
             self._appeared = (time, (float(robot.position[0]), float(robot.position[1])))
         if robot is not None:
             d = math.dist(robot.position, ball)
@@ -294,10 +301,24 @@ class Evaluation:
             if d <= self.reach + CATCH_SLACK and self.baseline_caught is None:
                 self.baseline_caught = time
 
+    def _in_view(self, t: Any, ball: Sequence[float]) -> bool:
+        """Is the target's centre inside the true camera's image (True without a camera)?"""
+        camera = getattr(t, "camera", None)
+        if camera is None or self.target is None:
+            return True
+        radius = self.scenario.model(self.target).ball.radius
+        point = np.array([[float(ball[0]), float(ball[1]), radius]])
+        if float(camera.to_camera(point)[0, 2]) <= 1e-3:
+            return False
+        u, v = camera.project(point)[0]
+        w, h = camera.size
+        return bool(0 <= u < w and 0 <= v < h)
+
     def reachable(self) -> bool | None:
         """Could a robot with the scenario's limits have reached the object at all?
 
-        From where the robot stood when the object first appeared, at rest,
+        From where the robot stood when the object first came into the true
+        camera's view (when first there, without a true camera), at rest,
         knowing the object's whole true path: is there a point of it the robot
         could drive to straight, in time, and stand at (room for its body clear
         of walls and obstacles)?  (:func:`adapt.imagination.reach.meet` on the
@@ -328,6 +349,12 @@ class Evaluation:
             "uncorrected_error_m": {name: s.summary()
                                     for name, s in sorted(self.uncorrected.items())},
         }
+        drawn = getattr(self.truth, "parameters", None)
+        if drawn is not None:
+            out["true_parameters"] = {
+                o.name: {k: round(getattr(o, k), 4) for k in ("restitution", "friction",
+                                                              "rolling_resistance", "drag", "spin")}
+                for o in drawn.objects}
         horizons = sorted({h for _, h in self.scores})
         out["prediction_error_m"] = {
             f"{h:g}": {src: self.scores[(src, h)].summary() for src in ("mirror", "baseline")

@@ -41,13 +41,14 @@ import numpy as np
 
 from adapt.engine import Agent
 from adapt.engine.trace import TraceWriter
-from adapt.errors import RuleError, RunError
+from adapt.errors import AppearanceError, RuleError, RunError
+from adapt.files import Output, check_outputs, same_file
 from adapt.frames import Frame, FrameSource, VideoSink
 from adapt.geometry import Camera
 from adapt.mirror import Mirror
 from adapt.runner.baseline import Baseline
 from adapt.runner.evaluation import Evaluation
-from adapt.runner.figures import Paths, Snapshot, Snapshots
+from adapt.runner.figures import Comparison, Comparisons, Paths, Snapshot, Snapshots
 from adapt.runner.panels import CAPTION, side_by_side
 from adapt.runner.report import ReportWriter
 from adapt.runner.twin import UncorrectedTwin
@@ -144,11 +145,17 @@ class Runner:
         self.mirror = Mirror(scenario.scene, cam, seed=self.seed,
                              camera_follows_robot=self._mount() if scenario.mount.kind is Mount.ROBOT
                              else None)
+        if scenario.appearance is not None:
+            try:
+                self.mirror.load_appearance(scenario.appearance)
+            except AppearanceError as exc:
+                raise scenario.where("world.appearance").error(str(exc)) from None
         self.network = SchemaNetwork(
             self.mirror, registry=registry, settings=scenario.schemas,
             models={m.name: m for m in scenario.objects}, goals=scenario.goals,
             actuator=getattr(source, "robot", None), predict=scenario.predict,
-            rng=self.streams.generator("ensemble"), frame_interval=1.0 / self.fps)
+            rng=self.streams.generator("ensemble"), frame_interval=1.0 / self.fps,
+            reality=scenario.reality.kind.value)
         self.truth = getattr(source, "truth", None)
         self.evaluation = Evaluation(scenario, self.truth, self.fps)
         self.twin = UncorrectedTwin(scenario.scene, seed=self.seed)
@@ -159,7 +166,9 @@ class Runner:
         self.mmd_ms: list[float] = []
         self.frames_done = 0
         self.snapshots = Snapshots()
+        self.comparisons = Comparisons()
         self.series = Paths()
+        self._last_path_kept = -math.inf
         self._trace: TraceWriter | None = None
         self._trace_tmp: Path | None = None
         self.agent = self._agent()
@@ -192,26 +201,31 @@ class Runner:
             paths["video"] = self.out / "mmd.mp4"
         if o.figures:
             paths["figures"] = self.out / "figures"
+        paths["appearance"] = self.out / "appearance"  # written when the run learned a look
         return paths
 
     def _check_outputs(self) -> None:
         """Refuse, before any work, an output folder that cannot be written or an output that
-        would replace an input."""
+        would replace an input (:func:`adapt.files.check_outputs` for the files; a folder
+        output may not hold an input either)."""
         if self.out is None:
             return
         if self.out.exists() and not self.out.is_dir():
             raise RunError(f"--out {str(self.out)!r} is a file; expected a folder")
-        probe = self.out
-        while not probe.exists():
-            probe = probe.parent
-        if not os.access(probe, os.W_OK | os.X_OK):
-            raise RunError(f"cannot write into {str(probe)!r} (permission denied)")
-        inputs = {p.resolve() for p in self._inputs()}
-        for name, path in self._paths().items():
-            if path.resolve() in inputs or any(i.is_relative_to(path.resolve()) for i in inputs
-                                               if name == "figures"):
-                raise RunError(f"the {name} output {str(path)!r} would replace an input of the "
-                               "run; choose another --out folder")
+        inputs = [(f"an input of the run ({p})", p) for p in self._inputs()]
+        folders = ("figures", "appearance")
+        paths = self._paths()
+        suffixes = {"report": (".json",), "trace": (".jsonl",), "video": (".mp4",)}
+        check_outputs([Output(f"the {name} output", path, suffixes[name])
+                       for name, path in paths.items() if name not in folders], inputs)
+        for name in folders:
+            path = paths.get(name)
+            if path is None:
+                continue
+            for what, p in inputs:
+                if same_file(p, path) or Path(p).resolve().is_relative_to(path.resolve()):
+                    raise RunError(f"the {name} output {str(path)!r} would replace {what}; "
+                                   "choose another --out folder")
 
     def _inputs(self) -> Iterator[Path]:
         sc = self.scenario
@@ -224,6 +238,8 @@ class Runner:
             p = getattr(reality, attr, None)
             if isinstance(p, Path):
                 yield p
+        if sc.appearance is not None:
+            yield sc.appearance
 
     def _agent(self) -> Agent:
         trace = None
@@ -269,6 +285,7 @@ class Runner:
                 ball = model.ball  # the uncorrected twin keeps the model's own parameters
             if ball is not None:
                 self.twin.create(ball, event.data["position"], event.data["velocity"])
+                self.comparisons.created_at(ball.name, max(event.frame, 0), self.fps)
         if self._trace is not None:
             self._trace.event("schema", event.as_json())
 
@@ -311,6 +328,10 @@ class Runner:
                         self._trace.event("network", {"d": self.agent.decisions,
                                                       "frame": frame.index,
                                                       **self.network.subscene()})
+                    bg = self.network.background
+                    look = None if bg is None else bg.appearance_record(frame.index)
+                    if look is not None:
+                        self._trace.event("appearance", {"d": self.agent.decisions, **look})
                     self._trace.flush()
                 self.network.changed = False
                 self.stage_s["outputs"] += time.perf_counter() - t5
@@ -344,7 +365,11 @@ class Runner:
     def _step(self, frame: Frame) -> dict[str, Any]:
         stage = self.stage_s
         t1 = time.perf_counter()
+        camera = self.mirror.camera
         self.network.perceive(frame)
+        after = self.comparisons.wants(frame.index)
+        if after is not None and self.out is not None and self.outputs.figures:
+            self._compare(frame, camera, after)
         bg = self.network.background
         if bg is not None:
             self.mmd_ms.append(bg.ms)
@@ -355,16 +380,77 @@ class Runner:
         t3 = time.perf_counter()
         self.network.act(frame.time)
         t4 = time.perf_counter()
+        record = self._record(frame)  # the imagination as it stands at the frame's time
+        t5 = time.perf_counter()
         self.mirror.step_to(frame.time + 1.0 / self.fps)
         self.twin.step_to(frame.time + 1.0 / self.fps)
-        t5 = time.perf_counter()
+        t6 = time.perf_counter()
         stage["perception"] += t2 - t1
         stage["decisions"] += t3 - t2
         stage["action"] += t4 - t3
-        stage["physics"] += t5 - t4
-        record = self._record(frame)
+        stage["physics"] += t6 - t5
+        stage["outputs"] += t5 - t4
         self._keep(frame, record)
         return record
+
+    def _compare(self, frame: Frame, camera: Camera, after: float) -> None:
+        """Keep, for ``correction.png``, this frame's differences from the uncorrected twin and
+        from the mirror (both through the frame's ``H_e``, on one crop around the object)."""
+        bg = self.network.background
+        created = self.comparisons.created
+        if bg is None or bg.synthetic is None or created is None:
+            return
+        robot = self.scenario.scene.robot
+        also = () if robot is None else tuple(
+            b for b in self.mirror.world.snapshot().bodies if b.name == robot.name)
+        twin = self.twin.render(camera, self.mirror.renderer, also=also).image
+        uncorrected = bg.difference_with(frame.image, twin)
+        corrected = bg.difference_with(frame.image, bg.synthetic)
+        if uncorrected is None or corrected is None:
+            return
+        name = created[0]
+        found = [self._ball_box(camera, p, name) for p in
+                 (self.twin.positions().get(name),
+                  self.mirror.world.position(name) if self.mirror.has_body(name) else None)]
+        found.append(self._sighting_box(name))
+        boxes = [b for b in found if b is not None]
+        if not boxes:
+            return  # the object is out of view: nothing to compare
+        h, w = frame.image.shape[:2]
+        x, y, cw, ch = _crop(boxes, w, h)
+        self.comparisons.add(Comparison(
+            frame.index, frame.time, after, frame.image[y:y + ch, x:x + cw].copy(),
+            np.asarray(uncorrected[y:y + ch, x:x + cw], np.float32),
+            np.asarray(corrected[y:y + ch, x:x + cw], np.float32)))
+
+    def _ball_box(self, camera: Camera, position: tuple[float, float] | None,
+                  name: str) -> tuple[int, int, int, int] | None:
+        """The image box of a ball of object ``name`` at ``position`` (None: behind the
+        camera or off the image)."""
+        if position is None:
+            return None
+        radius = next((b.radius for b in self.twin.world.balls if b.name == name), None)
+        if radius is None:
+            return None
+        point = np.array([[position[0], position[1], radius]])
+        depth = float(camera.to_camera(point)[0, 2])
+        if depth <= 1e-3:
+            return None
+        u, v = camera.project(point)[0]
+        r = camera.fx * radius / depth
+        w, h = camera.size
+        if not (-r < u < w + r and -r < v < h + r):
+            return None
+        return int(u - r), int(v - r), int(2 * r) + 1, int(2 * r) + 1
+
+    def _sighting_box(self, name: str) -> tuple[int, int, int, int] | None:
+        from adapt.schemas.foreground import ForegroundObject
+
+        for s in self.network.ordered():
+            if isinstance(s, ForegroundObject) and s.object_name == name and \
+                    s.last is not None and s.misses == 0:
+                return s.last.bbox
+        return None
 
     def _keep(self, frame: Frame, record: dict[str, Any]) -> None:
         """Data for the figures: a snapshot of this frame's images, a point of each path."""
@@ -380,19 +466,29 @@ class Runner:
             tuple(self.network.monitored_boxes())))
         pose = self.mirror.robot_pose()
         self.series.add(record, err, None if pose is None else pose[0])
+        if frame.time - self._last_path_kept >= 1.0:
+            from adapt.schemas.foreground import ForegroundObject
+
+            for s in self.network.ordered():
+                pred = s.prediction if isinstance(s, ForegroundObject) else None
+                if pred is not None and abs(pred.time - frame.time) < 0.5 / self.fps:
+                    self.series.predicted_path(pred.time, pred.trajectory.positions[::3])
+                    self._last_path_kept = frame.time
+                    break
 
     # -- records ---------------------------------------------------------------------------------
 
     def _objects(self) -> tuple[dict[str, dict[str, Any]], dict[str, Any], dict[str, Any],
-                                dict[str, Any]]:
+                                dict[str, Any], dict[str, Any]]:
         """Per object: observed and imagined positions, the mirror's predictions, the
-        predicted contacts, and the baseline's predictions."""
+        predicted contacts, the baseline's predictions and the parameter estimates."""
         from adapt.schemas.foreground import ForegroundObject
 
         out: dict[str, dict[str, Any]] = {}
         preds: dict[str, Any] = {}
         contacts: dict[str, Any] = {}
         baseline: dict[str, Any] = {}
+        params: dict[str, Any] = {}
         for m in self.scenario.objects:
             out[m.name] = {"observed": None, "imagined": None}
         robot = self.scenario.scene.robot
@@ -403,16 +499,18 @@ class Runner:
             o = s.observed()
             out.setdefault(name, {"observed": None, "imagined": None})
             out[name]["observed"] = None if o is None else [round(o[0], 4), round(o[1], 4)]
+            if s.estimator is not None:
+                params[name] = {k: e.as_json() for k, e in s.estimator.estimates().items()}
             if s.prediction is not None:
                 preds[name] = [h.as_json() for h in s.prediction.horizons]
                 contacts[name] = s.prediction.contacts_json()
-            if robot is not None and s.ball is not None:
+            if s.ball is not None:
                 b = self.baselines.get(name)
                 if b is None:
                     from adapt.imagination.predict import intercept_reach
 
                     b = self.baselines[name] = Baseline(
-                        robot, reach=intercept_reach(s.ball, robot),
+                        robot, reach=0.0 if robot is None else intercept_reach(s.ball, robot),
                         horizons=self.scenario.predict.horizons, dt=1.0 / self.fps)
                 sighting = s.last.position if s.last is not None and s.misses == 0 else None
                 b.step(self.network.time, sighting)
@@ -422,11 +520,11 @@ class Runner:
                 p = self.mirror.world.position(ball.name)
                 out.setdefault(ball.name, {"observed": None, "imagined": None})
                 out[ball.name]["imagined"] = [round(p[0], 4), round(p[1], 4)]
-        return out, preds, contacts, baseline
+        return out, preds, contacts, baseline, params
 
     def _record(self, frame: Frame) -> dict[str, Any]:
         bg = self.network.background
-        objects, preds, contacts, baseline = self._objects()
+        objects, preds, contacts, baseline, params = self._objects()
         record: dict[str, Any] = {
             "index": frame.index, "t": round(frame.time, 6),
             "schemas": self.network.names,
@@ -435,6 +533,7 @@ class Runner:
             "predictions": {name: preds.get(name, []) for name in objects},
             "contacts": contacts,
             "baseline": baseline,
+            "parameters": params,
         }
         if bg is not None:
             record["mmd"] = {"aligned": bg.result is not None and bg.result.aligned,
@@ -446,8 +545,10 @@ class Runner:
         pose = self.mirror.robot_pose()
         target = self.evaluation.target
         base_robot = None
-        if target is not None and target in self.baselines:
-            base_robot = tuple(float(v) for v in self.baselines[target].robot.position)
+        sim = None if target is None or target not in self.baselines \
+            else self.baselines[target].robot
+        if sim is not None:
+            base_robot = tuple(float(v) for v in sim.position)
         if pose is not None:
             record["robot"] = {"odometry": [round(pose[0][0], 4), round(pose[0][1], 4)],
                                "heading": round(pose[1], 4)}
@@ -504,10 +605,19 @@ class Runner:
             "schema_ms": {k: round(1000.0 * v / n, 3) for k, v in sorted(self.network.seconds.items())},
             "mmd_ms_median": round(float(np.median(self.mmd_ms)), 3) if self.mmd_ms else None,
             "rollouts": self._rollouts(),
+            "parameters": self._estimates(),
             "writes": "".join(self.writes[-20:]),
         }
         out.update(self.evaluation.summary())
         return out
+
+    def _estimates(self) -> dict[str, Any]:
+        """The object schemas' parameter estimates at the end."""
+        from adapt.schemas.foreground import ForegroundObject
+
+        return {s.object_name: {k: e.as_json() for k, e in s.estimator.estimates().items()}
+                for s in self.network.ordered()
+                if isinstance(s, ForegroundObject) and s.estimator is not None}
 
     def _rollouts(self) -> dict[str, Any]:
         """How fast the object schemas' predictions ran: seconds of imagination rolled out
@@ -540,8 +650,31 @@ class Runner:
             written["trace"] = paths["trace"]
         if report is not None:
             written["report"] = report.close(summary)
+        bg = self.network.background
+        if "appearance" in paths and bg is not None and bg.learn_passes:
+            self.mirror.save_appearance(paths["appearance"])
+            written["appearance"] = paths["appearance"]
         if "figures" in paths and self.frames_done > 0 and error is None:
             from adapt.runner.figures import write_figures
 
             written.update(write_figures(self, paths["figures"]))
         return RunResult(summary, written, interrupted, error)
+
+
+def _crop(boxes: list[tuple[int, int, int, int]], width: int, height: int,
+          least: int = 96) -> tuple[int, int, int, int]:
+    """A window ``(x, y, w, h)`` of the image holding every box with a margin, at least
+    ``least`` pixels a side (the whole image when there is no box)."""
+    if not boxes:
+        return 0, 0, width, height
+    x0 = min(b[0] for b in boxes)
+    y0 = min(b[1] for b in boxes)
+    x1 = max(b[0] + b[2] for b in boxes)
+    y1 = max(b[1] + b[3] for b in boxes)
+    pad = max(max(b[2], b[3]) for b in boxes)
+    x0, y0, x1, y1 = x0 - pad, y0 - pad, x1 + pad, y1 + pad
+    side_w, side_h = max(x1 - x0, least), max(y1 - y0, least)
+    cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+    x = int(min(max(cx - side_w / 2, 0), max(width - side_w, 0)))
+    y = int(min(max(cy - side_h / 2, 0), max(height - side_h, 0)))
+    return x, y, int(min(side_w, width)), int(min(side_h, height))

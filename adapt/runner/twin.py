@@ -4,7 +4,9 @@ The paper's Figures 7 and 8 show the imagined ball uncorrected (top rows)
 against corrected (bottom rows).  :class:`UncorrectedTwin` is that top row:
 a second world of the same scene in which every object is created where and
 when the mirror created it, with the model's nominal parameters, and then
-left alone -- no spring, no learned parameters.  It is evaluation only:
+left alone -- no spring, no learned parameters, and no robot to run into
+(the robot is the rules' doing; drawn, it stands where the mirror's is).  It
+is evaluation only:
 nothing perceives through it; the runner scores it against the truth and
 draws it in the figures.
 
@@ -20,10 +22,12 @@ Examples
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Sequence
 
 from adapt.geometry import Camera
 from adapt.imagination import Ball, Renderer, RenderResult, SceneSpec, World
+from adapt.imagination.world import BodyState
 
 __all__ = ["UncorrectedTwin"]
 
@@ -32,7 +36,7 @@ class UncorrectedTwin:
     """A world that only ever runs on (see the module docstring)."""
 
     def __init__(self, scene: SceneSpec, seed: int | None = None) -> None:
-        self.world = World(scene, seed=seed, record_contacts=False)
+        self.world = World(replace(scene, robot=None), seed=seed, record_contacts=False)
         self._renderer: Renderer | None = None
 
     def create(self, ball: Ball, position: Sequence[float], velocity: Sequence[float]) -> None:
@@ -48,8 +52,13 @@ class UncorrectedTwin:
         """Every ball's ``(x, y)``."""
         return {b.name: self.world.position(b.name) for b in self.world.balls}
 
-    def render(self, camera: Camera, renderer: Renderer) -> RenderResult:
-        """What ``camera`` would see of the twin (sharing ``renderer``'s backdrop)."""
+    def render(self, camera: Camera, renderer: Renderer,
+               also: Sequence[BodyState] = ()) -> RenderResult:
+        """What ``camera`` would see of the twin (sharing ``renderer``'s backdrop and scene),
+        with the bodies ``also`` (the mirror's robot, say) drawn where they are given."""
         if self._renderer is None or self._renderer.camera is not camera:
             self._renderer = renderer.with_camera(camera)
-        return self._renderer.render(self.world.snapshot(), balls=self.world.balls)
+        state = self.world.snapshot()
+        if also:
+            state = replace(state, bodies=state.bodies + tuple(also))
+        return self._renderer.render(state, balls=self.world.balls)

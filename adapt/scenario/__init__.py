@@ -140,6 +140,8 @@ class Scenario:
     run, predict, outputs : RunSettings, PredictSettings, OutputSettings
     sources : mapping of str to Source
         The position of every key path read.
+    appearance : Path or None
+        ``world.appearance``: a folder of learned surface looks to start from.
     """
 
     path: Path | None
@@ -156,6 +158,7 @@ class Scenario:
     predict: PredictSettings = field(default_factory=PredictSettings)
     outputs: OutputSettings = field(default_factory=OutputSettings)
     sources: Mapping[str, Source] = field(default_factory=lambda: MappingProxyType({}))
+    appearance: Path | None = None
 
     def where(self, path: str) -> Source:
         """The position of a key path (the nearest enclosing one that was read).
@@ -239,6 +242,7 @@ class _Reader(RunReader):
             return top[key][1] if key in top and not self.is_null(top[key][1]) else None
 
         scene, models = self.world(top["world"][1], "world")
+        appearance = self.world_appearance(top["world"][1], "world")
         camera, mount = self.camera(top["camera"][1], "camera", scene.robot)
         reality = self.reality(section("reality"), "reality", models, scene.robot)  # type: ignore[arg-type]
         goals = self.goals(top["goals"][1], "goals", models) if section("goals") else ()
@@ -261,5 +265,5 @@ class _Reader(RunReader):
         return Scenario(
             path=path, camera=camera, scene=scene, seed=seed, mount=mount, objects=models,
             reality=reality, goals=goals, rules=rules, schemas=schemas, run=run, predict=predict,
-            outputs=outputs, sources=MappingProxyType(dict(self.sources)),
+            outputs=outputs, sources=MappingProxyType(dict(self.sources)), appearance=appearance,
         )

@@ -458,11 +458,14 @@ class RunSettings:
 @dataclass(frozen=True, slots=True)
 class PredictSettings:
     """Prediction: rollouts to each of ``horizons`` (seconds) every ``every``
-    frames, as an ensemble of ``ensemble`` members over the parameter ranges."""
+    frames, as an ensemble of ``ensemble`` members over the parameter ranges;
+    a horizon's confidence takes its residual at its word after ``evidence``
+    scored predictions (0: from the first)."""
 
     horizons: tuple[float, ...] = (0.5, 1.0)
     every: int = 1
     ensemble: int = 8
+    evidence: int = 3
     source: Source = UNKNOWN
 
 

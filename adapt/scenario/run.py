@@ -29,7 +29,7 @@ from adapt.scenario.records import (
 __all__ = ["RunReader", "RUN_KEYS", "PREDICT_KEYS", "OUTPUT_KEYS", "MAX_FRAMES", "MAX_FPS"]
 
 RUN_KEYS = ("fps", "duration", "max_frames", "seed", "decisions_per_frame")
-PREDICT_KEYS = ("horizons", "every", "ensemble")
+PREDICT_KEYS = ("horizons", "every", "ensemble", "evidence")
 OUTPUT_KEYS = ("report", "trace", "video", "figures", "trace_level")
 
 #: Most frames a scenario may ask for (about 9 hours at 30 frames/s).
@@ -38,6 +38,8 @@ MAX_FRAMES = 1_000_000
 MAX_FPS = 1000.0
 #: Longest prediction horizon, seconds.
 MAX_HORIZON = 60.0
+#: Most scored predictions a horizon's confidence may wait for.
+MAX_EVIDENCE = 100
 #: Most members of a prediction ensemble.
 MAX_ENSEMBLE = 1000
 #: Most decision cycles between two frames.
@@ -156,8 +158,13 @@ class RunReader(RealityReader):
             "horizons": horizons,
             "every": lambda n, p: self.integer(n, p, "positive"),
             "ensemble": lambda n, p: self.integer(n, p, "positive"),
+            "evidence": lambda n, p: self.integer(n, p, "nonnegative"),
         }
         kw = self.fields(node, path, spec)
+        if kw.get("evidence", 0) > MAX_EVIDENCE:
+            items = self.mapping(node, path)
+            raise self.error(items["evidence"][1], join(path, "evidence"),
+                             f"expected at most {MAX_EVIDENCE} predictions, got {kw['evidence']}")
         if kw.get("ensemble", 1) > MAX_ENSEMBLE:
             items = self.mapping(node, path)
             raise self.error(items["ensemble"][1], join(path, "ensemble"),

@@ -21,6 +21,8 @@ from adapt.geometry import Camera
 from adapt.imagination.scene import (
     BUILTIN_TEXTURES,
     DEFAULT_DT,
+    MAX_DT,
+    MIN_DT,
     Ball,
     Floor,
     Obstacle,
@@ -44,7 +46,7 @@ __all__ = ["WorldReader", "CAMERA_KEYS", "WORLD_KEYS", "FLOOR_KEYS", "WALL_KEYS"
 
 CAMERA_KEYS = ("fx", "fy", "cx", "cy", "width", "height", "position", "look_at", "roll_deg",
                "mount")
-WORLD_KEYS = ("floor", "walls", "obstacles", "objects", "robot", "gravity", "dt")
+WORLD_KEYS = ("floor", "walls", "obstacles", "objects", "robot", "gravity", "dt", "appearance")
 FLOOR_KEYS = ("texture", "tile", "color", "extent")
 SURFACE_KEYS = ("name", "height", "texture", "tile", "color", "restitution", "friction")
 WALL_KEYS = ("name", "from", "to", "height", "texture", "tile", "color", "restitution", "friction")
@@ -53,6 +55,40 @@ OBJECT_KEYS = ("name", "radius", "mass", "restitution", "friction", "rolling_res
                "position", "velocity", "color", "texture", "create", "ranges")
 ROBOT_KEYS = ("name", "shape", "radius", "size", "position", "heading_deg", "max_speed",
               "max_accel", "mass", "height", "color")
+
+
+#: How far a ball may reach into a wall or obstacle and still count as touching it, metres.
+_TOUCH = 1e-9
+
+
+def _segment_distance(p: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
+    """Distance from point ``p`` to the segment ``a``-``b``.
+
+    >>> _segment_distance((0.0, 1.0), (-1.0, 0.0), (1.0, 0.0)), _segment_distance((3.0, 0.0), (-1.0, 0.0), (1.0, 0.0))
+    (1.0, 2.0)
+    """
+    ax, ay = a
+    dx, dy = b[0] - ax, b[1] - ay
+    length2 = dx * dx + dy * dy
+    t = 0.0 if length2 == 0 else max(0.0, min(1.0, ((p[0] - ax) * dx + (p[1] - ay) * dy) / length2))
+    return math.hypot(p[0] - (ax + t * dx), p[1] - (ay + t * dy))
+
+
+def _polygon_distance(p: tuple[float, float],
+                      polygon: tuple[tuple[float, float], ...]) -> tuple[bool, float]:
+    """Whether ``p`` is inside a convex polygon, and its distance to the polygon's edges.
+
+    >>> _polygon_distance((0.5, 0.5), ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)))
+    (True, 0.5)
+    >>> _polygon_distance((2.0, 0.5), ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)))
+    (False, 1.0)
+    """
+    n = len(polygon)
+    edges = [(polygon[i], polygon[(i + 1) % n]) for i in range(n)]
+    gap = min(_segment_distance(p, a, b) for a, b in edges)
+    sides = [(b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) for a, b in edges]
+    inside = all(s > 0 for s in sides) or all(s < 0 for s in sides)
+    return inside, gap
 
 
 class WorldReader(NodeReader):
@@ -177,7 +213,13 @@ class WorldReader(NodeReader):
             kw["gravity"] = self.number(items["gravity"][1], join(path, "gravity"), "positive")
         kw["dt"] = DEFAULT_DT
         if "dt" in items:
-            kw["dt"] = self.number(items["dt"][1], join(path, "dt"), "positive")
+            dt_node = items["dt"][1]
+            kw["dt"] = self.number(dt_node, join(path, "dt"), "positive")
+            if not MIN_DT <= kw["dt"] <= MAX_DT:
+                raise self.error(dt_node, join(path, "dt"),
+                                 f"expected a physics step from {MIN_DT:g} to {MAX_DT:g} seconds, "
+                                 f"got {kw['dt']:g} (1/240 = 0.004167 is the default; a smaller "
+                                 "step makes every simulated second cost more steps)")
         if "floor" in items:
             kw["floor"] = self.floor(items["floor"][1], join(path, "floor"))
 
@@ -195,6 +237,11 @@ class WorldReader(NodeReader):
                                  f"a second object called {m.name!r} (the first is {seen[m.name]})")
             seen[m.name] = where
         kw["balls"] = tuple(m.ball for m in models if m.create is Creation.AT_START)
+        for i, m in enumerate(models):
+            if m.create is Creation.AT_START:
+                self._check_clear(m.ball, items["objects"][1].value[i], join(join(path, "objects"), i),
+                                  kw["walls"], kw["obstacles"], join(path, "walls"),
+                                  join(path, "obstacles"))
         if "robot" in items:
             kw["robot"] = self.robot(items["robot"][1], join(path, "robot"))
         try:
@@ -202,6 +249,47 @@ class WorldReader(NodeReader):
         except ImaginationError as exc:
             raise self.error(node, path, str(exc)) from None
         return scene, models
+
+    def _check_clear(self, ball: Ball, node: Node, path: str, walls: tuple[Wall, ...],
+                     obstacles: tuple[Obstacle, ...], walls_path: str, obstacles_path: str) -> None:
+        """Refuse a ball that starts inside a wall or an obstacle (touching is allowed)."""
+        items = self.mapping(node, path)
+        where, at = (items["position"][1], join(path, "position")) if "position" in items else (node, path)
+        x, y = ball.position
+        r = ball.radius
+        for i, wall in enumerate(walls):
+            gap = _segment_distance(ball.position, wall.start, wall.end)
+            if gap < r - _TOUCH:
+                raise self.error(where, at,
+                                 f"the ball {ball.name!r} (radius {r:g} m) at [{x:g}, {y:g}] "
+                                 f"crosses the wall {wall.name!r} ({join(walls_path, i)}): its centre "
+                                 f"is {gap:.3g} m from it; expected at least the radius")
+        for i, obstacle in enumerate(obstacles):
+            inside, gap = _polygon_distance(ball.position, obstacle.polygon)
+            if inside or gap < r - _TOUCH:
+                what = "has its centre inside" if inside else f"is {gap:.3g} m from, so overlaps,"
+                raise self.error(where, at,
+                                 f"the ball {ball.name!r} (radius {r:g} m) at [{x:g}, {y:g}] {what} "
+                                 f"the obstacle {obstacle.name!r} ({join(obstacles_path, i)}); "
+                                 "expected a ball clear of every obstacle")
+
+    def world_appearance(self, node: Node, path: str) -> Path | None:
+        """``world.appearance``: a folder of learned surface looks (``index.json``
+        and images, as ``adapt run`` writes into ``appearance/``), or None."""
+        items = self.mapping(node, path)
+        if "appearance" not in items or self.is_null(items["appearance"][1]):
+            return None
+        key = join(path, "appearance")
+        value = items["appearance"][1]
+        folder = self.path_value(value, key)
+        if not folder.is_dir():
+            raise self.error(value, key, f"appearance folder {str(folder)!r} not found; expected "
+                             "a folder written by `adapt run` (its appearance/ folder), relative "
+                             "to the scenario")
+        if not (folder / "index.json").is_file():
+            raise self.error(value, key, f"{str(folder)!r} has no index.json; expected a folder "
+                             "written by `adapt run` (its appearance/ folder)")
+        return folder
 
     def floor(self, node: Node, path: str) -> Floor:
         spec: dict[str, Callable[[Node, str], Any]] = {

@@ -12,11 +12,39 @@ are followed over frames (:mod:`adapt.schemas.tracks`) so each has an age.
 Each region is reported with its bounding box, centroid and area (real-image
 pixels), its floor position (the bottom of its box back-projected onto the
 floor) and width on the floor (metres), and its age in frames.
+
+**Appearance learning** (``appearance``: ``on``; ``auto``, the default, is on
+for a video reality).  The scenario gives the room's geometry but rarely the
+exact look of its surfaces, and the MMD only works where the render looks
+like the camera's image.  The schema then teaches the mirror the surfaces'
+look (:mod:`adapt.mirror.appearance`) in two stages:
+
+1. ``structure``: before anything is learned, the camera is aligned to what
+   the geometry alone decides, the edges between surfaces
+   (:mod:`adapt.mirror.structure`): per frame, up to
+   :data:`STRUCTURE_ITERATIONS` rounds of fitting each surface's smooth
+   colour, registering it to the frame and correcting the camera, with a fit
+   margin that shrinks with the error.  No MMD and no regions meanwhile
+   (status ``waiting``).  Once the error is within ``tolerance`` (or stops
+   falling below :data:`STRUCTURE_ACCEPT` pixels), the frame is
+   back-projected onto every surface seen;
+2. ``learned``: the usual MMD with the learned look, the camera corrected as
+   always; every ``learn_every`` frames in which the camera is synchronised,
+   the frame refines the look (``learn_rate``, ``learn_gate``), never where a
+   schema monitors the image, where a region is, or where the MMD differs.
+   After :data:`REACQUIRE_AFTER` frames without alignment the structure is
+   aligned again and the look learned afresh.
+
+Learning the look with a wrong pose would hide the pose error in the
+textures (a render of what was learned reproduces the frame whatever the
+pose), which is why the structure comes first.
 """
 
 from __future__ import annotations
 
+import base64
 import dataclasses
+import enum
 import math
 import time
 from typing import TYPE_CHECKING, Any, Mapping
@@ -26,6 +54,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import VisionError
+from adapt.mirror.structure import face_labels, structure_homography
 from adapt.schemas.base import BBox, Schema, Status
 from adapt.schemas.links import Structure
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
@@ -40,9 +69,40 @@ from adapt.vision.scale import image_scale
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Frame
     from adapt.geometry import Camera
+    from adapt.mirror import Learning
     from adapt.schemas.network import SchemaNetwork
 
-__all__ = ["SceneBackground", "SCENE_BACKGROUND", "RegionReport"]
+__all__ = ["SceneBackground", "SCENE_BACKGROUND", "RegionReport", "AppearanceStage",
+           "STRUCTURE_ITERATIONS", "STRUCTURE_ACCEPT", "REACQUIRE_AFTER", "TRACE_EVERY",
+           "TRACE_EVERY_MAX"]
+
+#: Fit-align-correct rounds per frame while the camera is aligned to the structure.
+STRUCTURE_ITERATIONS = 3
+#: The structure's fit margin (pixels at 640x480): twice the last error, within these bounds.
+STRUCTURE_MARGIN = (2.0, 24.0)
+#: Below this fit margin (pixels at 640x480) small surfaces are fitted to their own pixels.
+STRUCTURE_OWN_COLOURS = 6.0
+#: A structure error (pixels at 640x480) accepted once it stops falling.
+STRUCTURE_ACCEPT = 1.5
+#: Frames without alignment, once learned, before the structure is aligned again.
+REACQUIRE_AFTER = 10
+#: Pixels (at 640x480) around monitored boxes, regions and differences that are never learned.
+EXCLUDE_PAD = 6
+#: A trace record of the learned look: at its first learning, then when it has
+#: changed and TRACE_EVERY frames have passed, the wait doubling after each record
+#: up to TRACE_EVERY_MAX frames (a long run's trace holds a few dozen of them).
+TRACE_EVERY = 30
+TRACE_EVERY_MAX = 1800
+#: Largest side of a texture preview in the trace, pixels.
+PREVIEW_SIDE = 160
+
+
+class AppearanceStage(enum.Enum):
+    """Where the schema's appearance learning is (see the module docstring)."""
+
+    OFF = "off"              # the scenario's look (or a loaded one), never changed
+    STRUCTURE = "structure"  # aligning the camera to the scene's structure first
+    LEARNED = "learned"      # the look is learned and refined
 
 
 @dataclasses.dataclass(frozen=True, slots=True)
@@ -81,13 +141,14 @@ class SceneBackground(Schema):
         self.tracker = RegionTracker()
         self.result: MMDResult | None = None
         self.synthetic: NDArray[np.uint8] | None = None
+        self.background_image: NDArray[np.uint8] | None = None
         self.labels: NDArray[np.int32] | None = None
         self.regions: list[RegionReport] = []
         self.pixel_error = math.nan
         self.correction_deg = 0.0
         self.corrections = 0
         self.ms = 0.0
-        self._prepared_for: tuple[int, int, int] | None = None
+        self._prepared_for: tuple[int, ...] | None = None
         self._background: PreparedImage | None = None
         self._warped_labels: NDArray[np.uint16] | None = None
         self._label_of: dict[str, int] = {}
@@ -96,6 +157,29 @@ class SceneBackground(Schema):
         self.trusted = False
         self._settled = 1e9   # a smoothed pixel error of the trusted frames
         self._glitches = 0
+        mode = self.parameters["appearance"]
+        learn = mode == "on" or (mode == "auto" and network.reality == "video")
+        if not learn:
+            self.stage = AppearanceStage.OFF
+        elif network.mirror.appearance.learned or not self.parameters["correct"]:
+            self.stage = AppearanceStage.LEARNED  # a loaded look, or no pose to align first
+        else:
+            self.stage = AppearanceStage.STRUCTURE
+        self.learning: "Learning | None" = None
+        self.learn_ms = 0.0
+        self.learn_passes = 0
+        self.structure_error = math.nan
+        self._margin = STRUCTURE_MARGIN[1]
+        self._structure_errors: list[float] = []
+        self._since_learn = 0
+        self._unaligned = 0
+        self._traced_passes = 0
+        self._traced_frame = -TRACE_EVERY
+        self._trace_wait = TRACE_EVERY
+        #: The frame the look was first learned from: ``(index, time, real, render
+        #: before, render after)`` (references), for the figures; None before.
+        self.first_look: tuple[int, float, NDArray[np.uint8], NDArray[np.uint8],
+                               NDArray[np.uint8]] | None = None
 
     # -- perception ---------------------------------------------------------------------
 
@@ -104,7 +188,9 @@ class SceneBackground(Schema):
         per camera pose and scene)."""
         mirror = self.network.mirror
         pixels = int(self.parameters["mmd_pixels"])
-        key = (id(mirror.renderer), mirror.camera_changes, pixels)
+        # a learned look changes the background without moving the camera
+        key = (id(mirror.renderer), mirror.camera_changes, pixels,
+               mirror.renderer.backdrop.version, mirror.appearance.sky_version)
         if self._prepared_for != key or self._background is None:
             self._background = prepare(mirror.background.image, max_pixels=pixels)
             self._prepared_for = key
@@ -115,8 +201,19 @@ class SceneBackground(Schema):
     def perceive(self, frame: "Frame") -> None:
         started = time.perf_counter()
         mirror = self.network.mirror
+        self.learning = None
+        self.learn_ms = 0.0
+        if self.stage is AppearanceStage.STRUCTURE:
+            if not self._align_structure(frame):
+                self._waiting(frame, started)
+                return
+            self._learn(frame, mirror.render().labels, fresh=True)
+            self.stage = AppearanceStage.LEARNED
         rendered = mirror.render()
         self.synthetic, self.labels = rendered.image, rendered.labels
+        # the background through this frame's camera, before any correction moves it: what
+        # H_e maps onto the real frame (an object's difference is taken against it)
+        self.background_image = mirror.background.image
         self._label_of = {name: label for label, name in rendered.names.items()}
         robot = mirror.scene.robot
         self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
@@ -157,6 +254,8 @@ class SceneBackground(Schema):
                     self.corrections += 1
                     mirror.set_camera(new)
         self.regions = self._regions(frame, res, camera)
+        if self.stage is AppearanceStage.LEARNED:
+            self._refine(frame, res)
         self.ms = (time.perf_counter() - started) * 1000.0
 
     def _implausible(self, error: float, frame: "Frame") -> bool:
@@ -167,6 +266,155 @@ class SceneBackground(Schema):
         jump = float(self.parameters["max_jump"]) * scale
         return (self._settled < 2.0 * scale and error > jump
                 and self._glitches < int(self.parameters["glitches"]))
+
+    # -- appearance learning ------------------------------------------------------------
+
+    def _waiting(self, frame: "Frame", started: float) -> None:
+        """A frame of the structure stage: the render for the figures, no MMD, no regions."""
+        mirror = self.network.mirror
+        rendered = mirror.render()
+        self.synthetic, self.labels = rendered.image, rendered.labels
+        self._label_of = {name: label for label, name in rendered.names.items()}
+        robot = mirror.scene.robot
+        self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
+        self._warped_labels = None
+        self.result = None
+        self.trusted = False
+        self.pixel_error = math.nan
+        self.status = Status.WAITING
+        err = self.structure_error
+        self.message = ("aligning the camera to the scene's structure before learning its look"
+                        + ("" if math.isnan(err) else f" ({err:.2f} px)"))
+        self.tracker.update([], frame.index)
+        self.regions = []
+        self.ms = (time.perf_counter() - started) * 1000.0
+
+    def _align_structure(self, frame: "Frame") -> bool:
+        """Rounds of structure alignment and camera correction; True once aligned."""
+        mirror = self.network.mirror
+        shape = frame.image.shape
+        scale = image_scale(shape)
+        tolerance = self.parameters["tolerance"]
+        self.correction_deg = 0.0
+        for _ in range(STRUCTURE_ITERATIONS):
+            cam = mirror.camera
+            bg = mirror.background
+            labels = face_labels(bg.labels, mirror.renderer.surfaces, cam)
+            # While the error is large, small surfaces take the scenario's colours
+            # (fitted to their own pixels they would hide the offset); once it is
+            # small, their own pixels say their colour best.
+            coarse = self._margin > STRUCTURE_OWN_COLOURS * scale
+            hom = structure_homography(frame.image, labels, (cam.cx, cam.cy), margin=self._margin,
+                                       reference=bg.image if coarse else None)
+            if hom is None:
+                self._margin = STRUCTURE_MARGIN[1] * scale
+                self.structure_error = math.nan
+                self._structure_errors.clear()
+                return False
+            err = corner_error(hom, np.eye(3), shape)
+            self.structure_error = err
+            self._margin = float(np.clip(2.0 * err, STRUCTURE_MARGIN[0] * scale,
+                                         STRUCTURE_MARGIN[1] * scale))
+            history = self._structure_errors
+            history.append(err)
+            del history[:-4]
+            stalled = len(history) == 4 and history[-1] > 0.9 * history[0]
+            if err <= tolerance or (stalled and err <= STRUCTURE_ACCEPT * scale):
+                self._structure_errors.clear()
+                return True
+            try:
+                new = correct_rotation(cam, hom, gain=1.0)
+            except VisionError:
+                return False
+            self.correction_deg += _angle_deg(new.rotation @ cam.rotation.T)
+            self.corrections += 1
+            mirror.set_camera(new)
+        return False
+
+    def _refine(self, frame: "Frame", res: MMDResult) -> None:
+        """Once learned: count frames without alignment (re-acquire after too many)
+        and refine the look every ``learn_every`` synchronised frames."""
+        if not res.aligned:
+            self._unaligned += 1
+            if self._unaligned >= REACQUIRE_AFTER and self.parameters["correct"]:
+                self.stage = AppearanceStage.STRUCTURE
+                self._margin = STRUCTURE_MARGIN[1] * image_scale(frame.image.shape)
+                self._unaligned = 0
+                self._settled = 1e9  # the camera will jump: nothing to compare with
+                self.network.mirror.appearance.forget()
+            return
+        self._unaligned = 0
+        if self.learning is not None:
+            return  # learned this frame already (the structure's first look)
+        self._since_learn += 1
+        synchronised = self.trusted and (self.pixel_error <= self.parameters["tolerance"]
+                                         or not self.parameters["correct"])
+        if synchronised and self._since_learn >= self.parameters["learn_every"] \
+                and self.labels is not None:
+            self._learn(frame, self.labels, fresh=False)
+
+    def _learn(self, frame: "Frame", labels: NDArray[np.int32], *, fresh: bool) -> None:
+        """One learning pass of the mirror's appearance model on ``frame``."""
+        p = self.parameters
+        mirror = self.network.mirror
+        before = mirror.render().image if self.first_look is None else None
+        learned = mirror.learn_appearance(
+            frame.image, labels, exclude=self._exclusion(frame.image.shape),
+            rate=p["learn_rate"], gate=None if fresh else p["learn_gate"])
+        if before is not None:
+            self.first_look = (frame.index, frame.time, frame.image, before,
+                               mirror.render().image)
+        self.learning = learned
+        self.learn_ms = learned.ms
+        self.learn_passes += 1
+        self._since_learn = 0
+
+    def _exclusion(self, shape: tuple[int, ...]) -> NDArray[np.bool_]:
+        """Frame pixels never to learn: every monitored box, every region, every
+        pixel the MMD finds different, each with a margin."""
+        h, w = int(shape[0]), int(shape[1])
+        pad = int(math.ceil(EXCLUDE_PAD * image_scale(shape)))
+        mask = np.zeros((h, w), np.uint8)
+        boxes = [b for _, b in self.network.monitored_boxes(exclude=self.name)]
+        boxes += [r.bbox for r in self.regions]
+        for x, y, bw, bh in boxes:
+            mask[max(0, y - pad):max(0, y + bh + pad), max(0, x - pad):max(0, x + bw + pad)] = 1
+        res = self.result
+        if res is not None and res.aligned:
+            differs = (res.difference >= self.parameters["threshold"]).view(np.uint8)
+            if differs.shape != (h, w):
+                differs = cv2.resize(differs, (w, h), interpolation=cv2.INTER_NEAREST)
+            kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
+            mask |= np.asarray(cv2.dilate(differs, kernel), np.uint8)
+        return mask.astype(bool)
+
+    def appearance_record(self, frame_index: int) -> dict[str, Any] | None:
+        """A trace record of the learned look, when it changed since the last one
+        (at the first learning, then at most once per :data:`TRACE_EVERY` frames,
+        the wait doubling after each record up to :data:`TRACE_EVERY_MAX`):
+        per surface its coverage, size and a small PNG preview (a data URI,
+        transparent where unseen).  None otherwise."""
+        model = self.network.mirror.appearance
+        if self.learn_passes == self._traced_passes or not model.learned:
+            return None
+        if self._traced_passes and frame_index - self._traced_frame < self._trace_wait:
+            return None
+        if self._traced_passes:
+            self._trace_wait = min(2 * self._trace_wait, TRACE_EVERY_MAX)
+        self._traced_passes = self.learn_passes
+        self._traced_frame = frame_index
+        surfaces = []
+        for name, t in model.textures().items():
+            ok, png = cv2.imencode(".png", t.preview(PREVIEW_SIDE))
+            surfaces.append({
+                "name": name, "coverage": round(t.coverage, 4),
+                "size": [int(t.mask.shape[1]), int(t.mask.shape[0])],
+                "pixels_per_metre": round(t.pixels_per_metre[0], 1),
+                "extent": [round(v, 4) for v in t.extent], "updates": t.updates,
+                "image": ("data:image/png;base64," + base64.b64encode(png.tobytes()).decode("ascii"))
+                if ok else None})
+        return {"frame": frame_index, "stage": self.stage.value, "passes": self.learn_passes,
+                "ms": round(self.learn_ms, 2), "surfaces": surfaces}
 
     def _corrected(self, camera: "Camera", res: MMDResult) -> "Camera | None":
         h = res.homography
@@ -282,6 +530,14 @@ class SceneBackground(Schema):
         warped = self.warped_labels()
         return None if warped is None else warped == label
 
+    def difference_with(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8]
+                        ) -> NDArray[Any] | None:
+        """The whole frame's difference (grey levels, no mask) between the real image and
+        another synthetic image of this frame's camera (an uncorrected imagination, say),
+        through this frame's ``H_e``, gain and bias; None without alignment."""
+        h, w = real.shape[:2]
+        return self._difference(real, synthetic, (0, 0, w, h))
+
     def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[Any] | None:
         """How much the real image differs from the imagination's *background* (no moving
         objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels (the largest
@@ -292,12 +548,19 @@ class SceneBackground(Schema):
         applied: its Gaussians, centred on background corners matched next to the object,
         would eat into the object's outline and bias its fitted position.
         """
+        bg = self.background_image
+        if bg is None:
+            return None
+        return self._difference(real, bg, window)
+
+    def _difference(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8],
+                    window: BBox) -> NDArray[Any] | None:
         res = self.result
         if res is None or not res.aligned:
             return None
         x, y, w, h = window
         shift = np.array([[1.0, 0.0, -x], [0.0, 1.0, -y], [0.0, 0.0, 1.0]])
-        bg = self.network.mirror.background.image
+        bg = synthetic
         warped = cv2.warpPerspective(bg, shift @ res.homography, (w, h), flags=cv2.INTER_LINEAR,
                                      borderMode=cv2.BORDER_REPLICATE)
         part = np.ascontiguousarray(real[y:y + h, x:x + w])
@@ -356,6 +619,9 @@ class SceneBackground(Schema):
         node.set("synchronised", aligned and self.pixel_error <= self.parameters["tolerance"])
         unexpected = [r for r in self.regions if not r.expected]
         node.set("unexpected", len(unexpected))
+        node.set("appearance", self.stage.value)
+        node.set("structure-error", None if self.stage is not AppearanceStage.STRUCTURE
+                 or math.isnan(self.structure_error) else round(self.structure_error, 2))
         for r in self.regions:
             c = node.child("region", r.id)
             c.set("id", r.id)
@@ -384,7 +650,9 @@ class SceneBackground(Schema):
                     "pixel_error": round(self.pixel_error, 3) if aligned else None,
                     "inliers": 0 if self.result is None else self.result.n_inliers,
                     "regions": len(self.regions),
-                    "unexpected": sum(not r.expected for r in self.regions)})
+                    "unexpected": sum(not r.expected for r in self.regions),
+                    "appearance": self.stage.value,
+                    "learned": len(self.network.mirror.appearance.learned)})
         return out
 
 
@@ -450,6 +718,15 @@ SCENE_BACKGROUND = SchemaSpec(
         Parameter("mmd_pixels", int, 640 * 480, "largest image the MMD works on (a larger "
                   "frame is reduced first; fewer pixels: faster, a coarser H_e)", unit="px",
                   low=32 * 32),
+        Parameter("appearance", str, "auto", "learn the surfaces' look from the frames: on, off, "
+                  "or auto (on for a video reality)", choices=("auto", "on", "off")),
+        Parameter("learn_every", int, 10, "once learned, refine the look every this many "
+                  "synchronised frames", unit="frames", low=1),
+        Parameter("learn_rate", float, 0.1, "fraction a learned pixel moves towards the frame "
+                  "per refinement (slow lighting drift is absorbed)", low=0.0, high=1.0,
+                  low_open=True),
+        Parameter("learn_gate", float, 40.0, "a learned pixel that differs from the frame by more "
+                  "than this is not refined", unit="grey levels", low=0.0, low_open=True),
     ),
     singleton=True,
 )

@@ -41,6 +41,7 @@ class Drive(Schema):
         self.started = 0.0
         self.commands = 0
         self._velocity = (0.0, 0.0)
+        self._turn = 0.0
 
     def command(self, attributes: Mapping[str, Any]) -> str | None:
         if attributes.get("stop") in ("yes", "true"):
@@ -102,11 +103,15 @@ class Drive(Schema):
                     math.sqrt(2.0 * self.robot.max_accel * dist))
         self._send((dx / dist * speed, dy / dist * speed))
 
-    def _send(self, velocity: Vec2) -> None:
+    def _send(self, velocity: Vec2, turn: float | None = None) -> None:
+        """Command the robot's velocity (world frame, m/s) and, when given, its turn rate
+        (rad/s; otherwise the last one), in the imagination and the reality alike."""
         self._velocity = velocity
-        self.network.mirror.command_robot(velocity)
+        if turn is not None:
+            self._turn = turn
+        self.network.mirror.command_robot(velocity, self._turn)
         if self.network.actuator is not None:
-            self.network.actuator.command_robot(velocity)
+            self.network.actuator.command_robot(velocity, self._turn)
 
     def distance(self) -> float | None:
         """Odometry distance to the target, or None."""

@@ -15,7 +15,11 @@ uncertainty, so predictions improve as the run goes on:
   ``/ mu_surface``;
 * **free rolling** between bounces: a quadratic fit of the positions gives
   the deceleration along the motion, and the rolling resistance is
-  ``deceleration / g``.
+  ``deceleration / g``.  The fit spans the whole stretch since the last
+  bounce (up to :data:`ROLL_SPAN`), refitted as it grows, and the stretch's
+  one measurement replaces its previous one (a quadratic term's noise falls
+  with the square of the span: one long fit is worth far more than many short
+  ones).
 
 Each parameter is a Gaussian (mean, standard deviation): the prior is the
 range's middle with the standard deviation of a uniform draw over it, and
@@ -54,6 +58,8 @@ PARAMETERS = ("restitution", "friction", "rolling_resistance")
 SIDE = 5
 #: Least time of free rolling fitted for the rolling resistance, seconds.
 MIN_ROLL = 0.3
+#: Longest stretch of free rolling fitted (the latest part), seconds.
+ROLL_SPAN = 2.5
 #: Speeds below which nothing is measured (a ball at rest says nothing), m/s.
 MIN_SPEED = 0.15
 #: A bounce measured outside these restitutions of the pair is not one off a flat surface.
@@ -172,6 +178,9 @@ class ParameterEstimator:
         self._candidate: tuple[float, list[tuple[float, float, float]],
                                list[tuple[float, float, float]]] | None = None
         self._roll_from = -math.inf
+        #: The rolling resistance's estimate before the current stretch was measured.
+        self._roll_base: tuple[float, float, int] | None = None
+        self._roll_next = -math.inf
 
     # -- estimates --------------------------------------------------------------------
 
@@ -191,13 +200,7 @@ class ParameterEstimator:
         """Blend one measurement of ``name`` (value, standard deviation) into its estimate."""
         if name not in self._post or not (math.isfinite(value) and std > 0):
             return
-        mean, pstd, n = self._post[name]
-        if pstd <= 0:  # a fixed parameter: keep the model's value, count the evidence
-            self._post[name] = (mean, pstd, n + 1)
-            return
-        w0, w1 = 1.0 / pstd**2, 1.0 / std**2
-        new = (mean * w0 + value * w1) / (w0 + w1)
-        self._post[name] = (new, math.sqrt(1.0 / (w0 + w1)), n + 1)
+        self._post[name] = _blend(self._post[name], value, std)
 
     # -- sightings ---------------------------------------------------------------------------
 
@@ -307,18 +310,21 @@ class ParameterEstimator:
             del self.bounces[0]
         # rolling is measured afresh after the bounce
         self._roll_from = t_jump + 0.05
+        self._roll_base = None
         self.last_after = (t_jump, pa, va)
         return bounce
 
     def _roll(self, noise: float) -> None:
-        """One measurement per stretch of at least :data:`MIN_ROLL` seconds of free rolling
-        (stretches do not overlap, so measurements are independent)."""
+        """The current stretch of free rolling (since the last bounce, the latest
+        :data:`ROLL_SPAN` of it) measured again every :data:`MIN_ROLL` / 2 seconds; its
+        measurement replaces the stretch's previous one."""
         if "rolling_resistance" not in self._post or self._candidate is not None:
             return
-        pts = [p for p in self._track if p[0] > self._roll_from]
-        if len(pts) < 8 or pts[-1][0] - pts[0][0] < MIN_ROLL:
+        now = self._track[-1][0]
+        pts = [p for p in self._track if p[0] > max(self._roll_from, now - ROLL_SPAN)]
+        if len(pts) < 8 or pts[-1][0] - pts[0][0] < MIN_ROLL or now < self._roll_next:
             return
-        self._roll_from = pts[-1][0]
+        self._roll_next = now + MIN_ROLL / 2.0
         a = np.array(pts)
         t = a[:, 0] - a[-1, 0]
         m = np.c_[np.ones_like(t), t, 0.5 * t * t]
@@ -333,5 +339,18 @@ class ParameterEstimator:
         decel = -float(acc @ v) / speed
         span = float(t[-1] - t[0]) or 1e-3
         acc_std = noise * math.sqrt(720.0 / len(pts)) / span**2  # a quadratic term's noise
-        self.measure("rolling_resistance", max(decel, 0.0) / self.gravity,
-                     acc_std / self.gravity + 0.003)
+        if self._roll_base is None:
+            self._roll_base = self._post["rolling_resistance"]
+        self._post["rolling_resistance"] = _blend(self._roll_base, max(decel, 0.0) / self.gravity,
+                                                  acc_std / self.gravity + 0.003)
+
+
+def _blend(prior: tuple[float, float, int], value: float, std: float
+           ) -> tuple[float, float, int]:
+    """A Gaussian ``(mean, std, count)`` updated with one measurement (a fixed parameter,
+    ``std`` 0, keeps its value and counts the evidence)."""
+    mean, pstd, n = prior
+    if pstd <= 0:
+        return (mean, pstd, n + 1)
+    w0, w1 = 1.0 / pstd**2, 1.0 / std**2
+    return ((mean * w0 + value * w1) / (w0 + w1), math.sqrt(1.0 / (w0 + w1)), n + 1)

@@ -13,10 +13,19 @@ imagination (paper section 4.4, Figure 6):
   the full render instead would hide the object wherever the imagined body
   already covers it, and mistake background of the object's colour for the
   object.)
-* **where it is.**  The blob's centroid, mapped into the synthetic camera by
-  ``H_e^-1``, is back-projected onto the horizontal plane at the object's
-  radius (the ground-plane assumption); a constant-velocity Kalman filter
-  (:mod:`adapt.kalman`) smooths position and estimates velocity.
+* **where it is.**  The blob's silhouette, seen through the synchronised
+  camera, is fitted with a sphere resting on the floor (the ground-plane
+  assumption; :func:`adapt.schemas.silhouette.fit_ball`, exact under
+  perspective, from the upper outline so a contact shadow does not bias it;
+  the radius is measured first for an object the scenario does not know, and
+  a sighting of the wrong size is refused); a constant-velocity Kalman filter
+  (:mod:`adapt.kalman`) smooths position and estimates velocity, restarted
+  from the fitted line after a recognised bounce.
+* **what it is like.**  :class:`~adapt.schemas.estimator.ParameterEstimator`
+  turns bounces and free rolling into estimates of restitution, friction and
+  rolling resistance, which the imagined body takes on (``adapt``); and
+  :class:`~adapt.schemas.predictor.Predictor` forks the imagination to
+  predict, with a confidence (``predict``).
 * **in the imagination.**  An object declared ``create: when_seen`` (or one
   the scenario does not know) is created in the imagination after
   ``confirm`` sightings, where it is perceived and with the estimated
@@ -102,7 +111,8 @@ class ForegroundObject(Schema):
         self.bounces_seen = 0
         settings = network.predict
         self.predictor = Predictor(settings.horizons, members=settings.ensemble,
-                                   catch_radius=self._catch_radius(), seed=network.rng)
+                                   catch_radius=self._catch_radius(), seed=network.rng,
+                                   evidence=settings.evidence)
         if self.ball is not None:
             self._start_estimator()
         if self.region > 0 and network.background is not None:

@@ -12,10 +12,23 @@ schema (``^x ^y`` or ``^stop yes``): the rules decide when to commit to a
 plan (a confident one) and when to re-plan (``^plan-shift``, the distance
 between the plan and the target they gave, grows); they also see when the
 robot cannot reach the object in time (``^reachable no``) and do not chase.
+When no point of the predicted path (its planning horizon, a few seconds)
+can be reached but the object is still moving at the path's end, it is not
+out of reach yet, only not within the horizon: ``^reachable later``, and the
+plan is the place to stand by where the path ends (``^approach yes``), which
+the rules may head for while the prediction catches up.
+
+The robot's camera is its own: while the schema runs it turns the robot, at
+most ``turn_rate``, to face the object (its sighting, else the imagined
+body), so that the object stays in view while the robot drives (the robot
+is holonomic: turning does not change where it goes).  The object is
+``^caught`` when the robot touches it (the sighting or the imagined body
+within the catch reach).
 """
 
 from __future__ import annotations
 
+import enum
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Mapping
@@ -23,7 +36,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 import numpy as np
 
 from adapt.imagination.predict import Trajectory, intercept_reach
-from adapt.imagination.reach import meet
+from adapt.imagination.reach import meet, standing_point
 from adapt.schemas.drive import Drive
 from adapt.schemas.links import Structure
 from adapt.schemas.predictor import REST_PLAN, REST_SPEED
@@ -33,10 +46,22 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.schemas.foreground import ForegroundObject
     from adapt.schemas.network import SchemaNetwork
 
-__all__ = ["Intercept", "INTERCEPT", "Plan", "CATCH_SLACK"]
+__all__ = ["Intercept", "INTERCEPT", "Plan", "Reachable", "CATCH_SLACK", "GAZE_GAIN"]
 
-#: Touching is at exactly the reach; this much more (metres) counts as caught too.
+#: Touching is at exactly the reach; the evaluation counts this much more (metres) as caught
+#: too (the schema itself says caught only at the reach: its idea of the object may be off).
 CATCH_SLACK = 0.02
+
+#: Turn rate per radian of heading error when facing the object (1/s).
+GAZE_GAIN = 4.0
+
+
+class Reachable(enum.Enum):
+    """Whether the robot can meet the object (``^reachable`` on the input-link)."""
+
+    YES = "yes"      #: a point of the predicted path can be reached in time
+    NO = "no"        #: none can, and the path ends with the object at rest (or stuck)
+    LATER = "later"  #: none within the horizon, but the object is still moving at its end
 
 
 @dataclass(frozen=True, slots=True)
@@ -46,7 +71,9 @@ class Plan:
     ``time`` is the meeting's world time, ``position`` where the robot stops
     (within reach of the object, with room to stand), ``object`` where the
     object is then, ``after_bounce`` whether the object touches something
-    before, ``confidence`` the prediction's at that horizon.
+    before, ``confidence`` the prediction's at that horizon; ``approach``
+    marks a plan that only heads for where the predicted path ends
+    (:attr:`Reachable.LATER`).
     """
 
     time: float
@@ -55,6 +82,7 @@ class Plan:
     after_bounce: bool
     confidence: float
     travel: float
+    approach: bool = False
 
 
 class Intercept(Drive):
@@ -65,7 +93,7 @@ class Intercept(Drive):
         super().__init__(name, spec, parameters, network)
         self.object_name = str(parameters["object"])
         self.plan: Plan | None = None
-        self.reachable: bool | None = None
+        self.reachable: Reachable | None = None
 
     def watched(self) -> "ForegroundObject | None":
         """The perceptual schema of the object (None while there is none)."""
@@ -79,6 +107,23 @@ class Intercept(Drive):
     def act(self, time: float) -> None:
         self._plan(time)
         super().act(time)
+        self._gaze()
+
+    def _gaze(self) -> None:
+        """Turn towards the object (see the module docstring)."""
+        limit = float(self.parameters["turn_rate"])
+        obj = self.watched()
+        pose = self.network.mirror.robot_pose()
+        where = None if obj is None else obj.observed() or obj.imagined()
+        turn = 0.0
+        if limit > 0 and where is not None and pose is not None:
+            (x, y), heading = pose
+            if math.dist(where, (x, y)) > 1e-6:
+                error = math.atan2(where[1] - y, where[0] - x) - heading
+                error = (error + math.pi) % (2.0 * math.pi) - math.pi
+                turn = max(-limit, min(limit, GAZE_GAIN * error))
+        if turn != self._turn:
+            self._send(self._velocity, turn)
 
     def _plan(self, time: float) -> None:
         obj = self.watched()
@@ -94,23 +139,33 @@ class Intercept(Drive):
         hit = meet(pred.trajectory, scene, self.robot, (x, y), reach=reach, start=time,
                    max_speed=speed)
         path = pred.trajectory
-        if hit is None and len(path.times) and float(np.hypot(*path.velocities[-1])) < REST_SPEED:
+        moving = len(path.times) > 0 and float(np.hypot(*path.velocities[-1])) >= REST_SPEED
+        if hit is None and len(path.times) and not moving:
             # the path ends with the object (nearly) at rest: it will wait there
             end = path.positions[-1]
             t_end = float(path.times[-1])
             rest = Trajectory(path.body, np.array([t_end, t_end + REST_PLAN]),
                               np.array([end, end]), np.zeros((2, 2)), ())
             hit = meet(rest, scene, self.robot, (x, y), reach=reach, start=time, max_speed=speed)
-        if hit is None:
-            self.plan, self.reachable = None, False
-            return
-        ahead = hit.time - pred.time
         horizons = [h.horizon for h in pred.horizons]
         confs = [h.confidence for h in pred.horizons]
+        if hit is None and moving:
+            end = (float(path.positions[-1][0]), float(path.positions[-1][1]))
+            stand = standing_point(scene, self.robot, end, reach, approach_from=(x, y))
+            if stand is not None:
+                t_end = float(path.times[-1])
+                self.plan = Plan(t_end, stand, end, bool(pred.contacts), confs[-1],
+                                 math.dist(stand, (x, y)), approach=True)
+                self.reachable = Reachable.LATER
+                return
+        if hit is None:
+            self.plan, self.reachable = None, Reachable.NO
+            return
+        ahead = hit.time - pred.time
         conf = float(np.interp(ahead, horizons, confs)) if ahead >= horizons[0] else confs[0]
         after = any(pred.time < c.time <= hit.time for c in pred.contacts)
         self.plan = Plan(hit.time, hit.stand, hit.object, after, conf, hit.travel)
-        self.reachable = True
+        self.reachable = Reachable.YES
 
     def plan_shift(self) -> float | None:
         """Distance between the plan and the commanded target, metres."""
@@ -124,7 +179,7 @@ class Intercept(Drive):
         obj = self.watched()
         node.set("reach", None if obj is None or obj.ball is None
                  else round(intercept_reach(obj.ball, self.robot), 4))
-        node.set("reachable", None if self.reachable is None else self.reachable)
+        node.set("reachable", None if self.reachable is None else self.reachable.value)
         p = self.plan
         node.set("plan-x", None if p is None else round(p.position[0], 4))
         node.set("plan-y", None if p is None else round(p.position[1], 4))
@@ -134,12 +189,13 @@ class Intercept(Drive):
         node.set("plan-in", None if p is None else round(p.time - self.network.time, 4))
         node.set("plan-confidence", None if p is None else round(p.confidence, 3))
         node.set("after-bounce", None if p is None else p.after_bounce)
+        node.set("approach", None if p is None else p.approach)
         shift = self.plan_shift()
         node.set("plan-shift", None if shift is None else round(shift, 4))
         d = self.object_distance()
         node.set("object-distance", None if d is None else round(d, 4))
         node.set("caught", None if d is None or obj is None or obj.ball is None
-                 else d <= intercept_reach(obj.ball, self.robot) + CATCH_SLACK)
+                 else d <= intercept_reach(obj.ball, self.robot))
 
     def object_distance(self) -> float | None:
         """How far the robot is from the object: the sighting when there is one this frame,
@@ -157,8 +213,9 @@ class Intercept(Drive):
         out["plan"] = None if p is None else {
             "t": round(p.time, 4), "position": [round(v, 4) for v in p.position],
             "object": [round(v, 4) for v in p.object],
-            "after_bounce": p.after_bounce, "confidence": round(p.confidence, 3)}
-        out["reachable"] = self.reachable
+            "after_bounce": p.after_bounce, "confidence": round(p.confidence, 3),
+            "approach": p.approach}
+        out["reachable"] = None if self.reachable is None else self.reachable.value
         return out
 
 
@@ -186,5 +243,7 @@ INTERCEPT = SchemaSpec(
                   low=0.0, low_open=True),
         Parameter("reach", float, 1.0, "plan with this fraction of the catch reach (the robot "
                   "stops at 0.9 of what it plans with)", low=0.0, high=1.0, low_open=True),
+        Parameter("turn_rate", float, 1.5, "turn the robot to face the object at most this fast "
+                  "(0: never turn)", unit="rad/s", low=0.0, high=20.0),
     ),
 )

@@ -127,6 +127,11 @@ class SchemaNetwork:
         The prediction ensembles' random stream.
     frame_interval : float
         Seconds between frames.
+    reality : str
+        The kind of the reality the frames come from (``"synthetic"`` or
+        ``"video"``; set by the runner from the scenario).  Schemas may adapt
+        to it (the Scene Background learns the surfaces' look of a video by
+        default); it never carries the reality's truth.
     """
 
     def __init__(self, mirror: "Mirror", *, registry: Registry = REGISTRY,
@@ -134,14 +139,15 @@ class SchemaNetwork:
                  models: Mapping[str, "ObjectModel"] | None = None,
                  goals: Sequence["Goal"] = (), actuator: "Actuator | None" = None,
                  predict: "PredictSettings | None" = None,
-                 rng: np.random.Generator | None = None, frame_interval: float = 1.0 / 30.0
-                 ) -> None:
+                 rng: np.random.Generator | None = None, frame_interval: float = 1.0 / 30.0,
+                 reality: str = "synthetic") -> None:
         from adapt.scenario import PredictSettings
 
         self.mirror = mirror
         self.predict = predict if predict is not None else PredictSettings()
         self.rng = rng if rng is not None else np.random.default_rng(0)
         self.frame_interval = frame_interval
+        self.reality = reality
         self.registry = registry
         self.settings = check_settings(settings, registry)
         self.models = dict(models or {})

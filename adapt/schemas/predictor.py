@@ -14,7 +14,13 @@ the object was then seen.
 
 The confidence at horizon ``h`` is ``1 / (1 + (sigma_h / r)^2)`` with
 ``sigma_h^2 = spread_h^2 + residual_h^2`` and ``r`` the catch radius: 0.5 when
-the expected error equals the catch radius.  Before a bounce has been seen,
+the expected error equals the catch radius.  A confidence needs evidence:
+until :data:`EVIDENCE` predictions at a horizon have been scored against
+sightings, each missing one counts in ``residual_h`` as an error of one catch
+radius -- or, once a shorter horizon ``h'`` has its evidence, as that
+horizon's residual scaled by ``(h / h')^2`` (errors grow at least linearly
+with the horizon, and faster across a bounce) -- so the confidence starts at
+most 0.5 and rises only as predictions prove out.  Before a bounce has been seen,
 an unknown restitution spreads the ensemble wide wherever a bounce falls
 inside the horizon, so the confidence is low; it rises when the estimate
 narrows.
@@ -29,8 +35,8 @@ Examples
 >>> pred = p.predict(world, "b", (0.0, 0.0), (0.0, 1.5), est)
 >>> [h.bounce for h in pred.horizons], [c.surface for c in pred.contacts]
 ([False, True], ['north'])
->>> round(pred.horizons[1].position[1], 2), pred.horizons[0].confidence > 0.9
-(0.43, True)
+>>> round(pred.horizons[1].position[1], 2), pred.horizons[0].confidence  # no evidence yet
+(0.43, 0.5)
 """
 
 from __future__ import annotations
@@ -48,7 +54,11 @@ from adapt.imagination.predict import Trajectory, ensemble, rollout
 from adapt.imagination.world import BodyState, Contact
 
 __all__ = ["HorizonPrediction", "Prediction", "Predictor", "Residuals", "confidence",
-           "REST_SPEED"]
+           "REST_SPEED", "EVIDENCE"]
+
+#: Scored predictions at a horizon before its residual is taken at its word (the missing
+#: ones count as errors of one catch radius).
+EVIDENCE = 3
 
 #: Below this speed (m/s) an object is at rest: its prediction needs no rollout.
 REST_SPEED = 0.02
@@ -120,10 +130,13 @@ class Residuals:
     scores at a horizon (0 before any).
     """
 
-    def __init__(self, horizons: Sequence[float], keep: int = 10) -> None:
+    def __init__(self, horizons: Sequence[float], keep: int = 10,
+                 evidence: int = EVIDENCE) -> None:
+        self.evidence = evidence
         self._pending: dict[float, deque[tuple[float, float, float]]] = {
             h: deque(maxlen=512) for h in horizons}
-        self._errors: dict[float, deque[float]] = {h: deque(maxlen=keep) for h in horizons}
+        self._errors: dict[float, deque[float]] = {h: deque(maxlen=max(keep, evidence))
+                                                   for h in horizons}
 
     def expect(self, horizon: float, time: float, position: Sequence[float]) -> None:
         """A prediction that the object is at ``position`` at ``time``."""
@@ -144,6 +157,35 @@ class Residuals:
         if not e:
             return 0.0
         return math.sqrt(sum(v * v for v in e) / len(e))
+
+    def sigma(self, horizon: float, prior: float) -> float:
+        """The residual the confidence uses: the RMS of the recent scores with each of the
+        ``evidence`` scores not yet made counted as an error of ``prior``, or of the
+        longest shorter horizon's residual times ``(horizon / shorter)^2`` once that one
+        has its evidence.
+
+        Examples
+        --------
+        >>> r = Residuals((0.5, 1.0))
+        >>> r.sigma(1.0, prior=0.3)
+        0.3
+        >>> r.expect(1.0, 2.0, (0.0, 0.0)); r.observe(2.0, (0.0, 0.0), 0.01)
+        >>> round(r.sigma(1.0, prior=0.3), 3)
+        0.245
+        >>> for t in (1.0, 1.1, 1.2):
+        ...     r.expect(0.5, t, (0.0, 0.01)); r.observe(t, (0.0, 0.0), 0.01)
+        >>> round(r.sigma(1.0, prior=0.3), 3)  # the missing two count as 4 x 1 cm
+        0.033
+        """
+        e = self._errors.get(horizon) or ()
+        missing = max(0, self.evidence - len(e))
+        shorter = [h for h in self._errors
+                   if h < horizon and len(self._errors[h]) >= max(self.evidence, 1)]
+        if missing and shorter:
+            h = max(shorter)
+            prior = self.rms(h) * (horizon / h) ** 2
+        n = len(e) + missing
+        return math.sqrt((sum(v * v for v in e) + missing * prior * prior) / n) if n else 0.0
 
     def count(self, horizon: float) -> int:
         """How many predictions at ``horizon`` have been scored recently."""
@@ -166,16 +208,20 @@ class Predictor:
         largest horizon), seconds.
     seed : int or Generator
         The ensemble's random stream.
+    evidence : int
+        Scored predictions per horizon before its residual is taken at its word
+        (:meth:`Residuals.sigma`).
     """
 
     def __init__(self, horizons: Sequence[float], *, members: int, catch_radius: float,
-                 plan: float = 3.0, seed: int | np.random.Generator | None = None) -> None:
+                 plan: float = 3.0, seed: int | np.random.Generator | None = None,
+                 evidence: int = EVIDENCE) -> None:
         self.horizons = tuple(sorted(horizons))
         self.members = members
         self.catch_radius = catch_radius
         self.plan = max(plan, self.horizons[-1])
         self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
-        self.residuals = Residuals(self.horizons)
+        self.residuals = Residuals(self.horizons, evidence=evidence)
         #: Seconds of imagination rolled out, and the wall-clock seconds it took.
         self.simulated_s = 0.0
         self.wall_s = 0.0
@@ -262,7 +308,7 @@ class Predictor:
         for i, h in enumerate(self.horizons):
             p = path.position_at(t0 + h)
             resid = self.residuals.rms(h)
-            sigma = math.hypot(spread[i], resid)
+            sigma = math.hypot(spread[i], self.residuals.sigma(h, self.catch_radius))
             bounce = any(t0 < c.time <= t0 + h + 1e-9 for c in contacts)
             out.append(HorizonPrediction(h, p, spread[i], resid,
                                          confidence(sigma, self.catch_radius), bounce))
@@ -282,7 +328,8 @@ class Predictor:
         out = []
         for h in self.horizons:
             resid = self.residuals.rms(h)
-            out.append(HorizonPrediction(h, p, 0.0, resid, confidence(resid, self.catch_radius),
+            sigma = self.residuals.sigma(h, self.catch_radius)
+            out.append(HorizonPrediction(h, p, 0.0, resid, confidence(sigma, self.catch_radius),
                                          False))
             self.residuals.expect(h, t0 + h, p)
         return Prediction(t0, body, tuple(out), (), path, {k: v[0] for k, v in estimates.items()})

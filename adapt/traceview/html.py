@@ -12,7 +12,13 @@ run of tens of thousands of decisions stays responsive:
   at the selected cycle from the nearest keyframe before it;
 * each cycle's firings (rule, bindings, matched timetags), retractions,
   candidates and preferences, impasse, ``(write)`` output, schema events and
-  MMD frame, shown only for the selected cycle.
+  MMD frame, shown only for the selected cycle;
+* the runner's records (``docs/runner.md``): the schema network whenever it
+  changed (``net``: its nodes and port edges, drawn as a graph), each frame's
+  MMD summary and regions (``fr``), and the learned look of the surfaces
+  (``look``: small PNG previews; at most :data:`MAX_LOOKS` of them, spread over
+  the run).  The page shows, for the selected cycle, the latest of each at or
+  before it.
 
 A WME is embedded as ``[timetag, id, attr, value, flags]`` with the symbols
 as Soar prints them; ``flags`` bit 0 is "acceptable" and bit 1 "the value is
@@ -40,7 +46,14 @@ from adapt.traceview.reader import Trace
 from adapt.traceview.show import impasse_text
 from adapt.traceview.symbols import id_name, text_of
 
-__all__ = ["compact_wme", "build_payload", "render_page", "write_html", "default_keyframe_interval"]
+__all__ = ["compact_wme", "build_payload", "render_page", "write_html", "default_keyframe_interval",
+           "MAX_LOOKS"]
+
+#: The most learned-look records a page embeds (spread evenly over the run, the last kept).
+MAX_LOOKS = 48
+#: Node fields of a ``network`` record the page shows as the node's details.
+_NODE_DETAILS = ("object", "aligned", "pixel_error", "inliers", "regions", "unexpected",
+                 "appearance", "learned", "message")
 
 
 def compact_wme(wme: list[Any] | tuple[Any, ...]) -> list[Any]:
@@ -114,6 +127,12 @@ def _cycle_entry(cycle: int, records: list[dict[str, Any]], wm: LiveMemory | Non
                 entry["rg"] = [text_of(g) for g in record["removed_goals"]]
             if record.get("mmd_frame"):
                 entry["frame"] = str(record["mmd_frame"])
+        elif kind == "frame":
+            entry["fr"] = _frame_entry(record)
+        elif kind == "network":
+            entry["net"] = _network_entry(record)
+        elif kind == "appearance":
+            entry["look"] = _look_entry(record)
         elif kind == "schema":
             entry.setdefault("schema", []).append(
                 [str(record.get("event", "")), str(record.get("schema", "")),
@@ -127,6 +146,65 @@ def _cycle_entry(cycle: int, records: list[dict[str, Any]], wm: LiveMemory | Non
     return entry
 
 
+def _number(value: Any, digits: int = 4) -> Any:
+    return round(value, digits) if isinstance(value, float) else value
+
+
+def _frame_entry(record: dict[str, Any]) -> list[Any]:
+    """``[frame, t, unexpected, mmd or None, regions]``; a region is
+    ``[id, x, y, w, h, area, expected, owner, age]``."""
+    mmd = record.get("mmd")
+    regions = []
+    for r in record.get("regions") or ():
+        box = list(r.get("bbox") or (0, 0, 0, 0))[:4]
+        regions.append([r.get("id"), *box, r.get("area"), bool(r.get("expected")),
+                        r.get("owner"), r.get("age")])
+    return [record.get("frame"), _number(record.get("t")), record.get("unexpected_regions", 0),
+            {k: _number(v) for k, v in mmd.items()} if isinstance(mmd, dict) else None, regions]
+
+
+def _network_entry(record: dict[str, Any]) -> dict[str, Any]:
+    """``{"frame", "nodes": [[name, type, kind, status, origin, details]], "edges": [[a, b, port]]}``."""
+    nodes = []
+    for n in record.get("nodes") or ():
+        details = {k: _number(n[k]) for k in _NODE_DETAILS if n.get(k) not in (None, "")}
+        nodes.append([str(n.get("name", "")), str(n.get("type", "")), str(n.get("kind", "")),
+                      str(n.get("status", "")), str(n.get("origin", "")), details])
+    edges = [[str(e.get("from", "")), str(e.get("to", "")), str(e.get("port", ""))]
+             for e in record.get("edges") or ()]
+    return {"frame": record.get("frame"), "nodes": nodes, "edges": edges}
+
+
+def _look_entry(record: dict[str, Any]) -> dict[str, Any]:
+    """``{"frame", "stage", "passes", "ms", "surfaces": [[name, coverage, w, h, image]]}``
+    (an image that is not a PNG data URI is left out: the page loads nothing else)."""
+    surfaces = []
+    for s in record.get("surfaces") or ():
+        image = s.get("image")
+        ok = isinstance(image, str) and image.startswith("data:image/png;base64,")
+        size = list(s.get("size") or (0, 0))[:2]
+        surfaces.append([str(s.get("name", "")), _number(s.get("coverage"), 3), *size,
+                         image if ok else None])
+    return {"frame": record.get("frame"), "stage": record.get("stage"),
+            "passes": record.get("passes"), "ms": record.get("ms"), "surfaces": surfaces}
+
+
+#: Record kinds the runner writes (``docs/runner.md``), apart from the engine's.
+_RUN_KINDS = frozenset({"frame", "network", "appearance", "schema", "summary"})
+
+
+def _thin_looks(cycles: list[dict[str, Any]]) -> None:
+    """Keep at most :data:`MAX_LOOKS` learned-look entries, evenly spread, the last kept."""
+    at = [i for i, c in enumerate(cycles) if "look" in c]
+    if len(at) <= MAX_LOOKS:
+        return
+    step = (len(at) - 1) / (MAX_LOOKS - 1)
+    keep = {at[round(k * step)] for k in range(MAX_LOOKS)}
+    for i in at:
+        if i not in keep:
+            del cycles[i]["look"]
+
+
 def build_payload(trace: Trace, keyframe_every: int | None = None) -> dict[str, Any]:
     """The page's data: header, footer, per-cycle entries and WM keyframes (streaming the trace)."""
     wm = LiveMemory() if trace.header.level >= 4 else None
@@ -135,7 +213,8 @@ def build_payload(trace: Trace, keyframe_every: int | None = None) -> dict[str, 
     initial = trace.initial_wmes() if wm is not None else []
     if wm is not None:
         wm.apply({"adds": initial})
-    for cycle, records in trace.cycles():
+    def add(cycle: int, records: list[dict[str, Any]]) -> None:
+        nonlocal initial
         entry = _cycle_entry(cycle, records, wm)
         if initial:  # the WMEs from before the first phase join the first cycle's delta
             kept = [compact_wme(w) for w in initial if wm.get(w[0]) is not None]  # type: ignore[union-attr]
@@ -144,6 +223,23 @@ def build_payload(trace: Trace, keyframe_every: int | None = None) -> dict[str, 
             entry["x"] = [t for t in entry.get("x", []) if t not in gone]
             initial = []
         cycles.append(entry)
+
+    pending: tuple[int, list[dict[str, Any]]] | None = None
+    for cycle, records in trace.cycles():
+        # The runner writes its records (frame, network, schema events, the look)
+        # between two calls of the agent, which stops after a decision phase: they
+        # break a cycle in two.  They join the cycle they were written in, and so
+        # does the rest of that cycle.
+        if pending is not None and (cycle == pending[0]
+                                    or all(r.get("kind") in _RUN_KINDS for r in records)):
+            pending[1].extend(records)
+            continue
+        if pending is not None:
+            add(*pending)
+        pending = (cycle, list(records))
+    if pending is not None:
+        add(*pending)
+    _thin_looks(cycles)
     every = keyframe_every or default_keyframe_interval(len(cycles))
     if wm is not None:
         # The length is known only at the end: replay the compact deltas for the keyframes.

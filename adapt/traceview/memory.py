@@ -56,9 +56,11 @@ def sort_key(wme: TraceWME) -> tuple[Any, ...]:
 class LiveMemory:
     """The WMEs alive at one point of a trace, keyed by timetag."""
 
-    __slots__ = ("_wmes",)
+    __slots__ = ("_wmes", "cycle")
 
     def __init__(self, wmes: Iterable[TraceWME] = ()) -> None:
+        #: The decision cycle this memory is the end of (set by :func:`memory_at`).
+        self.cycle: int | None = None
         self._wmes: dict[int, TraceWME] = {w[0]: (w[0], w[1], w[2], w[3], bool(w[4])) for w in wmes}
 
     def apply(self, phase: dict[str, Any]) -> None:
@@ -122,8 +124,10 @@ class LiveMemory:
         )
 
 
-def memory_at(trace: Trace, decision: int) -> LiveMemory:
-    """Working memory at the end of decision cycle ``decision``.
+def memory_at(trace: Trace, decision: int | None = None) -> LiveMemory:
+    """Working memory at the end of decision cycle ``decision`` (default: the trace's last).
+
+    The cycle replayed last is :attr:`LiveMemory.cycle`.
 
     Raises
     ------
@@ -132,19 +136,20 @@ def memory_at(trace: Trace, decision: int) -> LiveMemory:
         ``decision`` is negative or past the trace's last decision.
     """
     trace.require_level(4, "rebuilding working memory")
-    if decision < 0:
+    if decision is not None and decision < 0:
         raise TraceError(f"decision {decision}: decisions are numbered from 0")
     wm = LiveMemory()
     wm.apply({"adds": trace.initial_wmes()})
     last = 0
     for cycle, records in trace.cycles(last=decision):
-        last = cycle
+        last = max(last, cycle)
         for record in records:
             if record["kind"] == "phase":
                 wm.apply(record)
-    if decision > last:
+    if decision is not None and decision > last:
         raise TraceError(f"decision {decision}: {trace.path} ends at decision {last}; "
                          f"expected a decision from 0 to {last}")
+    wm.cycle = last if decision is None else decision
     return wm
 
 
@@ -169,8 +174,11 @@ def format_tree(
         raise TraceError(f"{root} has no working-memory elements at that decision{hint}")
     lines: list[str] = []
     seen: set[str] = set()
-
-    def visit(name: str, level: int) -> None:
+    stack: list[tuple[str, int]] = [(root, 1)]  # iterative: a long chain of identifiers is fine
+    while stack:
+        name, level = stack.pop()
+        if name in seen:
+            continue
         seen.add(name)
         indent = "  " * (level - 1)
         wmes = groups.get(name, [])
@@ -182,11 +190,8 @@ def format_tree(
             )
             lines.append(f"{indent}({name} {parts})" if parts else f"{indent}({name})")
         if level >= depth:
-            return
-        for w in wmes:
-            child = id_name(w[3])
-            if child is not None and child not in seen and child in groups:
-                visit(child, level + 1)
-
-    visit(root, 1)
+            continue
+        children = [child for w in wmes
+                    if (child := id_name(w[3])) is not None and child not in seen and child in groups]
+        stack.extend((child, level + 1) for child in reversed(children))
     return "\n".join(lines)

@@ -42,6 +42,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from adapt.errors import TraceError
+from adapt.traceview.records import RecordError, check_header, check_record
 
 __all__ = [
     "FORMAT",
@@ -50,6 +51,8 @@ __all__ = [
     "TraceHeader",
     "Trace",
     "cycle_of",
+    "load_line",
+    "LineError",
     "PRE_DECISION_PHASES",
 ]
 
@@ -98,6 +101,76 @@ class TraceHeader:
     raw: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
 
+class LineError(ValueError):
+    """A line that is not one JSON value this reader accepts."""
+
+
+def _constant(name: str) -> Any:
+    raise LineError(f"{name} is not a JSON number")
+
+
+def _finite(text: str) -> float:
+    value = float(text)
+    if value in (float("inf"), float("-inf")):
+        raise LineError(f"{text} is too large for a number")
+    return value
+
+
+_DECODER = json.JSONDecoder(parse_constant=_constant, parse_float=_finite)
+
+
+def load_line(line: bytes, *, paths: str | None = None) -> Any:
+    """One JSON value of a trace line, strictly.
+
+    Raises :class:`LineError` (a :class:`ValueError`) for a line that is not
+    UTF-8 JSON, that holds ``NaN``, ``Infinity`` or a number too large for a
+    float, that nests too deeply, or whose strings hold a lone surrogate
+    (``"\\ud800"``: not text, and not writable as UTF-8).  The one exception
+    is the list of file names under the key ``paths`` (the header's
+    ``"files"``): Python writes a file name's bytes that are not UTF-8 as the
+    surrogates U+DC80..U+DCFF, and those are kept.
+
+    >>> load_line(b'{"kind": "x", "v": 1.5}')
+    {'kind': 'x', 'v': 1.5}
+    >>> load_line(b'{"kind": "x", "v": "\\ud800"}')
+    Traceback (most recent call last):
+    ...
+    adapt.traceview.reader.LineError: a string holds a lone surrogate, \\ud800, which is not text
+    >>> load_line(b'{"files": ["\\udcff.soar"]}', paths="files")
+    {'files': ['\\udcff.soar']}
+    """
+    try:
+        value = _DECODER.decode(line.decode("utf-8"))
+    except RecursionError:
+        raise LineError("the JSON nests too deeply") from None
+    except UnicodeDecodeError:
+        raise LineError("the line is not UTF-8") from None
+    if b"\\u" in line and (b"\\ud" in line or b"\\uD" in line):
+        checked = value
+        if paths is not None and isinstance(value, dict) and isinstance(value.get(paths), list):
+            names = value[paths]
+            checked = {k: v for k, v in value.items() if k != paths}
+            for name in names:
+                if isinstance(name, str):
+                    try:
+                        name.encode("utf-8", "surrogateescape")
+                    except UnicodeEncodeError:
+                        _lone_surrogate(name)
+        try:
+            json.dumps(checked, ensure_ascii=False).encode("utf-8")
+        except UnicodeEncodeError as exc:
+            _lone_surrogate(exc.object[exc.start:exc.end])
+    return value
+
+
+def _lone_surrogate(text: str) -> None:
+    for char in text:
+        if 0xD800 <= ord(char) <= 0xDFFF:
+            code = char.encode("unicode_escape", "backslashreplace").decode("ascii")
+            raise LineError(f"a string holds a lone surrogate, {code}, which is not text")
+    raise LineError("a string holds a lone surrogate, which is not text")
+
+
 def cycle_of(record: Record) -> int | None:
     """The decision cycle a record belongs to (``None`` for header and footer).
 
@@ -116,8 +189,8 @@ def cycle_of(record: Record) -> int | None:
 
 def _parse_header(path: str, line: bytes) -> TraceHeader:
     try:
-        record = json.loads(line)
-    except (ValueError, UnicodeDecodeError):
+        record = load_line(line, paths="files")
+    except ValueError:
         record = None
     if not isinstance(record, dict) or record.get("kind") != "header" or (
         record.get("format") != FORMAT
@@ -137,6 +210,10 @@ def _parse_header(path: str, line: bytes) -> TraceHeader:
     files = record.get("files") or []
     if not isinstance(files, list) or not all(isinstance(f, str) for f in files):
         raise TraceError(f"{path}: header field \"files\" is not a list of paths")
+    try:
+        check_header(record)
+    except RecordError as exc:
+        raise TraceError(f"{path}:1: header: {exc}") from None
     seed = record.get("seed")
     return TraceHeader(
         version=version,
@@ -190,17 +267,18 @@ class Trace:
 
         Each call reads the file again from the start.  A truncated last line
         ends the iteration with a :class:`TraceWarning`; any other line that is
-        not a JSON object with a ``"kind"`` raises :class:`TraceError`.
+        not a JSON object with a ``"kind"``, or a record that breaks the trace
+        schema (:mod:`adapt.traceview.records`), raises :class:`TraceError`
+        naming the line and the field.
         """
-        loads = json.loads
         with open(self.path, "rb") as f:
             f.readline()
             lineno = 1
             for line in f:
                 lineno += 1
                 try:
-                    record = loads(line)
-                except (ValueError, UnicodeDecodeError):
+                    record = load_line(line)
+                except ValueError as exc:
                     if not line.endswith(b"\n"):
                         self._notice(
                             f"{self.path}:{lineno}: the last line is truncated (an interrupted "
@@ -209,9 +287,14 @@ class Trace:
                         return
                     if not line.strip():
                         continue
-                    raise TraceError(f"{self.path}:{lineno}: not a JSON record") from None
+                    why = f" ({exc})" if isinstance(exc, LineError) else ""
+                    raise TraceError(f"{self.path}:{lineno}: not a JSON record{why}") from None
                 if not isinstance(record, dict) or not isinstance(record.get("kind"), str):
                     raise TraceError(f"{self.path}:{lineno}: not a trace record (no \"kind\")")
+                try:
+                    check_record(record)
+                except RecordError as exc:
+                    raise TraceError(f"{self.path}:{lineno}: {record['kind']} record: {exc}") from None
                 yield record
 
     def cycles(
@@ -252,10 +335,14 @@ class Trace:
             tail = f.read().splitlines()
         for line in reversed(tail):
             try:
-                record = json.loads(line)
-            except (ValueError, UnicodeDecodeError):
+                record = load_line(line)
+            except ValueError:
                 continue
             if isinstance(record, dict) and record.get("kind") == "footer":
+                try:
+                    check_record(record)
+                except RecordError as exc:
+                    raise TraceError(f"{self.path}: the footer record: {exc}") from None
                 return record
             if isinstance(record, dict):
                 return None

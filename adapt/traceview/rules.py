@@ -28,12 +28,10 @@ def find_rule_file(name: str, trace_path: str) -> Path:
         If it is found nowhere.
     """
     given = Path(name)
-    if given.is_absolute():
-        if given.is_file():
-            return given
-    else:
-        places = [Path.cwd(), *Path(os.path.abspath(trace_path)).parents]
-        for place in places:
+    if given.is_file():  # absolute, or relative to the current directory: as the run named it
+        return given
+    if not given.is_absolute():
+        for place in Path(os.path.abspath(trace_path)).parents:
             if (place / given).is_file():
                 return place / given
     raise TraceError(

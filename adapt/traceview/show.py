@@ -33,7 +33,7 @@ from adapt.traceview.memory import LiveMemory
 from adapt.traceview.reader import Trace
 from adapt.traceview.symbols import id_name, text_of, wme_text
 
-__all__ = ["ShowFilter", "show_lines", "decision_line", "firing_line", "impasse_text",
+__all__ = ["ShowFilter", "show_lines", "nothing_shown", "decision_line", "firing_line", "impasse_text",
            "PHASE_TITLES"]
 
 #: How Soar titles each phase at watch level 2.
@@ -221,3 +221,56 @@ def show_lines(trace: Trace, flt: ShowFilter) -> Iterator[str]:
         text = _cycle_text(records, wm, flt, level, show)
         if show and text.relevant:
             yield from text.lines
+
+
+def _selection(flt: ShowFilter) -> str:
+    parts = []
+    if flt.first is not None or flt.last is not None:
+        if flt.first == flt.last:
+            parts.append(f"--decisions {flt.first}")
+        else:
+            parts.append(f"--decisions {'' if flt.first is None else flt.first}.."
+                         f"{'' if flt.last is None else flt.last}")
+    if flt.rule is not None:
+        parts.append(f"--rule {flt.rule}")
+    if flt.ident is not None:
+        parts.append(f"--id {flt.ident}")
+    return " ".join(parts)
+
+
+def nothing_shown(trace: Trace, flt: ShowFilter) -> str | None:
+    """Why :func:`show_lines` gave no line, when the filter explains it; ``None`` when the
+    selected cycles are merely quiet at that level.
+
+    Reads the trace once more (only called when nothing was shown).
+    """
+    first_cycle: int | None = None
+    last_cycle = 0
+    rules: set[str] = set()
+    for cycle, records in trace.cycles():
+        first_cycle = cycle if first_cycle is None else min(first_cycle, cycle)
+        last_cycle = max(last_cycle, cycle)
+        if flt.rule is not None and len(rules) < 10_000:
+            for record in records:
+                for key in ("firings", "retractions"):
+                    rules.update(f["rule"] for f in record.get(key) or ())
+    what = _selection(flt)
+    if first_cycle is None:
+        return f"{trace.path} holds no decision cycles"
+    if (flt.first is not None and flt.first > last_cycle) or (
+            flt.last is not None and flt.last < first_cycle):
+        return (f"{trace.path} has decision cycles {first_cycle}..{last_cycle}; "
+                f"{what} selects none of them")
+    if flt.rule is not None:
+        if trace.header.level < 3:
+            return (f"{trace.path} was written at level {trace.header.level}, without firings; "
+                    "--rule needs a trace of level 3 or more (run with --trace-level 3)")
+        if flt.rule not in rules:
+            stem = flt.rule.split("*")[0]
+            near = sorted(r for r in rules if stem and stem in r)[:5]
+            hint = f" (rules that did: {', '.join(near)})" if near else ""
+            return f"rule {flt.rule} never fired or retracted in {trace.path}{hint}"
+    if flt.rule is not None or flt.ident is not None:
+        level = min(flt.level, trace.header.level)
+        return f"nothing in {trace.path} matches {what} at level {level}"
+    return None

@@ -71,6 +71,7 @@ class TraceStats:
     level: int
     files: tuple[str, ...]
     seed: int | None
+    #: Decision phases run: the footer's count when it has one, else the decision records.
     decisions: int
     cycles: int
     firings: dict[str, int]
@@ -169,6 +170,12 @@ def compute_stats(trace: Trace, series_points: int = 256) -> TraceStats:
         if track_wm:
             sample(cycle)
     footer = trace.footer()
+    # The footer counts the decision phases the agent started, as the run's own summary
+    # and the HTML page say; a run interrupted inside a decision phase may not have
+    # written that last decision's record.
+    counted = footer.get("decisions") if footer is not None else None
+    if isinstance(counted, int) and counted > decisions:
+        decisions = counted
     return TraceStats(
         path=trace.path,
         level=trace.header.level,

@@ -350,6 +350,208 @@
     if (!out.textContent) out.appendChild(el("span", "empty", "no output"));
   }
 
+  // ---------- run panels: schema network, MMD per frame, learned look ----------
+  const netAt = [], frAt = [], lookAt = [], statusAt = [];  // statusAt: [index, schema, status]
+  cycles.forEach((c, i) => {
+    if (c.net) netAt.push(i);
+    if (c.fr) frAt.push(i);
+    if (c.look) lookAt.push(i);
+    for (const [ev, name, data] of c.schema || []) {
+      if (ev !== "status" || !data) continue;
+      try { const d = JSON.parse(data); if (d && d.status) statusAt.push([i, name, d.status]); } catch (e) { /* not JSON */ }
+    }
+  });
+  function statusesBetween(from, to) {
+    // the last status of each schema in [from, to]: the runner writes a status event
+    // after the network record of the same cycle, so that cycle's events count too
+    const out = new Map();
+    for (const [i, name, status] of statusAt) if (i >= from && i <= to) out.set(name, status);
+    return out;
+  }
+  function latest(list, index) {  // the last entry of list <= index, or -1
+    let lo = 0, hi = list.length - 1, best = -1;
+    while (lo <= hi) {
+      const mid = (lo + hi) >> 1;
+      if (list[mid] <= index) { best = list[mid]; lo = mid + 1; } else hi = mid - 1;
+    }
+    return best;
+  }
+  function esc(t) {
+    return String(t).replace(/&/g, "&amp;").replace(/[<]/g, "&lt;").replace(/>/g, "&gt;").replace(/"/g, "&quot;");
+  }
+  function fmt(v, digits) {
+    if (v === null || v === undefined) return "—";
+    if (typeof v === "number") return Number.isInteger(v) ? String(v) : v.toFixed(digits === undefined ? 2 : digits);
+    if (typeof v === "boolean") return v ? "yes" : "no";
+    return String(v);
+  }
+  const STATUS = { running: "#1a7f37", complete: "#1a7f37", waiting: "#b45309", executing: "#2f6fab",
+                   idle: "#8a949e", lost: "#cf222e", failed: "#cf222e" };
+  const FILL = { perceptual: "#e5effa", motor: "#fdebd3" };
+  function layers(nodes, edges) {
+    // longest path from a node without providers: providers left, consumers right
+    const names = nodes.map((n) => n[0]), layer = new Map(names.map((n) => [n, 0]));
+    for (let pass = 0; pass < names.length; pass++) {
+      let moved = false;
+      for (const [a, b] of edges) {
+        if (layer.has(a) && layer.has(b) && layer.get(b) < layer.get(a) + 1 && layer.get(a) + 1 < names.length) {
+          layer.set(b, layer.get(a) + 1); moved = true;
+        }
+      }
+      if (!moved) break;
+    }
+    return layer;
+  }
+  function renderNetwork(index) {
+    const box = document.getElementById("network-graph");
+    const when = document.getElementById("network-when");
+    const at = latest(netAt, index);
+    box.textContent = "";
+    if (at < 0) { when.textContent = ""; box.appendChild(el("div", "empty", "no schema yet")); return; }
+    const net = cycles[at].net;
+    const later = statusesBetween(at, index);  // statuses change without the network changing
+    when.textContent = "(frame " + fmt(net.frame) + ", as changed at decision " + cycles[at].c + ")";
+    box.dataset.decision = String(cycles[at].c);
+    const layer = layers(net.nodes, net.edges);
+    const cols = new Map();
+    for (const n of net.nodes) {
+      const k = layer.get(n[0]);
+      if (!cols.has(k)) cols.set(k, []);
+      cols.get(k).push(n);
+    }
+    const W = 168, H = 46, GX = 74, GY = 16, PAD = 8;
+    const pos = new Map();
+    let width = 0, height = 0;
+    for (const [k, list] of cols) {
+      list.forEach((n, j) => {
+        const x = PAD + k * (W + GX), y = PAD + j * (H + GY);
+        pos.set(n[0], [x, y]);
+        width = Math.max(width, x + W + PAD); height = Math.max(height, y + H + PAD);
+      });
+    }
+    let svg = '<svg viewBox="0 0 ' + width + " " + height + '" width="' + width + '" height="' + height +
+      '" role="img" aria-label="schema network">' +
+      '<defs><marker id="arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWidth="7" markerHeight="7" orient="auto">' +
+      '<path d="M0,0 L10,5 L0,10 z" fill="#8a949e"/></marker></defs>';
+    for (const [a, b, port] of net.edges) {
+      if (!pos.has(a) || !pos.has(b)) continue;
+      const [xa, ya] = pos.get(a), [xb, yb] = pos.get(b);
+      const x1 = xa + W, y1 = ya + H / 2, x2 = xb, y2 = yb + H / 2, mx = (x1 + x2) / 2;
+      svg += '<g class="edge" data-from="' + esc(a) + '" data-to="' + esc(b) + '" data-port="' + esc(port) + '">' +
+        '<path marker-end="url(#arrow)" d="M' + x1 + "," + y1 + " C" + mx + "," + y1 + " " + mx + "," + y2 + " " + (x2 - 2) + "," + y2 + '"/>' +
+        '<text x="' + mx + '" y="' + ((y1 + y2) / 2 - 4) + '" text-anchor="middle">' + esc(port) + "</text></g>";
+    }
+    for (const [name, type, kind, first, origin, details] of net.nodes) {
+      const [x, y] = pos.get(name);
+      const status = later.has(name) ? later.get(name) : first;
+      const tip = name + " (" + type + ", " + kind + ", " + origin + "): " + status +
+        Object.entries(details).map(([k, v]) => "\n" + k + " = " + fmt(v, 3)).join("");
+      svg += '<g class="node ' + esc(origin) + '" data-name="' + esc(name) + '" data-status="' + esc(status) +
+        '" data-kind="' + esc(kind) + '"><title>' + esc(tip) + "</title>" +
+        '<rect x="' + x + '" y="' + y + '" width="' + W + '" height="' + H + '" rx="7" fill="' + (FILL[kind] || "#f3f3f3") +
+        '" stroke="' + (STATUS[status] || "#8a949e") + '"/>' +
+        '<text class="name" x="' + (x + 10) + '" y="' + (y + 18) + '">' + esc(name) + "</text>" +
+        '<text class="sub" x="' + (x + 10) + '" y="' + (y + 35) + '">' + esc(type + " · " + status) + "</text></g>";
+    }
+    svg += "</svg>";
+    box.innerHTML = svg;
+    const legend = el("div", "legend");
+    legend.innerHTML = 'fill: <span class="key" style="background:' + FILL.perceptual + '"></span>perceptual' +
+      '<span class="key" style="background:' + FILL.motor + '"></span>motor · border: status (green running, amber waiting, red lost/failed) · dashed: spawned bottom-up · arrows: ports';
+    box.appendChild(legend);
+  }
+  const series = frAt.map((i) => cycles[i].fr);
+  function renderChart(currentFrame) {
+    const box = document.getElementById("mmd-chart");
+    box.textContent = "";
+    if (series.length < 2) return;
+    const W = 600, H = 64, n = series.length;
+    const cap = 3;  // pixel error drawn up to 3 px
+    const xs = (k) => (k / (n - 1)) * (W - 4) + 2;
+    let pts = "", bars = "", maxU = 1;
+    for (const f of series) maxU = Math.max(maxU, f[2] || 0);
+    series.forEach((f, k) => {
+      const e = f[3] && f[3].pixel_error !== null && f[3].pixel_error !== undefined ? Math.min(f[3].pixel_error, cap) : null;
+      if (e !== null) pts += xs(k).toFixed(1) + "," + (H - 2 - (e / cap) * (H - 6)).toFixed(1) + " ";
+      if (f[2]) bars += '<rect class="unexp" x="' + (xs(k) - 1).toFixed(1) + '" y="' + (H - 2 - (f[2] / maxU) * 20).toFixed(1) +
+        '" width="2" height="' + ((f[2] / maxU) * 20).toFixed(1) + '"/>';
+    });
+    const k = series.findIndex((f) => f[0] === currentFrame);
+    const now = k >= 0 ? '<line class="now" x1="' + xs(k) + '" x2="' + xs(k) + '" y1="0" y2="' + H + '"/>' : "";
+    box.innerHTML = '<svg viewBox="0 0 ' + W + " " + H + '" preserveAspectRatio="none"><polyline class="err" points="' + pts +
+      '"/>' + bars + now + "</svg>";
+    box.firstChild.addEventListener("click", (ev) => {
+      const r = box.firstChild.getBoundingClientRect();
+      const j = Math.round(((ev.clientX - r.left) / r.width) * (n - 1));
+      select(frAt[Math.max(0, Math.min(n - 1, j))]);
+    });
+    const cap2 = el("div", "legend", "frames " + fmt(series[0][0]) + "–" + fmt(series[n - 1][0]) +
+      ": blue, the camera's pixel error (0–3 px); red, unexpected regions (up to " + maxU + ")");
+    box.appendChild(cap2);
+  }
+  function renderFrame(index) {
+    const sum = document.getElementById("mmd-summary"), regions = document.getElementById("mmd-regions");
+    const when = document.getElementById("mmd-when");
+    const at = latest(frAt, index);
+    sum.textContent = ""; regions.textContent = "";
+    if (at < 0) { when.textContent = ""; sum.appendChild(el("div", "empty", "no frame yet")); renderChart(null); return; }
+    const [frame, t, unexpected, mmd, regs] = cycles[at].fr;
+    when.textContent = "(frame " + fmt(frame) + ", t = " + fmt(t, 3) + " s)";
+    sum.dataset.frame = String(frame);
+    const items = [["aligned", mmd ? mmd.aligned : null], ["pixel error", mmd ? mmd.pixel_error : null],
+                   ["inliers", mmd ? mmd.inliers : null], ["regions", mmd ? mmd.regions : regs.length],
+                   ["unexpected", unexpected], ["ms", mmd ? mmd.ms : null]];
+    for (const [k, v] of items) {
+      const d = el("div", null, k + " ");
+      const b = el("b", null, fmt(v));
+      if ((k === "aligned" && v === false) || (k === "unexpected" && v > 0)) b.className = "bad";
+      d.appendChild(b);
+      d.dataset.key = k;
+      sum.appendChild(d);
+    }
+    renderChart(frame);
+    if (regs.length) {
+      const table = el("table");
+      const head = el("tr");
+      for (const h of ["id", "box (x y w h)", "area", "age", "monitored by"]) head.appendChild(el("th", null, h));
+      table.appendChild(head);
+      for (const [id, x, y, w, h, area, expected, owner, age] of regs) {
+        const tr = el("tr", expected ? "expected" : "unexpected");
+        for (const v of [id, x + " " + y + " " + w + " " + h, area, age, expected ? owner : "unexpected"]) tr.appendChild(el("td", null, fmt(v)));
+        table.appendChild(tr);
+      }
+      regions.appendChild(table);
+    }
+  }
+  function renderLook(index) {
+    const panel = document.getElementById("look-panel"), grid = document.getElementById("look-grid");
+    const when = document.getElementById("look-when");
+    grid.textContent = "";
+    if (!lookAt.length) { panel.hidden = true; return; }
+    panel.hidden = false;
+    const at = latest(lookAt, index);
+    if (at < 0) { when.textContent = ""; grid.appendChild(el("div", "empty", "nothing learned yet")); return; }
+    const look = cycles[at].look;
+    when.textContent = "(" + fmt(look.stage) + ", " + fmt(look.passes) + " passes, as of frame " + fmt(look.frame) + ")";
+    grid.dataset.frame = String(look.frame);
+    for (const [name, coverage, w, h, image] of look.surfaces) {
+      const fig = el("figure");
+      fig.dataset.surface = name;
+      if (image) {
+        const img = el("img");
+        img.src = image; img.alt = name; img.title = name + ": " + w + "x" + h + " texels";
+        fig.appendChild(img);
+      }
+      const cap = el("figcaption");
+      cap.appendChild(el("span", "n", name));
+      cap.appendChild(document.createTextNode(" · " + Math.round(100 * (coverage || 0)) + "% seen"));
+      fig.appendChild(cap);
+      grid.appendChild(fig);
+    }
+  }
+  const hasRun = netAt.length > 0 || frAt.length > 0;
+  document.getElementById("run-panels").hidden = !hasRun;
+
   function select(index) {
     if (index < 0 || index >= cycles.length) return;
     const t0 = performance.now();
@@ -362,6 +564,8 @@
     renderGoals(c, index);
     renderWM(index);
     renderSide(c);
+    if (hasRun) { renderNetwork(index); renderFrame(index); }
+    renderLook(index);
     document.body.dataset.selected = String(c.c);
     document.body.dataset.renderMs = (performance.now() - t0).toFixed(1);
     if (history.replaceState) history.replaceState(null, "", "#d=" + c.c);

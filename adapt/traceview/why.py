@@ -46,7 +46,10 @@ from adapt.traceview.memory import TraceWME, memory_at
 from adapt.traceview.reader import Trace, cycle_of
 from adapt.traceview.symbols import IdentifierTable, id_name, text_of, wme_text
 
-__all__ = ["Origin", "made_by", "find_timetag", "explain", "format_origin", "WhyNot", "why_not",
+#: The deepest ``explain`` goes (``adapt trace why --depth``).
+MAX_DEPTH = 100
+
+__all__ = ["MAX_DEPTH", "Origin", "made_by", "find_timetag", "explain", "format_origin", "WhyNot", "why_not",
            "format_why_not"]
 
 
@@ -221,6 +224,8 @@ def explain(trace: Trace, timetag: int, depth: int = 1,
         If the trace is below level 4 or no WME has that timetag.
     """
     trace.require_level(4, "explaining a WME")
+    if not 0 <= depth <= MAX_DEPTH:
+        raise TraceError(f"depth {depth}: expected a depth from 0 to {MAX_DEPTH}")
     levels: list[dict[int, Origin]] = []
     wanted = {timetag}
     for _ in range(depth + 1):
@@ -232,31 +237,62 @@ def explain(trace: Trace, timetag: int, depth: int = 1,
     if timetag not in levels[0]:
         raise TraceError(f"no WME with timetag {timetag} was added in {trace.path}")
 
-    def build(tt: int, level: int) -> Origin | None:
-        origin = levels[level].get(tt) if level < len(levels) else None
-        if origin is None:
-            return None
-        kids = () if origin.firing is None else tuple(
-            o for o in (build(t, level + 1) for t in origin.firing.get("wmes") or ()) if o)
-        firing = origin.firing
-        if firing is not None and level + 1 < len(levels):
-            firing = {**firing, "explained": True}
-        return Origin(**{**origin.__dict__, "matched": kids, "firing": firing})
-
-    result = build(timetag, 0)
+    # One Origin per (timetag, level), shared wherever that WME is matched again:
+    # the tree is a DAG whose size grows with the depth, not exponentially.
+    built: dict[tuple[int, int], Origin | None] = {}
+    for level in range(len(levels) - 1, -1, -1):
+        for tt, origin in levels[level].items():
+            kids: tuple[Origin, ...] = ()
+            firing = origin.firing
+            if firing is not None:
+                kids = tuple(o for o in (built.get((t, level + 1)) for t in firing.get("wmes") or ())
+                             if o is not None)
+                if level + 1 < len(levels):
+                    firing = {**firing, "explained": True}
+            built[(tt, level)] = Origin(**{**origin.__dict__, "matched": kids, "firing": firing})
+    result = built[(timetag, 0)]
     assert result is not None
     return result
 
 
 def format_origin(origin: Origin, indent: str = "") -> str:
-    """The text of ``adapt trace why --wme``."""
+    """The text of ``adapt trace why --wme``.
+
+    Each WME is explained once, where it is matched least deep; elsewhere it
+    is one line that says at which depth its explanation is, so the answer
+    grows with the number of WMEs involved, not exponentially with the depth.
+    """
+    shallowest: dict[int, int] = {}
+    layer, nesting = [origin], 0
+    while layer:
+        following: list[Origin] = []
+        for o in layer:
+            if o.wme[0] not in shallowest:
+                shallowest[o.wme[0]] = nesting
+                following.extend(o.matched)
+        layer, nesting = following, nesting + 1
+    lines: list[str] = []
+    _format(origin, indent, 0, lines, shallowest, set())
+    return "\n".join(lines)
+
+
+def _format(origin: Origin, indent: str, nesting: int, lines: list[str],
+            shallowest: dict[int, int], done: set[int]) -> None:
     where = f"decision cycle {origin.cycle} ({origin.phase} phase)"
-    lines = [f"{indent}{wme_text(*origin.wme)}  added in {where} by {origin.maker}"]
+    head = f"{indent}{wme_text(*origin.wme)}  added in {where} by {origin.maker}"
+    tt = origin.wme[0]
+    if origin.matched:
+        if tt in done or shallowest.get(tt, nesting) != nesting:
+            lines.append(f"{head} (explained at depth {shallowest.get(tt, nesting)})")
+            return
+        done.add(tt)
     pad = indent + "  "
     if origin.firing is not None:
         support = origin.firing.get("support")
         level = origin.firing.get("level")
-        lines[0] += f" ({support}-support, goal level {level})" if support else ""
+        head += f" ({support}-support, goal level {level})" if support else ""
+    lines.append(head)
+    if origin.firing is not None:
         bindings = origin.firing.get("bindings") or {}
         if bindings:
             lines.append(pad + "bindings: " + ", ".join(f"{k}={text_of(v)}" for k, v in bindings.items()
@@ -267,7 +303,8 @@ def format_origin(origin: Origin, indent: str = "") -> str:
         lines.append(pad + f"removed in decision cycle {origin.removed[0]} ({origin.removed[1]} phase)")
     if origin.matched or (origin.firing is not None and origin.firing.get("explained")):
         lines.append(pad + "matched:")
-        lines.extend(format_origin(m, pad + "  ") for m in origin.matched)
+        for m in origin.matched:
+            _format(m, pad + "  ", nesting + 1, lines, shallowest, done)
         known = {m.wme[0] for m in origin.matched}
         missing = [t for t in (origin.firing or {}).get("wmes") or () if t not in known]
         if missing:
@@ -275,7 +312,6 @@ def format_origin(origin: Origin, indent: str = "") -> str:
                          + " ".join(str(t) for t in dict.fromkeys(missing)))
     elif origin.firing is not None and origin.firing.get("wmes"):
         lines.append(pad + "matched timetags: " + " ".join(str(t) for t in origin.firing["wmes"]))
-    return "\n".join(lines)
 
 
 @dataclass(frozen=True)

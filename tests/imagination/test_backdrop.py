@@ -310,3 +310,16 @@ def test_an_obstacle_face_appearance_and_an_all_invalid_mask() -> None:
     front = plain.labels == LABEL_OBSTACLE
     out = renderer.render()
     assert (out.image[front] == 0).mean() > 0.9  # side0 faces the camera (y = 1.0 side)
+
+
+@pytest.mark.parametrize("shape", [(4, 1), (1, 4), (2, 2), (1, 1), (5, 3)])
+@pytest.mark.parametrize("dtype", [np.uint8, np.uint16, np.int32])
+def test_setting_a_masked_region_of_any_small_shape(shape: tuple[int, int], dtype: type) -> None:
+    # OpenCV takes a 4x1 array for a scalar: a label region of that shape used to raise
+    from adapt.imagination.backdrop import _set
+
+    roi = np.zeros(shape, dtype)
+    mask = np.zeros(shape, np.uint8)
+    mask[0, 0] = 255
+    _set(roi, 7, mask)
+    assert roi[0, 0] == 7 and int(roi.sum()) == 7

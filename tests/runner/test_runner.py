@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from adapt.errors import RunError
+from adapt.errors import OutputError, RunError
 from adapt.imagination import Ball
 from adapt.runner import Runner
 from adapt.scenario import OutputSettings, Scenario
@@ -145,8 +145,15 @@ def test_outputs_never_replace_inputs(tmp_path: Path) -> None:
     sc = room()
     (tmp_path / "report.json").write_text("{}")
     sc = replace(sc, path=tmp_path / "report.json")
-    with pytest.raises(RunError, match="would replace an input"):
+    with pytest.raises(OutputError, match="is an input of the run .*never replaces an input"):
         Runner(sc, source=source(sc, 3), out=tmp_path)
+    assert (tmp_path / "report.json").read_text() == "{}"
+    rules = tmp_path / "figures" / "mine.soar"
+    rules.parent.mkdir()
+    rules.write_text((Path(sc.rules[0].path)).read_text())
+    inside = replace(room(), rules=(replace(sc.rules[0], path=rules),))
+    with pytest.raises(RunError, match="the figures output .* would replace an input"):
+        Runner(inside, source=source(inside, 3), out=tmp_path)
     f = tmp_path / "file"
     f.write_text("x")
     with pytest.raises(RunError, match="is a file"):

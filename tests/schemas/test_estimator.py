@@ -22,13 +22,14 @@ def sightings(ball: Ball, seconds: float, noise: float, seed: int = 0):  # type:
         yield k / 30, (x + rng.normal(0, noise), y + rng.normal(0, noise)), scene
 
 
-def run(ball: Ball, seconds: float = 2.5, noise: float = 0.003, seed: int = 0) -> ParameterEstimator:
+def run(ball: Ball, seconds: float = 2.5, noise: float = 0.003, seed: int = 0,
+        ranges: dict[str, tuple[float, float]] | None = None) -> ParameterEstimator:
     est = None
+    known = {"restitution": (0.5, 0.95), "friction": (0.1, 0.6), "rolling_resistance": (0.0, 0.08)}
+    known.update(ranges or {})
     for t, p, scene in sightings(ball, seconds, noise, seed):
         if est is None:
-            est = ParameterEstimator({"restitution": (0.5, 0.95), "friction": (0.1, 0.6),
-                                      "rolling_resistance": (0.0, 0.08)},
-                                     scene=scene, radius=ball.radius)
+            est = ParameterEstimator(known, scene=scene, radius=ball.radius)
         est.observe(t, p, noise=noise)
     assert est is not None
     return est
@@ -49,7 +50,16 @@ def test_rolling_resistance_from_deceleration() -> None:
                 velocity=(1.2, 0.3))
     est = run(ball, 2.0)
     rr = est.estimate("rolling_resistance")
-    assert abs(rr.mean - 0.04) < 0.008 and rr.count >= 3
+    # one measurement for the stretch, refitted as it grew: within 2 mm/s² per g of the truth
+    assert abs(rr.mean - 0.04) < 0.004 and rr.count == 1 and rr.std < 0.005
+
+
+def test_rolling_far_outside_the_range_is_learned_not_held_back_by_the_prior() -> None:
+    ball = Ball("b", radius=0.1, rolling_resistance=0.01, position=(-1.0, -1.0),
+                velocity=(1.0, 0.25))
+    est = run(ball, 2.5, ranges={"rolling_resistance": (0.04, 0.08)})
+    rr = est.estimate("rolling_resistance")
+    assert abs(rr.mean - 0.01) < 0.004 and rr.surprise > 2.0
 
 
 def test_an_oblique_bounce_measures_friction_in_range() -> None:

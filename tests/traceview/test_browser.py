@@ -152,3 +152,73 @@ def assert_not_blank(path: Path) -> None:
     assert image is not None and image.shape[0] > 500 and image.shape[1] > 1000
     colours = np.unique(image.reshape(-1, 3)[::97], axis=0)
     assert float(image.std()) > 20 and len(colours) > 50
+
+
+@pytest.fixture(scope="module")
+def run_page(tmp_path_factory) -> tuple[Trace, Path]:
+    from .test_html import run_trace
+
+    folder = tmp_path_factory.mktemp("run")
+    trace = Trace(run_trace(folder))
+    return trace, Path(write_html(trace, str(folder / "view.html")))
+
+
+def go(page, d: int) -> None:
+    """Select decision ``d`` through the "go to" box (its row may be out of view)."""
+    page.fill("#goto", str(d))
+    page.press("#goto", "Enter")
+    page.wait_for_selector(f"body[data-selected='{d}']", timeout=10_000)
+
+
+def test_the_run_panels_follow_the_timeline(page, run_page) -> None:
+    trace, html = run_page
+    records = list(trace.records())
+    open_page(page, html)
+    assert page.locator("#run-panels").is_visible() and page.locator("#look-panel").is_visible()
+
+    # before the ball is seen: the Scene Background alone
+    spawn = next(r for r in records if r["kind"] == "schema" and r["event"] == "spawned")
+    early = next(r for r in records if r["kind"] == "frame" and r["frame"] == 5)
+    go(page, early["d"])
+    graph = page.locator("#network-graph")
+    assert graph.locator(".node").count() == 1
+    assert graph.locator(".node").get_attribute("data-name") == "background"
+    assert page.locator("#mmd-summary").get_attribute("data-frame") == "5"
+    shown = page.locator("#mmd-summary [data-key='pixel error'] b").inner_text()
+    assert shown == f"{early['mmd']['pixel_error']:.2f}"
+
+    # after the spawn: the ball's schema, spawned bottom-up, fed regions by the background
+    last = [r for r in records if r["kind"] == "decision"][-1]["d"]
+    go(page, last)
+    ball = graph.locator(".node[data-name='ball']")
+    assert ball.count() == 1 and "bottom-up" in (ball.get_attribute("class") or "")
+    status = [r["data"]["status"] for r in records if r["kind"] == "schema"
+              and r["event"] == "status" and r["schema"] == "ball"]
+    assert ball.get_attribute("data-status") == (status[-1] if status else "waiting")
+    edge = graph.locator(".edge")
+    assert (edge.get_attribute("data-from"), edge.get_attribute("data-to"),
+            edge.get_attribute("data-port")) == ("background", "ball", "regions")
+    assert spawn["data"]["type"] == "foreground-object"
+    frames = [r for r in records if r["kind"] == "frame"]
+    regions = page.locator("#mmd-regions tr.expected td")
+    assert regions.nth(4).inner_text() == "ball" and frames[-1]["regions"][0]["owner"] == "ball"
+
+    # the learned look: one picture per surface, loaded from the page itself
+    look = next(r for r in records if r["kind"] == "appearance")
+    figs = page.locator("#look-grid figure")
+    assert figs.count() == len(look["surfaces"])
+    floor = page.locator("#look-grid figure[data-surface='floor']")
+    assert f"{round(100 * look['surfaces'][0]['coverage'])}% seen" in floor.inner_text()
+    assert floor.locator("img").evaluate("img => img.complete && img.naturalWidth") > 0
+
+    # the chart takes you to a frame
+    box = page.locator("#mmd-chart svg").bounding_box()
+    page.mouse.click(box["x"] + 2, box["y"] + box["height"] / 2)
+    page.wait_for_selector("#mmd-summary[data-frame='0']")
+    assert page.locator("#look-grid .empty").inner_text() == "nothing learned yet"
+
+    shot = html.parent / "run.png"
+    page.screenshot(path=str(shot))
+    assert_not_blank(shot)
+    assert page.errors == []  # type: ignore[attr-defined]
+    assert all(u.startswith(("file:", "data:")) for u in page.requests)  # type: ignore[attr-defined]

@@ -61,8 +61,8 @@ def test_firing_with_its_own_adds_is_trusted(tmp_path) -> None:
     rows = [{"kind": "header", "format": "adapt-trace", "version": 1, "level": 4, "files": []},
             {"kind": "phase", "d": 0, "phase": "proposal",
              "adds": [[1, {"id": "S1"}, "x", 1, False]], "removes": [],
-             "firings": [{"rule": "a", "bindings": {}, "wmes": [], "adds": []},
-                         {"rule": "b", "bindings": {}, "wmes": [], "adds": [1]}]}]
+             "firings": [{"rule": "a", "level": 0, "bindings": {}, "wmes": [], "adds": []},
+                         {"rule": "b", "level": 0, "bindings": {}, "wmes": [], "adds": [1]}]}]
     path = tmp_path / "t.jsonl"
     path.write_text("".join(json.dumps(r) + "\n" for r in rows))
     assert explain(Trace(path), 1, 0, None).maker == "b"

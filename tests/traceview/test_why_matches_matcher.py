@@ -58,7 +58,7 @@ sp {apply (state <s> ^operator.name init) --> (<s> ^a 1 ^b 5)}
 sp {r (state <s> ^a {<x> > <y>}) (<s> ^b <y>) --> (write hi)}
 """)
     trace = tmp_path / "t.jsonl"
-    assert main(["rules", "run", str(rules), "--max-decisions", "3", "--trace", str(trace)]) == 0
+    assert main(["rules", "run", str(rules), "--max-decisions", "3", "--trace", str(trace)]) == 3  # the decision limit
     capsys.readouterr()
     assert main(["trace", "why", str(trace), "--rule", "r", "--at", "3"]) == 0
     out = capsys.readouterr().out

@@ -2,13 +2,19 @@
 
 A :class:`Mirror` holds the imagination's :class:`~adapt.imagination.World`,
 the synthetic camera (which the Scene Background schema corrects so that it
-sees what the real camera sees) and a renderer for that camera.  Schemas act
-on the mirror only through this class: they move the camera, add and remove
-bodies (an object is created in the imagination where it is first
-perceived), push bodies on every physics step (the paper's spring
-correction), and command the imagined robot (odometry).
+sees what the real camera sees), a renderer for that camera, and the look of
+the scene's surfaces learned from the camera
+(:class:`~adapt.mirror.appearance.AppearanceModel`).  Schemas act on the
+mirror only through this class: they move the camera, add and remove bodies
+(an object is created in the imagination where it is first perceived), push
+bodies on every physics step (the paper's spring correction), command the
+imagined robot (odometry), and teach it the surfaces' look.
 
-It imports the imagination and geometry only: no vision, no rules.
+The package imports the imagination and geometry only: no vision, no rules.
+Its modules: :mod:`~adapt.mirror.appearance` (the learned look: back-projection
+of frames onto the surfaces, saving and loading it) and
+:mod:`~adapt.mirror.structure` (aligning the camera to the scene's structure
+before its look is known).
 
 Invariants:
 
@@ -21,7 +27,10 @@ Invariants:
   motion: odometry); a correction from the Scene Background schema moves the
   imagined robot by the camera's horizontal move and turn (visual odometry
   over slipping wheels), and keeps the rest as the camera's pose on its
-  mount.
+  mount;
+* what the appearance model learns is handed to the renderer's backdrop at
+  once (:meth:`Mirror.learn_appearance`), so every later render, through any
+  camera, shows it.
 
 Examples
 --------
@@ -40,16 +49,20 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import replace
-from typing import Callable, Sequence
+from pathlib import Path
+from typing import Any, Callable, Sequence
 
 import numpy as np
+from numpy.typing import NDArray
 
 from adapt.geometry import Camera
 from adapt.imagination import Ball, Renderer, RenderResult, SceneSpec, World
+from adapt.mirror.appearance import AppearanceModel, Learning
 
-__all__ = ["Mirror", "StepHook"]
+__all__ = ["Mirror", "StepHook", "AppearanceModel", "Learning"]
 
 #: A callback run before every physics step, with the world time at the step's start.
 StepHook = Callable[[float], None]
@@ -79,6 +92,8 @@ class Mirror:
         self._correction = (np.eye(3), np.zeros(3))  # camera pose relative to the mount
         self.camera = camera
         self._renderer = Renderer(scene, camera)
+        self.appearance = AppearanceModel(self._renderer.surfaces)
+        self._background: tuple[tuple[Any, ...], RenderResult] | None = None
         self._hooks: dict[StepHook, Callable[[World], None]] = {}
         self.camera_changes = 0
 
@@ -159,18 +174,56 @@ class Mirror:
     # -- rendering --------------------------------------------------------------------
 
     def render(self) -> RenderResult:
-        """What the synthetic camera sees now."""
-        return self._renderer.render(self.world.snapshot(), balls=self.world.balls)
+        """What the synthetic camera sees now (with the learned sky, if any)."""
+        r = self._renderer.render(self.world.snapshot(), balls=self.world.balls)
+        image = self.appearance.composite(r.image, r.labels, self.camera)
+        return r if image is r.image else dataclasses.replace(r, image=image)
 
     @property
     def background(self) -> RenderResult:
-        """The static background through the current camera."""
-        return self._renderer.background
+        """The static background through the current camera (with the learned sky)."""
+        bg = self._renderer.background
+        # the renderer itself, not its id: a new renderer may reuse a freed one's id
+        key = (self._renderer, self._renderer.backdrop.version, self.appearance.sky_version)
+        cached = self._background
+        if cached is not None and cached[0][0] is key[0] and cached[0][1:] == key[1:]:
+            return cached[1]
+        image = self.appearance.composite(bg.image, bg.labels, self.camera)
+        if image is not bg.image:
+            image.setflags(write=False)
+            bg = dataclasses.replace(bg, image=image)
+        self._background = (key, bg)
+        return bg
 
     @property
     def renderer(self) -> Renderer:
         """The renderer of the current camera (its backdrop holds the surfaces' appearances)."""
         return self._renderer
+
+    # -- the surfaces' look ----------------------------------------------------------------
+
+    def learn_appearance(self, image: NDArray[np.uint8], labels: NDArray[np.integer], *,
+                         exclude: NDArray[np.bool_] | None = None, margin: float = 0.0,
+                         rate: float = 0.1, gate: float | None = None) -> Learning:
+        """Learn the surfaces' look from a real ``image`` seen through the current
+        camera (:meth:`AppearanceModel.learn
+        <adapt.mirror.appearance.AppearanceModel.learn>`; ``labels`` is this
+        camera's render's label image) and show it in every render from now on."""
+        learned = self.appearance.learn(image, self.camera, labels, exclude=exclude,
+                                        margin=margin, rate=rate, gate=gate)
+        self.appearance.apply(self._renderer)
+        return learned
+
+    def load_appearance(self, folder: str | Path) -> tuple[str, ...]:
+        """Use the surfaces' look saved in ``folder`` (by :meth:`save_appearance`);
+        returns the surfaces read."""
+        names = self.appearance.load(folder)
+        self.appearance.apply(self._renderer)
+        return names
+
+    def save_appearance(self, folder: str | Path) -> list[Path]:
+        """Write what has been learned of the surfaces' look into ``folder``."""
+        return self.appearance.save(folder)
 
     # -- bodies ---------------------------------------------------------------------------
 

@@ -1,0 +1,303 @@
+"""The appearance model: back-projection round trips with known looks, masks, the
+accumulation's closed form, the sky by direction, saving and loading, bad input."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from adapt.errors import AppearanceError
+from adapt.geometry import Camera, rotation_exp
+from adapt.imagination import LABEL_OBSTACLE, LABEL_SKY, LABEL_WALL, Floor, Obstacle, Renderer, SceneSpec, Wall
+from adapt.mirror import Mirror
+from adapt.mirror.appearance import SKY_FACES, AppearanceModel
+
+SCENE = SceneSpec(
+    floor=Floor(texture="builtin:gravel", tile=0.8, extent=(-2.5, -1.0, 2.5, 3.0)),
+    walls=(Wall("north", (-2.5, 3.0), (2.5, 3.0), height=1.0, texture="builtin:brick", tile=0.6),),
+    obstacles=(Obstacle("crate", ((-0.6, 1.6), (0.0, 1.6), (0.0, 2.1), (-0.6, 2.1)), height=0.5,
+                        color=(150, 110, 60)),),
+)
+CAMERA = Camera.look_at(fx=262.5, fy=262.5, cx=159.5, cy=119.5, width=320, height=240,
+                        position=(0.0, -0.6, 0.6), look_at=(0.0, 3.0, 0.4))
+
+
+def pattern(shape: tuple[int, int], seed: int) -> np.ndarray:
+    """A smooth random BGR image (detail a few pixels wide)."""
+    rng = np.random.default_rng(seed)
+    noise = rng.integers(0, 256, (*shape, 3), dtype=np.uint8)
+    return np.asarray(cv2.GaussianBlur(noise, (0, 0), 3.0) * 3 - 200, np.uint8).clip(0, 255)
+
+
+def reality(image: np.ndarray) -> Renderer:
+    """The scene whose north wall shows ``image`` (over the whole wall)."""
+    r = Renderer(SCENE, CAMERA)
+    r.set_appearance("north", image, aligned=True)
+    return r
+
+
+def texel_frame_pixels(model_texture, surface, camera: Camera) -> np.ndarray:
+    """Frame pixel (x, y) of every texel centre of a learned texture, (H, W, 2)."""
+    h, w = model_texture.mask.shape
+    hom = surface.image_homography(camera, (w, h), model_texture.extent)
+    ys, xs = np.mgrid[0:h, 0:w]
+    p = np.stack([xs.ravel(), ys.ravel(), np.ones(xs.size)]) .T @ hom.T
+    return (p[:, :2] / p[:, 2:]).reshape(h, w, 2)
+
+
+def test_a_surface_learns_the_look_the_camera_saw() -> None:
+    truth = pattern((100, 500), 1)
+    real = reality(truth).render()
+    model = AppearanceModel(Renderer(SCENE, CAMERA).surfaces)
+    labels = Renderer(SCENE, CAMERA).render().labels
+    learned = model.learn(real.image, CAMERA, labels)
+    assert {"floor", "north", "crate/side0", "crate/top"} <= set(learned.surfaces)
+    t = model.texture("north")
+    assert t is not None and t.extent == (0.0, 0.0, 5.0, 1.0)
+    expected = cv2.resize(truth, t.mask.shape[::-1], interpolation=cv2.INTER_AREA)
+    inner = cv2.erode(t.mask.view(np.uint8), np.ones((5, 5), np.uint8)) > 0
+    err = np.abs(t.image.astype(int) - expected.astype(int))[inner]
+    assert inner.sum() > 0.3 * inner.size and err.mean() < 4.0, err.mean()
+
+
+def test_only_what_the_camera_sees_of_a_surface_is_learned() -> None:
+    renderer = Renderer(SCENE, CAMERA)
+    frame = renderer.render()
+    model = AppearanceModel(renderer.surfaces)
+    model.learn(frame.image, CAMERA, frame.labels)
+    t = model.texture("north")
+    assert t is not None
+    north = renderer.backdrop.surface("north")
+    px = texel_frame_pixels(t, north, CAMERA)
+    xi, yi = np.round(px[..., 0]).astype(int), np.round(px[..., 1]).astype(int)
+    inside = (xi >= 2) & (xi < 318) & (yi >= 2) & (yi < 238)
+    on = np.zeros_like(inside)
+    on[inside] = frame.labels[yi[inside], xi[inside]] == LABEL_WALL
+    behind = np.zeros_like(inside)
+    behind[inside] = frame.labels[yi[inside], xi[inside]] == LABEL_OBSTACLE
+    assert behind.sum() > 100  # the crate hides part of the wall
+    assert not t.mask[behind].any()  # never learned from the crate's pixels
+    far_out = (px[..., 0] < -3) | (px[..., 0] > 322) | (px[..., 1] < -3) | (px[..., 1] > 242)
+    assert far_out.sum() > 100 and not t.mask[far_out].any()  # the frame's edge: 2 px beyond
+    assert t.mask[on].mean() > 0.98
+
+
+def test_an_excluded_part_of_the_frame_is_not_learned() -> None:
+    renderer = Renderer(SCENE, CAMERA)
+    frame = renderer.render()
+    exclude = np.zeros(frame.labels.shape, bool)
+    exclude[80:110, 20:80] = True  # a part of the wall
+    model = AppearanceModel(renderer.surfaces)
+    model.learn(frame.image, CAMERA, frame.labels, exclude=exclude)
+    t = model.texture("north")
+    assert t is not None
+    px = texel_frame_pixels(t, renderer.backdrop.surface("north"), CAMERA)
+    hidden = (px[..., 0] > 21) & (px[..., 0] < 78) & (px[..., 1] > 81) & (px[..., 1] < 108)
+    assert hidden.sum() > 500 and not t.mask[hidden].any()
+
+
+def test_a_slow_drift_is_absorbed_at_the_rate_and_a_jump_is_not() -> None:
+    renderer = Renderer(SCENE, CAMERA)
+    frame = renderer.render()
+    model = AppearanceModel(renderer.surfaces)
+    for _ in range(10):  # the first passes average; from the tenth on, the rate holds
+        model.learn(frame.image, CAMERA, frame.labels, rate=0.1, gate=40)
+    t0 = model.texture("north")
+    assert t0 is not None
+    inner = cv2.erode(t0.mask.view(np.uint8), np.ones((5, 5), np.uint8)) > 0
+    inner &= (t0.image.astype(int) < 230).all(axis=2)  # room to brighten without clipping
+    base = t0.image.astype(float)
+    brighter = cv2.add(frame.image, 6)
+    for n in range(1, 8):
+        model.learn(brighter, CAMERA, frame.labels, rate=0.1, gate=40)
+        moved = (model.texture("north").image.astype(float) - base)[inner].mean()  # type: ignore[union-attr]
+        assert abs(moved - 6 * (1 - 0.9 ** n)) < 0.6, (n, moved)
+    before = model.texture("north").image.copy()  # type: ignore[union-attr]
+    jump = cv2.add(frame.image, 60)  # beyond the gate: not lighting, not learned
+    model.learn(jump, CAMERA, frame.labels, rate=0.1, gate=40)
+    after = model.texture("north").image  # type: ignore[union-attr]
+    assert np.abs(after.astype(int) - before.astype(int))[inner].max() <= 1
+
+
+def sky_colour(camera: Camera) -> np.ndarray:
+    """A sky whose colour depends on the viewing direction only (azimuth and elevation)."""
+    ys, xs = np.mgrid[0:camera.height, 0:camera.width]
+    rays = camera.pixel_ray(np.c_[xs.ravel(), ys.ravel()])
+    az = np.arctan2(rays[:, 1], rays[:, 0])
+    el = np.arcsin(np.clip(rays[:, 2], -1, 1))
+    b = 128 + 100 * np.sin(6 * az)
+    g = 128 + 100 * np.cos(9 * az + 3 * el)
+    r = 60 + 300 * el
+    return np.clip(np.c_[b, g, r], 0, 255).astype(np.uint8).reshape(camera.height, camera.width, 3)
+
+
+def test_the_sky_is_learned_by_direction() -> None:
+    renderer = Renderer(SCENE, CAMERA)
+    frame = renderer.render()
+    real = frame.image.copy()
+    sky = frame.labels == LABEL_SKY
+    real[sky] = sky_colour(CAMERA)[sky]
+    model = AppearanceModel(renderer.surfaces)
+    learned = model.learn(real, CAMERA, frame.labels)
+    assert set(learned.surfaces) & set(SKY_FACES) == {"sky/+y"}
+    # turned by 4 degrees: the directions seen before look as they did
+    turned = CAMERA.with_rotation(rotation_exp([0.01, 0.0, math.radians(4)]) @ CAMERA.rotation)
+    view = renderer.with_camera(turned).render()
+    out = model.composite(view.image, view.labels, turned)
+    new_sky = view.labels == LABEL_SKY
+    seen_before = new_sky & (out != view.image).any(axis=2)
+    assert seen_before.sum() > 0.9 * new_sky.sum()  # a few degrees turned: most was seen
+    err = np.abs(out.astype(int) - sky_colour(turned).astype(int))[seen_before]
+    assert np.median(err) <= 1 and np.percentile(err, 99) <= 4
+    # never outside the sky
+    assert np.array_equal(out[~new_sky], view.image[~new_sky])
+
+
+def test_an_unbounded_floor_grows_as_more_of_it_is_seen() -> None:
+    scene = SceneSpec(floor=Floor(texture="builtin:gravel", tile=0.8))
+    first = Camera.look_at(fx=200, fy=200, cx=79.5, cy=59.5, width=160, height=120,
+                           position=(0, 0, 1.0), look_at=(0, 2, 0))
+    second = Camera.look_at(fx=200, fy=200, cx=79.5, cy=59.5, width=160, height=120,
+                            position=(6, 0, 1.0), look_at=(6, 2, 0))
+    renderer = Renderer(scene, first)
+    model = AppearanceModel(renderer.surfaces, sky=False)
+    a = renderer.render()
+    model.learn(a.image, first, a.labels)
+    e1 = model.texture("floor").extent  # type: ignore[union-attr]
+    ppm1 = model.texture("floor").pixels_per_metre[0]  # type: ignore[union-attr]
+    probe = np.array([[0.2, 1.5, 0.0]])  # a floor point the first camera saw
+    value = _texel(model, probe)
+    b = renderer.with_camera(second).render()
+    model.learn(b.image, second, b.labels)
+    e2 = model.texture("floor").extent  # type: ignore[union-attr]
+    assert e2[0] <= e1[0] and e2[2] > e1[2] + 5.0 and e2[2] >= 6.5
+    # what was learned stayed where it was (at half the resolution: 2x2 texels averaged)
+    assert model.texture("floor").pixels_per_metre[0] < 0.6 * ppm1  # type: ignore[union-attr]
+    assert np.abs(_texel(model, probe).astype(int) - value.astype(int)).max() <= 12
+
+
+def _texel(model: AppearanceModel, world: np.ndarray) -> np.ndarray:
+    t = model.texture("floor")
+    assert t is not None
+    h, w = t.mask.shape
+    e = t.extent
+    col = int((world[0, 0] - e[0]) / (e[2] - e[0]) * w)
+    row = int((e[3] - world[0, 1]) / (e[3] - e[1]) * h)
+    assert t.mask[row, col]
+    return t.image[row, col].copy()
+
+
+def test_the_mirror_renders_what_it_learned(tmp_path: Path) -> None:
+    truth = pattern((100, 500), 2)
+    real = reality(truth).render()
+    mirror = Mirror(SCENE, CAMERA)
+    mirror.learn_appearance(real.image, mirror.render().labels)
+    again = mirror.render()
+    inner = cv2.erode((again.labels == LABEL_WALL).astype(np.uint8), np.ones((5, 5), np.uint8)) > 0
+    assert np.abs(again.image.astype(int) - real.image.astype(int))[inner].mean() < 3.0
+    assert np.array_equal(mirror.background.image[inner], again.image[inner])
+    # a new camera pose shows the same look (the backdrop is shared)
+    mirror.set_camera(CAMERA.with_rotation(rotation_exp([0.0, 0.003, 0.0]) @ CAMERA.rotation))
+    assert mirror.appearance.learned == mirror.appearance.learned
+    moved = mirror.render()
+    assert not np.array_equal(moved.image, again.image)
+
+
+def test_saved_looks_load_into_another_model_and_render_alike(tmp_path: Path) -> None:
+    renderer = Renderer(SCENE, CAMERA)
+    frame = renderer.render()
+    real = frame.image.copy()
+    real[frame.labels == LABEL_SKY] = (200, 120, 40)
+    model = AppearanceModel(renderer.surfaces)
+    model.learn(real, CAMERA, frame.labels)
+    written = model.save(tmp_path / "look")
+    index = json.loads((tmp_path / "look" / "index.json").read_text())
+    assert index["format"] == "adapt-appearance" and written[-1].name == "index.json"
+    names = [e["name"] for e in index["surfaces"]]
+    assert names == list(model.learned) and "sky/+y" in names and "crate/side0" in names
+    other = AppearanceModel(renderer.surfaces)
+    assert other.load(tmp_path / "look") == model.learned
+    for name in model.learned:
+        a, b = model.texture(name), other.texture(name)
+        assert a is not None and b is not None and a.extent == b.extent
+        assert np.array_equal(a.mask, b.mask) and np.array_equal(a.image, b.image)
+    r1, r2 = Renderer(SCENE, CAMERA), Renderer(SCENE, CAMERA)
+    model.apply(r1)
+    other.apply(r2)
+    i1 = model.composite(r1.render().image, frame.labels, CAMERA)
+    i2 = other.composite(r2.render().image, frame.labels, CAMERA)
+    assert np.array_equal(i1, i2)
+
+
+def _saved(tmp_path: Path) -> Path:
+    renderer = Renderer(SCENE, CAMERA)
+    frame = renderer.render()
+    model = AppearanceModel(renderer.surfaces)
+    model.learn(frame.image, CAMERA, frame.labels)
+    model.save(tmp_path / "look")
+    return tmp_path / "look"
+
+
+def _edit_index(folder: Path, change) -> None:
+    path = folder / "index.json"
+    index = json.loads(path.read_text())
+    change(index)
+    path.write_text(json.dumps(index))
+
+
+@pytest.mark.parametrize("break_it, message", [
+    (lambda f: (f / "index.json").unlink(), "no such file"),
+    (lambda f: (f / "index.json").write_text("{not json"), "cannot read it as JSON"),
+    (lambda f: _edit_index(f, lambda i: i.update(format="other")), "not an appearance index"),
+    (lambda f: _edit_index(f, lambda i: i.update(version=9)), "version 9"),
+    (lambda f: _edit_index(f, lambda i: i.update(surfaces={})), '"surfaces" must be a list'),
+    (lambda f: _edit_index(f, lambda i: i["surfaces"][0].update(name="south")),
+     "the scene has no surface 'south'"),
+    (lambda f: _edit_index(f, lambda i: i["surfaces"].append(i["surfaces"][0])), "listed twice"),
+    (lambda f: _edit_index(f, lambda i: i["surfaces"][0].update(extent=[0, 0, -1, 1])),
+     "extent must be"),
+    (lambda f: _edit_index(f, lambda i: i["surfaces"][0].update(image="../x.png")),
+     "expected a file name in the folder"),
+    (lambda f: (f / "floor.png").unlink(), "cannot read"),
+    (lambda f: (f / "floor.png").write_bytes(b"not a png"), "is not an 8-bit image"),
+    (lambda f: cv2.imwrite(str(f / "floor.mask.png"), np.zeros((5, 7), np.uint8)),
+     "the mask is 7x5"),
+    (lambda f: _edit_index(f, lambda i: i["surfaces"][-1].update(extent=[0, 0, 1, 1])),
+     "a sky face is"),
+])
+def test_a_bad_folder_is_refused_and_nothing_changes(tmp_path: Path, break_it, message) -> None:
+    folder = _saved(tmp_path)
+    break_it(folder)
+    model = AppearanceModel(Renderer(SCENE, CAMERA).surfaces)
+    with pytest.raises(AppearanceError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        model.load(folder)
+    assert model.learned == ()
+
+
+def test_a_save_that_cannot_be_written_says_where(tmp_path: Path) -> None:
+    (tmp_path / "file").write_text("x")
+    model = AppearanceModel(Renderer(SCENE, CAMERA).surfaces)
+    with pytest.raises(AppearanceError, match="cannot make the appearance folder"):
+        model.save(tmp_path / "file" / "look")
+
+
+@pytest.mark.parametrize("image, labels, kw, message", [
+    (np.zeros((240, 320), np.uint8), None, {}, "expected a BGR uint8 image"),
+    (np.zeros((240, 320, 3), np.float32), None, {}, "expected a BGR uint8 image"),
+    (np.zeros((120, 160, 3), np.uint8), None, {}, "expected the camera's 320x240"),
+    (None, np.zeros((10, 10), np.int32), {}, "labels: expected shape"),
+    (None, None, {"exclude": np.zeros((10, 10), bool)}, "exclude: expected shape"),
+    (None, None, {"rate": 0.0}, "rate: expected a fraction"),
+])
+def test_bad_arguments_to_learn(image, labels, kw, message) -> None:
+    frame = Renderer(SCENE, CAMERA).render()
+    model = AppearanceModel(Renderer(SCENE, CAMERA).surfaces)
+    with pytest.raises(AppearanceError, match=message):
+        model.learn(frame.image if image is None else image, CAMERA,
+                    frame.labels if labels is None else labels, **kw)
+    assert model.learned == ()

@@ -1,0 +1,184 @@
+"""The Scene Background schema's appearance learning: when it is on, what the rules
+see, how often it learns, what it never learns, the trace record, re-acquisition."""
+
+from __future__ import annotations
+
+import base64
+
+import cv2
+import numpy as np
+import pytest
+
+from adapt.engine import Agent
+from adapt.frames import Frame
+from adapt.mirror import Mirror
+from adapt.reality import open_reality
+from adapt.reality.camera import offset_camera
+from adapt.scenario import Scenario, load_scenario
+from adapt.schemas import SchemaNetwork
+from adapt.schemas.background import REACQUIRE_AFTER, TRACE_EVERY, AppearanceStage, SceneBackground
+from adapt.seeds import Streams
+
+from . import checks as C
+
+
+@pytest.fixture(scope="module")
+def video() -> Scenario:
+    return load_scenario(C.VIDEO)
+
+
+def frames(sc: Scenario, n: int) -> list[Frame]:
+    source = open_reality(sc, streams=Streams(sc.seed or 0))
+    try:
+        return [f for f, _ in zip(source, range(n))]
+    finally:
+        source.close()
+
+
+def network(sc: Scenario, reality: str, camera=None) -> SchemaNetwork:
+    return SchemaNetwork(Mirror(sc.scene, camera or sc.camera), frame_interval=1 / 15,
+                         models={m.name: m for m in sc.objects}, reality=reality)
+
+
+@pytest.mark.parametrize("reality, mode, stage", [
+    ("video", "auto", AppearanceStage.STRUCTURE),
+    ("synthetic", "auto", AppearanceStage.OFF),
+    ("synthetic", "on", AppearanceStage.STRUCTURE),
+    ("video", "off", AppearanceStage.OFF),
+])
+def test_auto_learns_a_videos_look_and_leaves_a_synthetic_alone(video, reality, mode, stage) -> None:
+    bg = network(video, reality).instantiate("scene-background",
+                                             parameters={"appearance": mode})
+    assert isinstance(bg, SceneBackground) and bg.stage is stage
+
+
+def test_a_loaded_look_is_refined_without_aligning_the_structure_first(video, tmp_path) -> None:
+    net = network(video, "video")
+    bg = net.instantiate("scene-background")
+    for f in frames(video, 2):
+        net.perceive(f)
+    assert bg.stage is AppearanceStage.LEARNED
+    net.mirror.save_appearance(tmp_path / "look")
+    again = network(video, "video")
+    again.mirror.load_appearance(tmp_path / "look")
+    bg2 = again.instantiate("scene-background")
+    assert bg2.stage is AppearanceStage.LEARNED
+    # from the nominal camera, the MMD with the loaded look synchronises it (no structure)
+    errors = []
+    for f in frames(video, 10):
+        again.perceive(f)
+        assert bg2.result is not None and bg2.result.aligned
+        errors.append(bg2.pixel_error)
+    assert errors[0] > 2.0 and max(errors[-3:]) < 0.5, errors
+    assert not [r for r in bg2.regions if not r.expected]
+    turn = again.mirror.camera.rotation @ net.mirror.camera.rotation.T
+    angle = np.arccos(np.clip((np.trace(turn) - 1) / 2, -1, 1))
+    assert angle * video.camera.fx < 0.5  # the same camera as the run that learned, within tolerance
+
+
+RULES = """
+sp {watch*appearance
+   (state <s> ^io.input-link <in>)
+   (<in> ^frame.index <i> ^schema <x>)
+   (<x> ^type scene-background ^appearance <a> ^status <st>)
+-->
+   (write |frame | <i> | | <a> | | <st> (crlf))}
+
+sp {watch*structure-error
+   (state <s> ^io.input-link.schema <x>)
+   (<x> ^structure-error <e>)
+-->
+   (write |error | <e> (crlf))}
+"""
+
+
+def test_the_rules_see_the_stage_and_the_structure_error(video) -> None:
+    far = offset_camera(video.camera, (0.0, 0.0, 0.0), (4.0, -3.0, 2.0))
+    net = network(video, "video", camera=far)
+    net.instantiate("scene-background", "background")
+    agent = Agent(seed=1)
+    agent.load_text(RULES)
+    agent.on_input(net.write_input)
+    agent.on_output(net.on_output)
+    out: list[str] = []
+    agent.on_write(out.append)
+    for f in frames(video, 6):
+        net.perceive(f)
+        agent.run(1, footer=False)
+    text = "".join(out)
+    assert "frame 0 structure waiting" in text and "error " in text
+    assert "learned running" in text
+
+
+def test_learning_every_k_synchronised_frames(video) -> None:
+    net = network(video, "video")
+    bg = net.instantiate("scene-background", parameters={"learn_every": 4})
+    passes = []
+    for f in frames(video, 12):
+        net.perceive(f)
+        passes.append(bg.learn_passes)
+    first = next(i for i, p in enumerate(passes) if p)
+    assert passes[first] == 1
+    assert passes[-1] == 1 + (11 - first) // 4
+
+
+def test_what_a_schema_monitors_is_never_learned(video) -> None:
+    net = network(video, "video")
+    bg = net.instantiate("scene-background", parameters={"learn_every": 1})
+    box = (100, 170, 60, 40)  # a part of the floor
+    net.monitored_boxes = lambda exclude=None: [("somebody", box)]  # type: ignore[method-assign]
+    for f in frames(video, 8):
+        x, y, w, h = box
+        image = f.image.copy()
+        image[y:y + h, x:x + w] = (20, 20, 240)  # red, where "somebody" looks
+        net.perceive(Frame(f.index, f.time, image))
+    assert bg.learn_passes >= 6
+    floor = net.mirror.appearance.texture("floor")
+    assert floor is not None and floor.coverage > 0.2
+    img = floor.image.astype(int)
+    red = (img[:, :, 2] - np.maximum(img[:, :, 0], img[:, :, 1]) > 60) & floor.mask
+    assert not red.any()
+
+
+def test_the_trace_record_is_rate_limited_and_shows_previews(video) -> None:
+    net = network(video, "video")
+    bg = net.instantiate("scene-background")
+    for f in frames(video, 2):
+        net.perceive(f)
+    first = bg.appearance_record(1)
+    assert first is not None and first["stage"] == "learned" and first["passes"] == 1
+    names = [s["name"] for s in first["surfaces"]]
+    assert names[0] == "floor" and "north" in names and "sky/+y" in names
+    for s in first["surfaces"]:
+        assert s["image"].startswith("data:image/png;base64,")
+        png = base64.b64decode(s["image"].split(",", 1)[1])
+        img = cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_UNCHANGED)
+        assert img.shape[2] == 4 and max(img.shape[:2]) <= 160 and 0 < s["coverage"] <= 1
+    # later records: only when the look changed, and ever more rarely
+    recorded = []
+    for frame in range(2, 2 + 8 * TRACE_EVERY):
+        if frame % 10 == 0:
+            bg.learn_passes += 1  # a refinement pass, as every 10 frames
+        if bg.appearance_record(frame) is not None:
+            recorded.append(frame - 1)
+    assert recorded == [TRACE_EVERY, 3 * TRACE_EVERY, 7 * TRACE_EVERY]  # waits 30, 60, 120
+    assert bg.appearance_record(2 + 8 * TRACE_EVERY) is None  # nothing new
+
+
+def blank(f: Frame) -> Frame:
+    return Frame(f.index, f.time, np.full_like(f.image, 127))
+
+
+def test_a_lost_view_aligns_the_structure_again(video) -> None:
+    net = network(video, "video")
+    bg = net.instantiate("scene-background")
+    fs = frames(video, 4)
+    for f in fs[:2]:
+        net.perceive(f)
+    assert bg.stage is AppearanceStage.LEARNED
+    for k in range(REACQUIRE_AFTER):
+        net.perceive(blank(Frame(2 + k, (2 + k) / 15, fs[0].image)))
+    assert bg.stage is AppearanceStage.STRUCTURE and net.mirror.appearance.learned == ()
+    net.perceive(Frame(20, 20 / 15, fs[2].image))
+    net.perceive(Frame(21, 21 / 15, fs[3].image))
+    assert bg.stage is AppearanceStage.LEARNED and bg.pixel_error < 0.5
