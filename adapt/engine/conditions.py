@@ -78,7 +78,7 @@ from adapt.engine.production import (
     simple_tests,
     variables_in_test,
 )
-from adapt.engine.symbols import Float, Identifier, Symbol
+from adapt.engine.symbols import Float, Identifier, Symbol  # noqa: F401 (Float: the examples)
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
@@ -150,42 +150,41 @@ def soar_compare(a: object, b: object) -> int:
     >>> soar_compare(Identifier("O", 10), Identifier("O", 2)), soar_compare(3, "a")
     (1, -1)
     """
-    ta, tb = type(a), type(b)
-    if ta is int or ta is Float or ta is float:
-        if tb is int or tb is Float or tb is float:
-            return (a > b) - (a < b)  # type: ignore[operator]
+    if isinstance(a, (int, float)):  # a Float is a float
+        if isinstance(b, (int, float)):
+            return (a > b) - (a < b)
         return -1
-    if ta is str:
-        if tb is str:
-            return (a > b) - (a < b)  # type: ignore[operator]
+    if isinstance(a, str):
+        if isinstance(b, str):
+            return (a > b) - (a < b)
         return -1
-    if ta is Identifier and tb is Identifier:
-        x, y = a.sort_key(), b.sort_key()  # type: ignore[attr-defined]
+    if isinstance(a, Identifier) and isinstance(b, Identifier):
+        x, y = a.sort_key(), b.sort_key()
         return (x > y) - (x < y)
     return -1
 
 
 def _less(a: object, b: object) -> bool:
     if type(a) is int and type(b) is int:
-        return a < b  # type: ignore[operator]
+        return a < b
     return soar_compare(a, b) < 0
 
 
 def _greater(a: object, b: object) -> bool:
     if type(a) is int and type(b) is int:
-        return a > b  # type: ignore[operator]
+        return a > b
     return soar_compare(a, b) > 0
 
 
 def _less_equal(a: object, b: object) -> bool:
     if type(a) is int and type(b) is int:
-        return a <= b  # type: ignore[operator]
+        return a <= b
     return soar_compare(a, b) <= 0
 
 
 def _greater_equal(a: object, b: object) -> bool:
     if type(a) is int and type(b) is int:
-        return a >= b  # type: ignore[operator]
+        return a >= b
     return soar_compare(a, b) >= 0
 
 

@@ -39,12 +39,12 @@ from typing import TYPE_CHECKING, Any, Container, Final
 from adapt.engine.matcher import FlatKey, Match
 from adapt.engine.production import (
     CallAction,
-    PreferenceKind,
     Condition,
     DisjunctionTest,
     EqualityTest,
     FunctionCall,
     MakeAction,
+    PreferenceKind,
     Production,
     RhsValue,
     Test,

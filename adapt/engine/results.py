@@ -277,7 +277,6 @@ class ResultMaker:
         :meth:`adapt.engine.kernel.Kernel.remove_goal`).
         """
         k = self.kernel
-        goal = inst.goal
         target = min(self.level(p[1]) for p in results)
         for p in results:
             self._promote(p, target)

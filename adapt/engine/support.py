@@ -153,10 +153,10 @@ class PreferenceMemory:
             if self.isup.pop(key, None) is not None:
                 self.wm.remove_key(key)
             return [goal] if goal.operator is value else []
-        key = (ident, attr, value, False)
-        had = self.osup.pop(key, None) is not None
-        if self.isup.pop(key, None) is not None or had:
-            self.wm.remove_key(key)
+        wme_key = (ident, attr, value, False)
+        had = self.osup.pop(wme_key, None) is not None
+        if self.isup.pop(wme_key, None) is not None or had:
+            self.wm.remove_key(wme_key)
         return []
 
     # -- retracting ----------------------------------------------------------------
