@@ -19,8 +19,11 @@ One decision cycle is::
   o-supported ones (PE).
 * **output** -- output callbacks see the output-link.
 
-The **waterfall**: each elaboration cycle fires at one goal only, the highest
-(oldest) goal with pending work.  When the active level moves, or when a goal
+The **waterfall**: each elaboration cycle fires at the highest (oldest) goal
+with pending work, the *active* goal; in the same cycle each lower goal then
+fires its pending matches whose actions stay below the change level (the
+deepest goal above it that fired), as Soar's inner elaboration loop does
+(:func:`waterfall`).  When the active level moves, or when a goal
 that was firing i-supported matches runs out of them (*minor quiescence*),
 the goal stack is checked for consistency: a selected operator that the
 current preferences would no longer choose, or an impasse whose kind the
