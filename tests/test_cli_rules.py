@@ -122,3 +122,23 @@ def test_a_byte_order_mark_is_accepted(tmp_path: Path, capsys: pytest.CaptureFix
     assert main(["rules", "check", str(f)]) == 0
     assert main(["rules", "run", str(f)]) == 0
     assert capsys.readouterr().out.startswith(f"{f}: 1 production ok\nhello\n")
+
+
+def test_check_verbose_prints_the_join_order_following_source(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "rules.soar").write_text(
+        "sp {pair*done (state <s> ^holds <h1> <h2>) (<h1> ^on <p>) (<h2> ^on <p>)\n"
+        "  (<h1> ^disk 1) (<h2> ^disk 2) --> (halt)}\n")
+    top = tmp_path / "agent.soar"
+    top.write_text("multi-attributes holds 8\npushd sub\nsource rules.soar\npopd\n")
+    assert main(["rules", "check", str(top), "--verbose"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == f"{top}: 1 production ok"
+    assert out[1] == "  sp pair*done  (reordered)"
+    # each holding is narrowed to its disk before the next one is joined
+    assert [line.split(None, 1)[1] for line in out[2:]] == [
+        "(<s> ^type state)", "(<s> ^holds <h1>)", "(<h1> ^disk 1)", "(<h1> ^on <p>)",
+        "(<s> ^holds <h2>)", "(<h2> ^on <p>)", "(<h2> ^disk 2)"]
+    assert main(["rules", "check", str(top)]) == 0
+    assert capsys.readouterr().out == f"{top}: 1 production ok\n"

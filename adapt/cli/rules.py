@@ -9,8 +9,11 @@ what ran.  Each way a run can end has its exit status (:func:`run_status`,
 ``.jsonl`` file name that is not one of the rule files; missing folders are
 made) and written as the run goes.
 
-``adapt rules check FILE...`` parses every file and prints its first
-positioned error or its warnings.
+``adapt rules check FILE...`` parses every file (an agent's top file: its
+``source`` lines are followed) and prints its first positioned error or its
+warnings; ``--verbose`` also prints each production's conditions in the order
+they are joined (Soar's reorderer, :mod:`adapt.engine.reorder`, with the
+file's ``multi-attributes`` hints).
 """
 
 from __future__ import annotations
@@ -80,6 +83,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
 
     check = rsub.add_parser("check", help="parse and lint rule files")
     check.add_argument("files", nargs="+", metavar="FILE")
+    check.add_argument("--verbose", action="store_true",
+                       help="also print each production's conditions in the order they are "
+                            "joined")
     check.set_defaults(func=check_command)
 
 
@@ -200,7 +206,8 @@ def info_command(args: argparse.Namespace) -> int:
 
 
 def check_command(args: argparse.Namespace) -> int:
-    """Parse every file; print errors (first per file) and warnings."""
+    """Parse every file; print errors (first per file) and warnings; with
+    ``--verbose`` each production's join order."""
     from adapt.engine.functions import default_functions
     from adapt.engine.parse import load_rule_file
 
@@ -217,4 +224,32 @@ def check_command(args: argparse.Namespace) -> int:
             print(_warning_line(warning), file=sys.stderr)
         count = len(rules.productions)
         print(f"{path}: {count} production{'' if count == 1 else 's'} ok")
+        if getattr(args, "verbose", False):
+            for line in _join_orders(rules):
+                print(line)
     return 1 if failed else 0
+
+
+def _join_orders(rules: Any) -> list[str]:
+    """Each production's conditions in join order, numbered as written (1-based),
+    with the ``multi-attributes`` hints in force when it is loaded."""
+    from adapt.engine.conditions import evaluation_order
+    from adapt.engine.reorder import join_order
+    from adapt.traceview.conditions import condition_text
+
+    hints: dict[str, int] = {}
+    settings = list(rules.settings)
+    lines: list[str] = []
+    k = 0
+    for i, p in enumerate(rules.productions):
+        while k < len(settings) and settings[k][0] <= i:
+            setting = settings[k][1]
+            if setting.kind == "multi-attributes" and setting.name is not None:
+                hints[setting.name] = int(setting.value)
+            k += 1
+        conds = p.conditions
+        order = evaluation_order(conds, (), join_order(conds, (), hints))
+        moved = "" if order == sorted(order) else "  (reordered)"
+        lines.append(f"  sp {p.name}{moved}")
+        lines.extend(f"    {n + 1:>3}  {condition_text(conds[n])}" for n in order)
+    return lines

@@ -26,12 +26,12 @@ from __future__ import annotations
 
 import gc
 import os
-import random
 import time
 from collections import deque
 from typing import Any, Callable, Iterator, MutableSequence
 
 from adapt.engine import cycle
+from adapt.engine.commands import Chunking, Setting
 from adapt.engine.events import Event, EventBus
 from adapt.engine.functions import FunctionTable, default_functions
 from adapt.engine.goals import Goal
@@ -40,6 +40,7 @@ from adapt.engine.kernel import Kernel
 from adapt.engine.matcher import Matcher
 from adapt.engine.parse import RuleFile, load_rule_file, parse_rules
 from adapt.engine.report import RunReport
+from adapt.engine.soar_random import SoarRandom
 from adapt.engine.symbols import Identifier, Symbol
 from adapt.engine.trace import TraceWriter
 from adapt.engine.tracing import TraceRecorder
@@ -92,11 +93,13 @@ def _raise_gc_threshold(threshold: int | None) -> tuple[int, ...] | None:
 class _Context:
     """What right-hand-side functions may do to the agent (``RhsContext``)."""
 
-    __slots__ = ("agent", "_constants")
+    __slots__ = ("agent", "_constants", "copies", "copied_ids")
 
     def __init__(self, agent: Agent) -> None:
         self.agent = agent
         self._constants = 0
+        self.copies: list[tuple[Identifier, Symbol, Symbol]] = []
+        self.copied_ids: list[Identifier] = []
 
     def write(self, text: str) -> None:
         self.agent._write(text)
@@ -105,8 +108,7 @@ class _Context:
         self.agent.halted = True
 
     def interrupt(self) -> None:
-        if self.agent.stop_reason is None:
-            self.agent.stop_reason = "interrupted"
+        self.agent.interrupt_pending = True
 
     def error(self, message: str) -> None:
         self.agent.message(f"Error: {message}")
@@ -117,6 +119,62 @@ class _Context:
             name = f"{prefix}{self._constants}"
             if name not in self.agent._symbols_in_use():
                 return name
+
+    def decision_count(self) -> int:
+        return self.agent.decisions
+
+    def soar_random(self) -> SoarRandom:
+        return self.agent.rng
+
+    def wmes_of(self, ident: Identifier) -> list[WME]:
+        return [w for w in self.agent.kernel.wm.of(ident) if not w[3]]
+
+    def count(self, name: str) -> None:
+        counters = self.agent.counters
+        counters[name] = counters.get(name, 0) + 1
+
+    def traces(self, level: int) -> bool:
+        return level == 1  # Soar's default trace: decisions only
+
+    def deep_copy(self, ident: Identifier) -> Identifier:
+        """Soar's ``deep-copy``: identifiers made depth first, each identifier's
+        WMEs visited as Soar keeps them (the newest attribute first, the newest
+        WME first), the WMEs queued in :attr:`copies` for the firing."""
+        ids = self.agent.kernel.ids
+        root = ids.new("D")
+        made: dict[Identifier, Identifier] = {}
+        copies = self.copies
+        self.copied_ids.append(root)
+
+        def visit(source: Identifier, target: Identifier) -> None:
+            if source in made:
+                return
+            made[source] = target
+            for w in _soar_slot_order(self.wmes_of(source)):
+                new: list[Symbol] = []
+                for field in (w[1], w[2]):
+                    if type(field) is Identifier:
+                        copy = made.get(field)
+                        if copy is None:
+                            copy = ids.new(field.letter)
+                            self.copied_ids.append(copy)
+                        visit(field, copy)
+                        new.append(copy)
+                    else:
+                        new.append(field)
+                copies.append((target, new[0], new[1]))
+
+        visit(ident, root)
+        return root
+
+
+def _soar_slot_order(wmes: list[WME]) -> list[WME]:
+    """WMEs in the order Soar walks an identifier's slots: the slot created
+    last first, in a slot the newest WME first."""
+    first_seen: dict[Symbol, int] = {}
+    for w in wmes:
+        first_seen.setdefault(w[1], w[4])
+    return sorted(wmes, key=lambda w: (-first_seen[w[1]], -w[4]))
 
 
 class Agent:
@@ -178,14 +236,21 @@ class Agent:
         self.history = history
         self.gc_threshold = gc_threshold or None
         self.seed = seed
-        self.rng = random.Random(seed)
+        #: Soar's random numbers, seeded as Soar's ``srand`` seeds them
+        self.rng = SoarRandom(seed)
+        #: the counters of ``(count ...)``
+        self.counters: dict[str, int] = {}
         self.functions: FunctionTable = default_functions()
         self.max_elaborations = max_elaborations
         self.max_goal_depth = max_goal_depth
+        #: whether ``(write ...)`` output is kept (Soar's ``output agent-writes``)
+        self.agent_writes = True
         self.warnings: list[str] = []
         self.messages: MutableSequence[str] = self._log()
         self.files: list[str] = []
         self.halted = False
+        #: ``(interrupt)`` fired: the run stops before the next decision phase
+        self.interrupt_pending = False
         self.stop_reason: StopReason | None = None
         self.decisions = 0
         self.elaboration_cycles = 0
@@ -211,8 +276,11 @@ class Agent:
         return [] if self.history is None else deque(maxlen=self.history)
 
     # -- rules --------------------------------------------------------------
-    def load_text(self, text: str, file: str = "<string>") -> RuleFile:
-        """Load rules from text; a production with an existing name replaces it.
+    def load_text(self, text: str, file: str = "<string>", *,
+                  chunking: Chunking = "refuse") -> RuleFile:
+        """Load agent text: productions (one with an existing name replaces it)
+        and agent-file commands (see :mod:`adapt.engine.commands`; ``source``
+        reads files relative to the current directory).
 
         Raises
         ------
@@ -221,21 +289,25 @@ class Agent:
         """
         saved_gc = _raise_gc_threshold(self.gc_threshold)
         try:
-            return self._load(parse_rules(text, file=file, functions=self.functions))
+            return self._load(parse_rules(text, file=file, functions=self.functions,
+                                          chunking=chunking))
         finally:
             if saved_gc is not None:
                 gc.set_threshold(*saved_gc)
 
-    def load_file(self, path: str | os.PathLike[str]) -> RuleFile:
-        """Load a rule file (see :meth:`load_text`).
+    def load_file(self, path: str | os.PathLike[str], *,
+                  chunking: Chunking = "refuse") -> RuleFile:
+        """Load an agent file and the files it sources (see :meth:`load_text`).
 
-        Loading follows the garbage-collection policy of :meth:`run` (see
+        ``chunking="off"``: an agent written for chunking runs with learning
+        off (its chunking commands are accepted and do nothing).  Loading
+        follows the garbage-collection policy of :meth:`run` (see
         ``gc_threshold``): a large rule base is many long-lived objects.
         """
         saved_gc = _raise_gc_threshold(self.gc_threshold)
         try:
-            rules = load_rule_file(path, functions=self.functions)
-            self.files.append(os.fspath(path))
+            rules = load_rule_file(path, functions=self.functions, chunking=chunking)
+            self.files.extend(rules.files)
             return self._load(rules)
         finally:
             if saved_gc is not None:
@@ -243,13 +315,45 @@ class Agent:
 
     def _load(self, rules: RuleFile) -> RuleFile:
         self.warnings.extend(rules.warnings)
-        for p in rules.productions:
+        settings = list(rules.settings)
+        k = 0
+        for i, p in enumerate(rules.productions):
+            while k < len(settings) and settings[k][0] <= i:
+                self._apply(settings[k][1])
+                k += 1
             if p.name in self.kernel.rules:
                 where = f"{p.location}: " if p.location is not None else ""
                 self.warnings.append(f"{where}production {p.name} replaces an earlier one")
             self.kernel.add_production(p)
+        for _, setting in settings[k:]:
+            self._apply(setting)
         self.kernel.commit()
         return rules
+
+    def _apply(self, setting: Setting) -> None:
+        """Do what an accepted agent-file command asks (see :mod:`adapt.engine.commands`)."""
+        kind, value = setting.kind, setting.value
+        if kind == "seed":
+            assert isinstance(value, int)
+            self.reseed(value)
+        elif kind == "multi-attributes":
+            assert isinstance(value, int) and setting.name is not None
+            self.kernel.multi_attributes[setting.name] = value
+        elif kind == "max-elaborations":
+            assert isinstance(value, int)
+            self.max_elaborations = value
+        elif kind == "max-goal-depth":
+            assert isinstance(value, int)
+            self.max_goal_depth = value
+        elif kind == "agent-writes":
+            self.agent_writes = bool(value)
+        elif kind == "echo":
+            self.message(str(value))
+
+    def reseed(self, seed: int) -> None:
+        """Seed the agent's random numbers (Soar's ``srand``)."""
+        self.seed = seed
+        self.rng.seed(seed)
 
     def register_function(self, name: str, fn: Callable[..., object], *, min_args: int = 0,
                           max_args: int | None = None) -> None:
@@ -386,6 +490,8 @@ class Agent:
         self.events.emit(Event.MESSAGE, text)
 
     def _write(self, text: str) -> None:
+        if not self.agent_writes:
+            return
         self._output.append(text)
         self.events.emit(Event.WRITE, text)
 

@@ -14,9 +14,10 @@ Tests on one field of a WME
   identifiers are compared by identity.  A variable not yet bound is bound
   to the field.
 * ``<> x``: not the same symbol.
-* ``< > <= >=``: both numbers (int or float, compared numerically) or both
-  symbolic constants (compared as strings); otherwise the test fails, and an
-  identifier never satisfies one.
+* ``< > <= >=``: Soar's order (:func:`soar_compare`): numbers numerically
+  (int or float), strings as strings, identifiers by letter, then number;
+  between two types the tested value is *less* than the other, so ``<`` and
+  ``<=`` hold and ``>`` and ``>=`` do not.
 * ``<=> x``: the same *type* of symbol (identifier, string, int, float).
 * ``<< a b >>``: equal to one of the constants.
 
@@ -77,7 +78,7 @@ from adapt.engine.production import (
     simple_tests,
     variables_in_test,
 )
-from adapt.engine.symbols import Float, Identifier, Symbol
+from adapt.engine.symbols import Float, Identifier, Symbol  # noqa: F401 (Float: the examples)
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
@@ -85,6 +86,7 @@ __all__ = [
     "Relation",
     "RELATIONS",
     "relation_holds",
+    "soar_compare",
     "Bindings",
     "PendingRelation",
     "Partial",
@@ -133,27 +135,57 @@ def _same_type(a: object, b: object) -> bool:
     return _kind(a) == _kind(b)
 
 
-def _comparable(a: object, b: object) -> bool:
-    ta, tb = type(a), type(b)
-    if ta is int or ta is Float or ta is float:
-        return tb is int or tb is Float or tb is float
-    return ta is str and tb is str
+def soar_compare(a: object, b: object) -> int:
+    """Soar's ``compare_symbols`` (``rete.cpp``): -1, 0 or 1.
+
+    Numbers compare numerically (an int with a float too), strings as strings,
+    identifiers by letter, then number (``O2 < O10 < S1``); a value compared
+    with one of another type is always *less* -- so between types ``<`` and
+    ``<=`` hold and ``>`` and ``>=`` do not, whatever the values.
+
+    Examples
+    --------
+    >>> soar_compare(2, Float(2.5)), soar_compare("b", "a"), soar_compare("a", 3)
+    (-1, 1, -1)
+    >>> soar_compare(Identifier("O", 10), Identifier("O", 2)), soar_compare(3, "a")
+    (1, -1)
+    """
+    if isinstance(a, (int, float)):  # a Float is a float
+        if isinstance(b, (int, float)):
+            return (a > b) - (a < b)
+        return -1
+    if isinstance(a, str):
+        if isinstance(b, str):
+            return (a > b) - (a < b)
+        return -1
+    if isinstance(a, Identifier) and isinstance(b, Identifier):
+        x, y = a.sort_key(), b.sort_key()
+        return (x > y) - (x < y)
+    return -1
 
 
 def _less(a: object, b: object) -> bool:
-    return _comparable(a, b) and a < b  # type: ignore[operator]
+    if type(a) is int and type(b) is int:
+        return a < b
+    return soar_compare(a, b) < 0
 
 
 def _greater(a: object, b: object) -> bool:
-    return _comparable(a, b) and a > b  # type: ignore[operator]
+    if type(a) is int and type(b) is int:
+        return a > b
+    return soar_compare(a, b) > 0
 
 
 def _less_equal(a: object, b: object) -> bool:
-    return _comparable(a, b) and a <= b  # type: ignore[operator]
+    if type(a) is int and type(b) is int:
+        return a <= b
+    return soar_compare(a, b) <= 0
 
 
 def _greater_equal(a: object, b: object) -> bool:
-    return _comparable(a, b) and a >= b  # type: ignore[operator]
+    if type(a) is int and type(b) is int:
+        return a >= b
+    return soar_compare(a, b) >= 0
 
 
 #: Each relation as a predicate ``(tested value, other) -> bool``: the one
@@ -174,7 +206,7 @@ def relation_holds(relation: str, value: object, other: object) -> bool:
 
     Examples
     --------
-    >>> relation_holds("<", 2, Float(2.5)), relation_holds("<", "a", 3)
+    >>> relation_holds("<", 2, Float(2.5)), relation_holds(">", "a", 3)
     (True, False)
     >>> relation_holds("<>", 2, Float(2.0)), relation_holds("<=>", 2, 7)
     (True, True)
@@ -422,19 +454,27 @@ def _search(elements: Sequence[ConditionElement], order: Sequence[int], step: in
 
 
 def conjunction_matches(elements: Sequence[ConditionElement], source: WmeSource,
-                        bindings: Bindings | None = None
+                        bindings: Bindings | None = None,
+                        positives: Sequence[int] | None = None,
                         ) -> Iterator[tuple[Bindings, tuple[WME, ...]]]:
     """Every consistent match of a conjunction, given the enclosing bindings.
 
     Yields ``(bindings, wmes)``, ``wmes`` holding one WME per positive
     condition in source order.  Matches come in backtracking order:
-    positive conditions left to right, each one's candidate WMEs in the
-    source's order.
+    positive conditions left to right (or in the order ``positives`` gives
+    their indexes: a join order), each one's candidate WMEs in the source's
+    order.  The set of matches does not depend on the order.
     """
     outer = dict(bindings or {})
-    order = evaluation_order(elements, outer)
+    order = evaluation_order(elements, outer, positives)
+    if positives is None:
+        for p in _search(elements, order, 0, Partial(outer), source):
+            yield p.bindings, p.wmes
+        return
+    rank = {i: k for k, i in enumerate(positives)}
+    written = sorted(positives)
     for p in _search(elements, order, 0, Partial(outer), source):
-        yield p.bindings, p.wmes
+        yield p.bindings, tuple(p.wmes[rank[i]] for i in written)
 
 
 def exists(element: ConditionElement, source: WmeSource, bindings: Bindings) -> bool:

@@ -19,8 +19,11 @@ One decision cycle is::
   o-supported ones (PE).
 * **output** -- output callbacks see the output-link.
 
-The **waterfall**: each elaboration cycle fires at one goal only, the highest
-(oldest) goal with pending work.  When the active level moves, or when a goal
+The **waterfall**: each elaboration cycle fires at the highest (oldest) goal
+with pending work, the *active* goal; in the same cycle each lower goal then
+fires its pending matches whose actions stay below the change level (the
+deepest goal above it that fired), as Soar's inner elaboration loop does
+(:func:`waterfall`).  When the active level moves, or when a goal
 that was firing i-supported matches runs out of them (*minor quiescence*),
 the goal stack is checked for consistency: a selected operator that the
 current preferences would no longer choose, or an impasse whose kind the
@@ -28,7 +31,9 @@ preferences no longer give, is removed on the spot -- and the phase ends
 (apply goes to output, proposal to decision).
 
 ``halt`` finishes its elaboration cycle and stops the agent (no output
-phase).  ``run N`` stops before the apply phase of the run's ``N``-th
+phase).  ``(interrupt)`` stops the run before the next decision phase: the
+phase it fires in, and the output, input and proposal phases after it, run
+to their end (as in Soar).  ``run N`` stops before the apply phase of the run's ``N``-th
 decision.
 """
 
@@ -45,8 +50,9 @@ from adapt.engine.vocabulary import NO_CHANGE, ImpasseAttribute, ImpasseType, Ph
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.engine.agent import Agent
+    from adapt.engine.kernel import Kernel
 
-__all__ = ["run", "run_phase", "decide_context_slots", "goal_stack_consistent"]
+__all__ = ["run", "run_phase", "decide_context_slots", "goal_stack_consistent", "waterfall"]
 
 _MAX_ELAB: Final = "Warning: reached max-elaborations; proceeding to {} phase."
 
@@ -81,6 +87,11 @@ def run(agent: Agent, max_decisions: int | None) -> None:
         phase = agent.next_phase
         if phase is _APPLY and max_decisions is not None and done >= max_decisions:
             agent.stop_reason = "max-decisions"
+            break
+        if phase is _DECISION and agent.interrupt_pending:
+            # (interrupt) lets the phases before the next decision finish, as in Soar
+            agent.interrupt_pending = False
+            agent.stop_reason = "interrupted"
             break
         if on_begin:
             events.emit(Event.PHASE_BEGIN, (agent.decisions + (phase is _DECISION), phase))
@@ -167,11 +178,32 @@ def elaborate(agent: Agent, *, apply: bool) -> None:
                 return
         firing = _O if apply and not (active.pending_i or active.retractions) else _I
         fire(active, firing)
+        if active.lower is not None:
+            waterfall(k, active, firing, apply)
+        if firing is _I:
+            k.retract_pending(active)
         cycles += 1
         agent.elaboration_cycles += 1
         commit()
-        if agent.halted or agent.stop_reason is not None:
+        if agent.halted or agent.stop_reason is not None:  # halt; the goal-depth limit
             return
+
+
+def waterfall(k: Kernel, active: Goal, firing: Support, apply: bool) -> None:
+    """The rest of an elaboration cycle below the active goal (Soar's inner
+    elaboration loop): each lower goal with pending work in turn fires its
+    pending matches of the cycle's kind whose actions stay below the *change
+    level* -- the deepest goal above it that had such matches -- and leaves
+    the others (and its retractions) for a later cycle."""
+    change = active.level
+    goal = active.lower
+    while goal is not None:
+        if goal.pending_i or goal.retractions or (apply and goal.pending_o):
+            pending = goal.pending_i if firing is _I else goal.pending_o
+            if pending:
+                k.fire(goal, firing, change)
+                change = goal.level
+        goal = goal.lower
 
 
 # -- consistency (operator retention) -------------------------------------------

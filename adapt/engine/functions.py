@@ -39,7 +39,7 @@ Examples
 --------
 >>> from adapt.engine.production import FunctionCall, Variable
 >>> from adapt.engine.symbols import Float
->>> class Ctx:
+>>> class Ctx:  # the parts of an RhsContext these calls use
 ...     def write(self, text): print(text, end="")
 ...     def halt(self): print("<halt>")
 ...     def interrupt(self): print("<interrupt>")
@@ -64,7 +64,10 @@ from dataclasses import dataclass
 from typing import Callable, Mapping, Protocol, Sequence
 
 from adapt.engine.production import FunctionCall, RhsValue, Variable
+from adapt.engine.soar_functions import REFUSED_FUNCTIONS, SOAR_FUNCTIONS
+from adapt.engine.soar_random import SoarRandom
 from adapt.engine.symbols import Float, Identifier, Symbol, format_symbol, to_symbol
+from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
 __all__ = [
@@ -77,7 +80,16 @@ __all__ = [
 
 
 class RhsContext(Protocol):
-    """What a right-hand-side function may do to the agent that fires it."""
+    """What a right-hand-side function may do to the agent that fires it.
+
+    ``copies`` and ``copied_ids``: the WMEs and identifiers ``deep-copy`` made
+    during the current action; the firing asserts the WMEs with its own
+    support, the identifiers at the level of the identifier the copy is
+    attached to (the kernel empties both).
+    """
+
+    copies: list[tuple[Identifier, Symbol, Symbol]]
+    copied_ids: list[Identifier]
 
     def write(self, text: str) -> None:
         """Append ``text`` to the agent's output (``write``, no separators added)."""
@@ -86,13 +98,32 @@ class RhsContext(Protocol):
         """Halt the agent once the current elaboration cycle completes."""
 
     def interrupt(self) -> None:
-        """Stop the run after the current elaboration cycle, without halting."""
+        """Stop the run before the next decision phase, without halting."""
 
     def error(self, message: str) -> None:
         """Report a run-time error of a function (Soar prints ``Error: message``)."""
 
     def make_constant_symbol(self, prefix: str) -> str:
         """A string ``prefix`` + n from the agent's one shared counter, unused so far."""
+
+    def decision_count(self) -> int:
+        """The number of decisions so far (``dc``)."""
+
+    def soar_random(self) -> SoarRandom:
+        """The agent's random numbers (``rand-int``, ``rand-float``)."""
+
+    def wmes_of(self, ident: Identifier) -> Sequence[WME]:
+        """The WMEs of ``ident`` in working memory (acceptable preferences excluded)."""
+
+    def deep_copy(self, ident: Identifier) -> Identifier:
+        """A new identifier whose structure copies ``ident``'s; the copied WMEs are
+        made by the firing that calls it (``deep-copy``)."""
+
+    def count(self, name: str) -> None:
+        """Add one to the agent's counter ``name`` (``count``)."""
+
+    def traces(self, level: int) -> bool:
+        """Whether the agent traces ``level`` (``trace``)."""
 
 
 #: A built-in's implementation: evaluated arguments and the context.
@@ -218,6 +249,9 @@ class FunctionTable:
         """Why ``(name arg1 ... argN)`` cannot be used this way, or ``None`` if it can."""
         fn = self._functions.get(name)
         if fn is None:
+            why = REFUSED_FUNCTIONS.get(name)
+            if why is not None:
+                return f"RHS function {name!r} is one adapt does not run: {why}"
             return f"unknown RHS function {name!r}"
         if as_action and not fn.as_action:
             return f"function {name!r} cannot be used as a stand-alone action"
@@ -528,12 +562,17 @@ _BUILTINS: tuple[RhsFunction, ...] = (
 
 
 def default_functions() -> FunctionTable:
-    """A new table holding only the built-ins (register your own on it).
+    """A new table holding only the built-ins (register your own on it): the
+    functions above and the rest of Soar 9.6's defaults
+    (:mod:`adapt.engine.soar_functions`).
 
     Examples
     --------
-    >>> default_functions().names()  # doctest: +NORMALIZE_WHITESPACE
-    ['*', '+', '-', '/', 'abs', 'concat', 'crlf', 'div', 'float', 'halt', 'ifeq', 'int',
-     'interrupt', 'make-constant-symbol', 'mod', 'write']
+    >>> names = default_functions().names()
+    >>> len(names), names[:8]
+    (55, ['*', '+', '-', '/', 'abs', 'atan2', 'capitalize-symbol', 'compute-dice-probability'])
     """
-    return FunctionTable({f.name: f for f in _BUILTINS})
+    table = {f.name: f for f in _BUILTINS}
+    for name, impl, least, most, as_value, as_action in SOAR_FUNCTIONS:
+        table[name] = RhsFunction(name, impl, least, most, as_value, as_action)
+    return FunctionTable(table)

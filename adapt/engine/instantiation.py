@@ -34,7 +34,7 @@ False
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Final
+from typing import TYPE_CHECKING, Any, Container, Final
 
 from adapt.engine.matcher import FlatKey, Match
 from adapt.engine.production import (
@@ -44,12 +44,13 @@ from adapt.engine.production import (
     EqualityTest,
     FunctionCall,
     MakeAction,
+    PreferenceKind,
     Production,
     RhsValue,
     Test,
     Variable,
 )
-from adapt.engine.symbols import Symbol
+from adapt.engine.symbols import Identifier, Symbol
 from adapt.engine.vocabulary import Support
 from adapt.engine.wme import WME
 
@@ -115,7 +116,7 @@ class RuleInfo:
 
     __slots__ = ("production", "name", "has_make", "makes_operator_prefs", "declared",
                  "new_variables", "elaborates_operator", "static_support", "operator_slots",
-                 "new_hints", "plan")
+                 "new_hints", "plan", "id_sites", "proposes", "proposal_sites")
 
     def __init__(self, production: Production) -> None:
         self.production = production
@@ -123,6 +124,15 @@ class RuleInfo:
         makes = [a for a in production.actions if isinstance(a, MakeAction)]
         self.has_make = bool(makes)
         self.makes_operator_prefs = any(a.attr == "operator" for a in makes)
+        # an operator proposal (an acceptable preference on a state's
+        # ^operator) is i-supported, whatever else the rule tests (Soar's
+        # calculate_support_for_instantiation_preferences); other operator
+        # preferences do not decide the support
+        states = {c.id for c in production.positive_conditions
+                  if (c.attr, c.value) == (EqualityTest("type"), EqualityTest("state"))}
+        proposals = [a for a in makes if a.attr == "operator"
+                     and a.preference is PreferenceKind.ACCEPTABLE]
+        self.proposes = bool(proposals) and all(a.id in states for a in proposals)
         operator_vars = {
             c.value.term for c in production.positive_conditions
             if isinstance(c.attr, EqualityTest) and c.attr.term == "operator"
@@ -151,7 +161,7 @@ class RuleInfo:
             self.static_support = Support.NONE
         elif self.declared is not None:
             self.static_support = self.declared
-        elif self.makes_operator_prefs or self.elaborates_operator:
+        elif self.proposes or self.elaborates_operator:
             self.static_support = Support.I
         else:
             self.static_support = None
@@ -159,6 +169,18 @@ class RuleInfo:
         self.operator_slots = tuple(i for i, c in enumerate(production.positive_conditions)
                                     if _may_test_operator(c))
         self.plan = self._compile(production)
+        #: where the identifiers of acceptable ^operator preferences not known
+        #: to be states come from (a state there makes the match a proposal)
+        self.proposal_sites: tuple[tuple[int, int], ...] = ()
+        if proposals and not self.proposes:
+            self.proposal_sites = tuple(sorted(
+                {(step[1][1], step[1][2]) for step in self.plan
+                 if step[0] and step[2] == (SRC_CONST, "operator")
+                 and step[4] is PreferenceKind.ACCEPTABLE and step[1][0] == SRC_WME}))
+        #: where each make action's identifier comes from in a match, when it
+        #: is bound on the left-hand side: (WME index, field)
+        self.id_sites: tuple[tuple[int, int], ...] = tuple(sorted(
+            {(step[1][1], step[1][2]) for step in self.plan if step[0] and step[1][0] == SRC_WME}))
 
     def _compile(self, production: Production) -> tuple[PlanStep, ...]:
         """The actions as tuples the kernel evaluates from a match's WMEs directly.
@@ -190,15 +212,32 @@ class RuleInfo:
                 plan.append((False, src(action.call)))
         return tuple(plan)
 
+    def changes_below(self, wmes: tuple[WME, ...], level: int) -> bool:
+        """Whether every make action of the match over ``wmes`` changes an
+        identifier below goal level ``level`` (deeper: a greater level) or a new
+        one (Soar's ``shouldCreateInstantiation``, which lets a lower goal's
+        match fire in the waterfall of an elaboration cycle)."""
+        for i, field in self.id_sites:
+            ident = wmes[i][field]
+            if type(ident) is Identifier and ident.level <= level:
+                return False
+        return True
+
     def support(self, match: Match, goal_id: Symbol) -> Support:
         """The support a match of this production gets when its match goal is ``goal_id``."""
         return self.support_of(match.wmes, goal_id)
 
-    def support_of(self, wmes: tuple[WME, ...], goal_id: Symbol) -> Support:
-        """:meth:`support` of the match over ``wmes`` (condition order)."""
+    def support_of(self, wmes: tuple[WME, ...], goal_id: Symbol,
+                   states: Container[object] = ()) -> Support:
+        """:meth:`support` of the match over ``wmes`` (condition order);
+        ``states``: the state identifiers (for an operator proposal whose
+        identifier the rule does not test as a state)."""
         static = self.static_support
         if static is not None:
             return static
+        for i, field in self.proposal_sites:
+            if wmes[i][field] in states:
+                return Support.I
         for i in self.operator_slots:
             w = wmes[i]
             if w[0] is goal_id and w[1] == "operator":

@@ -42,13 +42,16 @@ from adapt.engine.memory import WorkingMemory
 from adapt.engine.production import PreferenceKind, Production
 from adapt.engine.results import ResultMaker
 from adapt.engine.support import MadePreference, PreferenceMemory
-from adapt.engine.symbols import Identifier, IdentifierFactory, Symbol, format_symbol
+from adapt.engine.symbols import Float, Identifier, IdentifierFactory, Symbol, format_symbol
 from adapt.engine.vocabulary import ImpasseAttribute, ImpasseType, Support
 from adapt.engine.wme import WME
 
 __all__ = ["Kernel"]
 
 _REJECT: Final = PreferenceKind.REJECT
+_ACCEPTABLE: Final = PreferenceKind.ACCEPTABLE
+_BINARY_INDIFFERENT: Final = PreferenceKind.BINARY_INDIFFERENT
+_NUMERIC_INDIFFERENT: Final = PreferenceKind.NUMERIC_INDIFFERENT
 _O: Final = Support.O
 _I: Final = Support.I
 
@@ -77,6 +80,9 @@ class Kernel:
                  context: RhsContext, events: EventBus | None = None) -> None:
         self.ids = IdentifierFactory()
         self.matcher = matcher
+        #: the ``multi-attributes`` hints (the matcher's: they order the
+        #: conditions of productions added from now on)
+        self.multi_attributes = matcher.multi_attributes
         #: the matcher's changes as :data:`~adapt.engine.matcher.MatchChanges`
         self.take_changes: Callable[[], MatchChanges] = (
             matcher.take_raw if isinstance(matcher, RawMatcher) else partial(_raw_changes, matcher))
@@ -97,11 +103,15 @@ class Kernel:
         self.firings = 0
         #: the matcher may hold match-set changes not yet scheduled
         self.matcher_dirty = True
+        #: productions were added since the last commit (their matches come
+        #: in the order they were added, as in Soar)
+        self.productions_added = False
         # the live listener lists of the events raised on hot paths
         self._on_fire = self.events.listeners(Event.FIRE)
         self._on_retract = self.events.listeners(Event.RETRACT)
         self._on_wm = self.events.listeners(Event.WM_CHANGES)
         s1 = self.ids.new("S")
+        self._reserve_module_ids(0)
         io, il, ol = self.ids.new("I"), self.ids.new("I"), self.ids.new("I")
         self.top = Goal(s1, 0, None)
         self.bottom = self.top
@@ -120,6 +130,7 @@ class Kernel:
         self.rules[production.name] = RuleInfo(production)
         self.matcher.add_production(production)
         self.matcher_dirty = True
+        self.productions_added = True
 
     # -- working-memory phase ----------------------------------------------
     def commit(self) -> tuple[list[WME], list[WME]]:
@@ -131,6 +142,11 @@ class Kernel:
         if not wm.pending and not self.matcher_dirty:
             return [], []
         self.matcher_dirty = False
+        # Soar meets the matches that working-memory changes make newest first
+        # (it adds the newest WME first, and its Rete lists a node's children
+        # newest first); the matches of newly added productions oldest first
+        newest_first = not self.productions_added
+        self.productions_added = False
         all_added: list[WME] | None = None
         all_removed: list[WME] | None = None
         take_changes = self.take_changes
@@ -163,7 +179,8 @@ class Kernel:
             results = self.results
             if results.negated_index or results.ncc_justs:  # justifications' negations
                 results.check_negations(added, removed)
-            self._schedule(*take_changes())
+            added_matches, removed_matches = take_changes()
+            self._schedule(added_matches, removed_matches, newest_first)
             if doomed is None:
                 break
             live = [g for g in doomed if self.goals.get(g.id) is g]
@@ -171,16 +188,31 @@ class Kernel:
                 break
             top = min(live, key=lambda g: g.level)
             self.events.emit(Event.GDS, top)
+            sup = top.superstate
+            if sup is not None and not self._any_slot_changed():
+                # Soar marks the superstate's slot changed when nothing else
+                # changed, so that the next decision makes the impasse again
+                # (Soar's fix of its bug 1011)
+                sup.changed = True
             self.remove_goal(top)
         assert all_added is not None and all_removed is not None
         if self._on_wm and (all_added or all_removed):
             self.events.emit(Event.WM_CHANGES, (all_added, all_removed))
         return all_added, all_removed
 
+    def _any_slot_changed(self) -> bool:
+        goal: Goal | None = self.top
+        while goal is not None:
+            if goal.changed:
+                return True
+            goal = goal.lower
+        return False
+
     def _schedule(self, added: dict[FlatKey, tuple[WME, ...]],
-                  removed: dict[FlatKey, tuple[WME, ...]]) -> None:
+                  removed: dict[FlatKey, tuple[WME, ...]], newest_first: bool = False) -> None:
         """File the matcher's changes (flat key -> wmes): a new match waits at
-        its goal, a vanished one is unscheduled or its instantiation retracts."""
+        its goal (in reverse order with ``newest_first``), a vanished one is
+        unscheduled or its instantiation retracts."""
         pending_goal = self.pending_goal
         for key in removed:
             goal = pending_goal.pop(key, None)
@@ -197,7 +229,8 @@ class Kernel:
         rules = self.rules
         top = self.top
         only_top = top.lower is None
-        for key, wmes in added.items():
+        found = reversed(list(added.items())) if newest_first else added.items()
+        for key, wmes in found:
             if only_top:
                 goal = top
             else:
@@ -211,7 +244,7 @@ class Kernel:
             info = rules[key[0]]
             support = info.static_support
             if support is None:
-                support = info.support_of(wmes, goal.id)
+                support = info.support_of(wmes, goal.id, goals)
             if support is _O:
                 goal.pending_o[key] = wmes
             else:
@@ -230,35 +263,66 @@ class Kernel:
             self.retract(inst)
 
     # -- firing ----------------------------------------------------------------
-    def fire(self, goal: Goal, kind: Support) -> int:
-        """One elaboration cycle at ``goal``: ``kind`` is ``Support.I``
-        (retractions and i-assertions) or ``Support.O`` (o-assertions).
-        Returns the number of productions fired."""
+    def fire(self, goal: Goal, kind: Support, below: int = -1) -> int:
+        """The firings of one elaboration cycle at ``goal``: ``kind`` is
+        ``Support.I`` (i-assertions) or ``Support.O`` (o-assertions).  Returns
+        the number of productions fired.  The active goal's retractions are
+        :meth:`retract_pending`'s, after the waterfall.
+
+        ``below`` >= 0: ``goal`` is a lower goal in the waterfall of an
+        elaboration cycle whose active goal already fired: only the matches
+        whose actions change nothing at level ``below`` or higher fire (Soar's
+        ``shouldCreateInstantiation``); the others wait.
+        """
         if kind is _I:
-            retractions = goal.retractions
-            if retractions:
-                goal.retractions = {}
-                on_retract = self._on_retract
-                for inst in retractions.values():
-                    if on_retract:
-                        self.events.emit(Event.RETRACT, inst)
-                    self.retract(inst)
-            matches = goal.pending_i
-            if not matches:
-                return 0
-            goal.pending_i = {}
+            pending = goal.pending_i
         else:
-            matches = goal.pending_o
-            if not matches:
-                return 0
-            goal.pending_o = {}
+            pending = goal.pending_o
+        if not pending:
+            fired_count = 0
+        else:
+            if below < 0:
+                matches = pending
+                if kind is _I:
+                    goal.pending_i = {}
+                else:
+                    goal.pending_o = {}
+            else:
+                matches = {key: wmes for key, wmes in pending.items()
+                           if self.rules[key[0]].changes_below(wmes, below)}
+                for key in matches:
+                    del pending[key]
+            fired_count = self._fire_matches(goal, kind, matches) if matches else 0
+        return fired_count
+
+    def retract_pending(self, goal: Goal) -> None:
+        """Retract the instantiations waiting to retract at ``goal``."""
+        retractions = goal.retractions
+        if retractions:
+            goal.retractions = {}
+            on_retract = self._on_retract
+            for inst in retractions.values():
+                if on_retract:
+                    self.events.emit(Event.RETRACT, inst)
+                self.retract(inst)
+
+    def _fire_matches(self, goal: Goal, kind: Support,
+                      matches: dict[FlatKey, tuple[WME, ...]]) -> int:
+        """Instantiate ``matches`` (taken from ``goal``'s pending matches) in
+        parallel and assert their preferences."""
         pending_goal = self.pending_goal
         fired = self.fired
         instantiate = self._instantiate
         rules = self.rules
         o_reject = self.preferences.o_reject
         made: list[tuple[Instantiation, list[MadePreference]]] = []
-        for key, wmes in matches.items():
+        # Soar takes the newest match first (its match lists grow at the head):
+        # instantiations -- their new identifiers and writes -- come in that
+        # order; their preferences are asserted oldest match first, each
+        # firing's in reverse action order (both lists also grow at the head)
+        order = list(matches.items())
+        order.reverse()
+        for key, wmes in order:
             del pending_goal[key]
             rule = rules[key[0]]
             if kind is _I:
@@ -271,16 +335,26 @@ class Kernel:
             fired[key] = pair[0]
             made.append(pair)
         self.firings += len(made)
+        made.reverse()
         # o-rejects first, then everything else (Soar's assert_new_preferences)
         # (every match fired in an IE cycle is i-supported or unsupported)
+        # An o-reject removes every preference for its value, in any slot
+        # (operator slots too), and is not asserted itself -- nor is it a result.
         if kind is _O:
+            deselect: list[Goal] = []
             for _, prefs in made:
-                for p in prefs:
-                    if p[0] is _REJECT and p[5]:
-                        o_reject(p)
+                if any(p[0] is _REJECT and p[5] for p in prefs):
+                    for p in prefs:
+                        if p[0] is _REJECT and p[5]:
+                            deselect.extend(o_reject(p))
+                    prefs[:] = [p for p in prefs if not (p[0] is _REJECT and p[5])]
+            for g in deselect:
+                if self.goals.get(g.id) is g:
+                    self.deselect(g)
         assert_ = self._assert
         for inst, prefs in made:
             if prefs:
+                prefs.reverse()
                 assert_(inst, prefs)
         return len(made)
 
@@ -334,11 +408,31 @@ class Kernel:
                     self.context.error(
                         f"RHS makes a preference for a non-identifier ({format_symbol(ident)})")
                     continue
-                ref = None if rsrc is None else value_of(rsrc, wmes, new)
+                ref = None
+                if rsrc is not None:
+                    ref = value_of(rsrc, wmes, new)
+                    if pref is _BINARY_INDIFFERENT and (type(ref) is int or type(ref) is Float):
+                        # = <x> or = (f ...) that gives a number: numeric indifference
+                        # (Soar's add_pref_to_inst decides it when the rule fires)
+                        pref = _NUMERIC_INDIFFERENT
                 prefs.append((pref, ident, attr, value, ref, o_support))
+                if self.context.copied_ids:  # deep-copy: its WMEs are this firing's too
+                    self._add_copies(ident.level, prefs, o_support)
             else:
                 value_of(step[1], wmes, new)
         return inst, prefs
+
+    def _add_copies(self, level: int, prefs: list[MadePreference], o_support: bool) -> None:
+        """Acceptable preferences for the WMEs ``deep-copy`` made, their new
+        identifiers at the level of the identifier the copy is attached to
+        (Soar's ``add_deep_copy_prefs_to_inst``)."""
+        context = self.context
+        for made in context.copied_ids:
+            made.level = level
+        for ident, attr, value in context.copies:
+            prefs.append((_ACCEPTABLE, ident, attr, value, None, o_support))
+        context.copied_ids.clear()
+        context.copies.clear()
 
     def _rhs_value(self, src: CompiledValue, wmes: tuple[WME, ...],
                    new: list[Identifier] | None) -> Symbol | None:
@@ -392,8 +486,11 @@ class Kernel:
             if self.goals.get(goal.id) is goal:
                 self.deselect(goal)  # case (a): its acceptable preference retracted
         goal = inst.goal
-        if goal.instantiations:
-            goal.instantiations.pop(inst.key if inst.key is not None else id(inst), None)
+        instantiations = goal.instantiations
+        if instantiations:
+            key = inst.key if inst.key is not None else id(inst)
+            if instantiations.get(key) is inst:  # (a new firing of the same match may hold it)
+                del instantiations[key]
 
     # -- decisions ---------------------------------------------------------------
     def select(self, goal: Goal, operator: Identifier) -> None:
@@ -418,6 +515,7 @@ class Kernel:
         if goal.lower is not None:
             self.remove_goal(goal.lower)
         ident = self.ids.new("S", goal.level + 1)
+        self._reserve_module_ids(goal.level + 1)
         sub = Goal(ident, goal.level + 1, goal)
         sub.impasse, sub.attribute = impasse, attribute
         sub.items, sub.non_numeric = items, non_numeric
@@ -430,6 +528,15 @@ class Kernel:
             self.wm.add(*t)
             sub.arch.append((t[0], t[1], t[2], False))
         return sub
+
+    def _reserve_module_ids(self, level: int) -> None:
+        """Use up the identifiers Soar gives each new state's ``^reward-link``,
+        ``^epmem`` and ``^smem`` structures (R, E, C, R, L, C, R, in that order),
+        which adapt does not build, so that every other identifier gets the
+        number it has in Soar."""
+        new = self.ids.new
+        for letter in "RECRLCR":
+            new(letter, level)
 
     def update_items(self, goal: Goal, items: tuple[Symbol, ...],
                      non_numeric: tuple[Symbol, ...]) -> None:

@@ -94,12 +94,12 @@ class Token:
 
 
 class _Lexer:
-    def __init__(self, text: str, file: str) -> None:
+    def __init__(self, text: str, file: str, start: int = 0) -> None:
         self.text = text
         self.file = file
-        self.pos = 0
-        self.line = 1
-        self.line_start = 0
+        self.pos = start
+        self.line = text.count("\n", 0, start) + 1 if start else 1
+        self.line_start = text.rfind("\n", 0, start) + 1 if start else 0
         self.tokens: list[Token] = []
 
     def error(self, message: str, line: int, col: int) -> RuleSyntaxError:
@@ -259,7 +259,10 @@ def iter_tokens(text: str, file: str = "<string>") -> Iterator[Token]:
     return _Lexer(text, file).iter_tokens()
 
 
-def token_batches(text: str, file: str = "<string>", size: int = 2048) -> Iterator[list[Token]]:
+def token_batches(text: str, file: str = "<string>", size: int = 2048,
+                  start: int = 0) -> Iterator[list[Token]]:
     """Tokens in lists of about ``size``: :func:`iter_tokens` for a reader that
-    takes many at a time (an error is raised when the batch holding it is read)."""
-    return _Lexer(text, file).batches(size)
+    takes many at a time (an error is raised when the batch holding it is read).
+    ``start``: the offset in ``text`` to begin at (lines and columns still
+    count from the start of ``text``)."""
+    return _Lexer(text, file, start).batches(size)

@@ -78,7 +78,14 @@ class Match:
 
 
 class Matcher(Protocol):
-    """What the decision cycle needs from a matcher."""
+    """What the decision cycle needs from a matcher.
+
+    ``multi_attributes`` holds the agent's ``multi-attributes`` hints
+    (attribute -> expected number of values): the join order of the
+    productions added after a hint (:mod:`adapt.engine.reorder`).
+    """
+
+    multi_attributes: dict[str, int]
 
     def add_production(self, production: Production) -> None:
         """Add a production; its current matches become pending additions.

@@ -11,8 +11,9 @@ Order of the changes (deterministic for a given sequence of calls):
 
 * ``added``: in the order the recomputation finds the matches -- productions in
   the order they were added, and for one production the WME combinations in
-  backtracking order (positive conditions left to right, candidate WMEs in the
-  order they were added);
+  backtracking order (positive conditions in the Rete's join order,
+  :func:`adapt.engine.reorder.join_order`, candidate WMEs in the order they
+  were added);
 * ``removed``: in the order of the previously reported match set.
 
 The matching semantics are :mod:`adapt.engine.conditions`, called directly:
@@ -42,6 +43,7 @@ from __future__ import annotations
 from adapt.engine.conditions import WmeIndex, check_scope, conjunction_matches
 from adapt.engine.matcher import Match, MatchKey
 from adapt.engine.production import Production
+from adapt.engine.reorder import join_order
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
@@ -62,10 +64,15 @@ class NaiveMatcher:
     all matches of all productions: use it as a reference, not in production.
     """
 
-    __slots__ = ("_productions", "_wmes", "_current", "_reported", "_dirty")
+    __slots__ = ("_productions", "_orders", "_wmes", "_current", "_reported", "_dirty",
+                 "multi_attributes")
 
     def __init__(self) -> None:
         self._productions: dict[str, Production] = {}
+        #: each production's positive conditions in join order (the Rete's)
+        self._orders: dict[str, list[int]] = {}
+        #: ``multi-attributes`` hints for the join order of productions added from now on
+        self.multi_attributes: dict[str, int] = {}
         self._wmes: dict[int, WME] = {}
         self._current: dict[MatchKey, Match] = {}
         self._reported: dict[MatchKey, Match] = {}
@@ -77,6 +84,8 @@ class NaiveMatcher:
             raise EngineError(f"production {production.name} is already in the matcher")
         check_production(production)
         self._productions[production.name] = production
+        self._orders[production.name] = join_order(production.conditions, (),
+                                                   self.multi_attributes)
         self._dirty = True
 
     def remove_production(self, name: str) -> None:
@@ -84,6 +93,7 @@ class NaiveMatcher:
         if name not in self._productions:
             raise EngineError(f"no production named {name} in the matcher")
         del self._productions[name]
+        del self._orders[name]
         self._dirty = True
 
     def add_wme(self, wme: WME) -> None:
@@ -103,7 +113,8 @@ class NaiveMatcher:
         wmes = WmeIndex(self._wmes.values())
         current: dict[MatchKey, Match] = {}
         for production in self._productions.values():
-            for _, chosen in conjunction_matches(production.conditions, wmes):
+            order = self._orders[production.name]
+            for _, chosen in conjunction_matches(production.conditions, wmes, positives=order):
                 match = Match(production, chosen)
                 current[match.key] = match
         self._current = current

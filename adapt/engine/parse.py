@@ -39,6 +39,19 @@ import os
 from dataclasses import dataclass
 from typing import Union
 
+from adapt.engine.commands import (
+    Chunking,
+    Command,
+    CommandSyntaxError,
+    Popd,
+    Pushd,
+    Refusal,
+    Setting,
+    Source,
+    interpret,
+    read_command,
+    skip_blank,
+)
 from adapt.engine.functions import FunctionTable, default_functions
 from adapt.engine.lexer import CONSTANT_KINDS, Token, token_batches
 from adapt.engine.production import (
@@ -70,44 +83,32 @@ __all__ = ["RuleFile", "parse_rules", "load_rule_file"]
 
 @dataclass(frozen=True)
 class RuleFile:
-    """The productions of one rule file, in file order, and load warnings.
+    """The productions an agent file (and the files it sources) adds, in order.
 
     A later ``sp`` with the name of an earlier one replaces it (the earlier
     one is dropped, the later one keeps its own position, as if Soar excised
     the first and added the second) and adds a warning
     ``file:line:col: warning: production 'x' replaces an earlier one``.
+
+    ``settings`` are the accepted commands that set something on the agent
+    (:class:`~adapt.engine.commands.Setting`), each with the number of
+    productions read before it (so that a ``multi-attributes`` hint applies
+    to the productions after it, as in Soar); ``files`` every file read, the
+    top one first.
     """
 
     productions: tuple[Production, ...]
     warnings: tuple[str, ...] = ()
+    settings: tuple[tuple[int, Setting], ...] = ()
+    files: tuple[str, ...] = ()
 
 
-#: Soar commands that may appear in Soar rule files but not in ours, with why.
-_COMMANDS: dict[str, str] = {
-    "gp": "generated productions are not supported; write each production with sp",
-    "chunk": "chunking is not implemented",
-    "learn": "chunking is not implemented",
-    "rl": "reinforcement learning is not implemented",
-    "smem": "semantic memory is not implemented",
-    "epmem": "episodic memory is not implemented",
-    "svs": "the spatial visual system is not implemented",
-    "source": "rule files cannot include other files; load each file yourself",
-    "pushd": "rule files cannot include other files; load each file yourself",
-    "popd": "rule files cannot include other files; load each file yourself",
-    "cd": "rule files cannot include other files; load each file yourself",
-    "load": "rule files cannot include other files; load each file yourself",
-}
-for _cmd in (
-    "watch trace srand excise multi-attributes indifferent-selection set-stop-phase decide "
-    "soar run stats print p wm echo alias max-elaborations max-goal-depth init-soar "
-    "preferences matches timers waitsnc save-backtraces o-support-mode "
-    "numeric-indifferent-mode production explain visualize output capture-input "
-    "replay-input wma debug help version sp-local firing-counts memories "
-    "default-wme-depth predict select stop-soar interrupt set-parameter"
-).split():
-    _COMMANDS.setdefault(_cmd, "")
+#: How deeply ``source`` may nest (Soar's limit).
+MAX_SOURCE_DEPTH = 100
 
 _FLAGS = {":o-support": "o-support", ":i-support": "i-support", ":default": "default"}
+#: With learning off, a production Soar flags as a chunk is an ordinary production.
+_FLAGS_CHUNKING_OFF = dict(_FLAGS, **{":chunk": ""})
 _UNSUPPORTED_FLAGS = {
     ":chunk": "chunking is not implemented",
     ":interrupt": "stopping the run when a rule fires is not implemented; call (interrupt)",
@@ -184,12 +185,14 @@ MAX_NESTING = 200
 
 
 class _Parser:
-    def __init__(self, text: str, file: str, table: FunctionTable) -> None:
+    def __init__(self, text: str, file: str, table: FunctionTable, start: int = 0,
+                 flags: dict[str, str] | None = None) -> None:
         self.text = text
         self.file = file
         self.table = table
-        self.lines = text.splitlines()
-        self._batches = token_batches(text, file)
+        self.flags = _FLAGS if flags is None else flags
+        self._lines: list[str] | None = None
+        self._batches = token_batches(text, file, start=start)
         self.toks: list[Token] = []
         self.i = 0
         #: nesting of ``{`` and of function calls (bounded by MAX_NESTING)
@@ -229,7 +232,10 @@ class _Parser:
         return SourceLocation(self.file, tok.line, tok.col)
 
     def _source(self, line: int) -> str | None:
-        return self.lines[line - 1] if 0 < line <= len(self.lines) else None
+        if self._lines is None:
+            self._lines = self.text.splitlines()
+        lines = self._lines
+        return lines[line - 1] if 0 < line <= len(lines) else None
 
     def syntax(self, message: str, at: _Located) -> RuleSyntaxError:
         return RuleSyntaxError(
@@ -257,33 +263,22 @@ class _Parser:
         return tok.value
 
     # ------------------------------------------------------------ file level
-    def parse_file(self) -> RuleFile:
-        productions: dict[str, Production] = {}
-        warnings: list[str] = []
-        while self.peek().kind != "eof":
+    def parse_run(self) -> tuple[list[Production], int]:
+        """Parse ``sp {...}`` productions until something else comes.
+
+        Returns the productions in order and the offset of the first token
+        that does not begin an ``sp {`` production (the length of the text at
+        its end): an agent-file command, or ``sp "..."``, which the caller
+        reads (:mod:`adapt.engine.agentfile`).
+        """
+        productions: list[Production] = []
+        while True:
             tok = self.peek()
-            if tok.kind == "symbol" and tok.value == "sp":
-                p = self.parse_production()
-                if p.name in productions:
-                    del productions[p.name]
-                    warnings.append(
-                        f"{self.file}:{tok.line}:{tok.col}: warning: "
-                        f"production '{p.name}' replaces an earlier one"
-                    )
-                productions[p.name] = p
-            elif tok.kind in ("symbol", "idshaped") and tok.text in _COMMANDS:
-                why = _COMMANDS[tok.text]
-                raise self.semantic(
-                    f"'{tok.text}' is a Soar command, which rule files cannot contain"
-                    + (f" ({why})" if why else "")
-                    + "; a rule file holds only 'sp {...}' productions and comments",
-                    tok,
-                )
-            else:
-                raise self.syntax(
-                    f"expected 'sp {{' to begin a production, found {_describe(tok)}", tok
-                )
-        return RuleFile(tuple(productions.values()), tuple(warnings))
+            if tok.kind == "eof":
+                return productions, len(self.text)
+            if not (tok.kind == "symbol" and tok.value == "sp") or self.peek(1).kind == "doc":
+                return productions, tok.offset
+            productions.append(self.parse_production())
 
     # ------------------------------------------------------------ production
     def parse_production(self) -> Production:
@@ -307,18 +302,20 @@ class _Parser:
         flags: set[str] = set()
         while self.peek().kind == "symbol" and str(self.peek().value).startswith(":"):
             flag = self.advance()
-            if flag.text in _UNSUPPORTED_FLAGS:
+            if flag.text in _UNSUPPORTED_FLAGS and flag.text not in self.flags:
                 raise self.semantic(
                     f"the flag '{flag.text}' is not supported: {_UNSUPPORTED_FLAGS[flag.text]}",
                     flag,
                 )
-            if flag.text not in _FLAGS:
+            known = self.flags.get(flag.text)
+            if known is None:
                 raise self.syntax(
                     f"unknown production flag '{flag.text}' (expected :o-support, :i-support "
                     "or :default)",
                     flag,
                 )
-            flags.add(_FLAGS[flag.text])
+            if known:
+                flags.add(known)
             if {"o-support", "i-support"} <= flags:
                 raise self.semantic("a production cannot be both :o-support and :i-support", flag)
         conditions: list[ConditionElement] = []
@@ -562,7 +559,11 @@ class _Parser:
         return bound
 
     def check_links(self, elements: tuple[ConditionElement, ...] | list[ConditionElement],
-                    reach_in: set[Variable]) -> None:
+                    reach_in: set[Variable], negated: bool = False) -> None:
+        """Every positive condition's identifier reachable from a state; inside a
+        negation (``negated``) a condition may instead reach the bound variables
+        through its attribute or value (``-(<x> ^on <block>)``: no WME on any
+        identifier is on the block -- Soar's own agents write this)."""
         reach = set(reach_in)
         positives = [c for c in elements if isinstance(c, Condition) and not c.negated]
         reach |= {c.id for c in positives if _is_state_test(c)}
@@ -571,14 +572,16 @@ class _Parser:
         while changed:
             changed = False
             for p in list(pending):
-                if p.id in reach:
+                if p.id in reach or (negated and not reach.isdisjoint(
+                        condition_equality_variables(p))):
                     reach |= condition_equality_variables(p)
                     pending.remove(p)
                     changed = True
         for c in elements:
             if isinstance(c, ConjunctiveNegation):
-                self.check_links(c.conditions, reach)
-            elif c in pending or (c.negated and c.id not in reach):
+                self.check_links(c.conditions, reach, negated=True)
+            elif c in pending or (c.negated and c.id not in reach and reach.isdisjoint(
+                    condition_equality_variables(c))):
                 assert c.location is not None
                 raise self.semantic(
                     f"condition on {c.id} is not linked to a state: {c.id} is not the value "
@@ -753,9 +756,10 @@ class _Parser:
 
 
 def parse_rules(
-    text: str, *, file: str = "<string>", functions: FunctionTable | None = None
+    text: str, *, file: str = "<string>", functions: FunctionTable | None = None,
+    chunking: Chunking = "refuse",
 ) -> RuleFile:
-    """Parse rule text (any number of ``sp {...}`` productions and comments).
+    """Parse agent text: ``sp`` productions, comments and agent-file commands.
 
     Parameters
     ----------
@@ -765,11 +769,15 @@ def parse_rules(
         The name used in error positions and warnings.
     functions : FunctionTable, optional
         The RHS functions calls are checked against (default: the built-ins).
+    chunking : {"refuse", "off"}
+        What commands that turn chunking on do: an error (the default), or
+        nothing (an agent written for chunking, run with learning off).
 
     Returns
     -------
     RuleFile
-        The productions, normalised, and any warnings.
+        The productions, normalised, any warnings and the settings.
+        ``source`` in the text reads files relative to the current directory.
 
     Raises
     ------
@@ -784,12 +792,17 @@ def parse_rules(
                 referent=None, location=...),
      MakeAction(id=<#1>, attr='c', value=1, preference=<PreferenceKind.ACCEPTABLE: '+'>,
                 referent=None, location=...))
+    >>> rules = parse_rules('''srand 7
+    ... sp "a (state <s>) --> (write |quoted body|)"''')
+    >>> rules.settings, rules.productions[0].name
+    (((0, Setting(kind='seed', name=None, value=7)),), 'a')
     """
-    table = functions if functions is not None else _default_table()
+    reader = _AgentReader(functions if functions is not None else _default_table(), chunking)
     try:
-        return _Parser(text, file, table).parse_file()
+        reader.read_text(text, file)
     except RecursionError:
         raise RuleSyntaxError("rule text is nested too deeply", file=file) from None
+    return reader.result()
 
 
 _DEFAULT: list[FunctionTable] = []
@@ -802,17 +815,38 @@ def _default_table() -> FunctionTable:
 
 
 def load_rule_file(
-    path: str | os.PathLike[str], *, functions: FunctionTable | None = None
+    path: str | os.PathLike[str], *, functions: FunctionTable | None = None,
+    chunking: Chunking = "refuse",
 ) -> RuleFile:
-    """Read and parse a rule file (UTF-8); errors name the path as given.
+    """Read an agent file (UTF-8, a byte-order mark allowed) and the files it sources.
+
+    The file is read as Soar's ``source`` reads it: ``source`` lines inside it
+    are relative to its directory (and to ``pushd`` / ``popd``).  Errors name
+    each file by its path joined to the top file's path as given.
 
     Raises
     ------
     RuleError
-        When the file cannot be read or is not UTF-8 text, and every
+        When a file cannot be read or is not UTF-8 text, and every
         :func:`parse_rules` error.
     """
+    reader = _AgentReader(functions if functions is not None else _default_table(), chunking)
     name = os.fspath(path)
+    try:
+        reader.source(name, None)
+    except RecursionError:
+        raise RuleSyntaxError("rule text is nested too deeply", file=name) from None
+    return reader.result()
+
+
+def read_text_file(name: str) -> str:
+    """The text of a UTF-8 file (a byte-order mark dropped).
+
+    Raises
+    ------
+    RuleError
+        When the file cannot be read or is not UTF-8 text.
+    """
     try:
         with open(name, "rb") as handle:
             data = handle.read()
@@ -825,4 +859,186 @@ def load_rule_file(
         line = before.count(b"\n") + 1
         col = exc.start - (before.rfind(b"\n") + 1) + 1
         raise RuleSyntaxError("the file is not UTF-8 text", file=name, line=line, col=col) from None
-    return parse_rules(text, file=name, functions=functions)
+    return text[1:] if text.startswith("\ufeff") else text
+
+
+class _AgentReader:
+    """Reads agent files as Soar's ``source`` does: productions and commands."""
+
+    def __init__(self, table: FunctionTable, chunking: Chunking) -> None:
+        self.table = table
+        self.chunking = chunking
+        self.flags = _FLAGS_CHUNKING_OFF if chunking == "off" else _FLAGS
+        #: the directory stack; relative paths resolve against the last one
+        self.dirs: list[str] = [""]
+        self.items: list[Production | Setting] = []
+        self.files: list[str] = []
+        self.depth = 0
+
+    def result(self) -> RuleFile:
+        """The productions (later ones replacing earlier ones of the same name)."""
+        last: dict[str, int] = {}
+        for k, item in enumerate(self.items):
+            if isinstance(item, Production):
+                last[item.name] = k
+        productions: list[Production] = []
+        settings: list[tuple[int, Setting]] = []
+        warnings: list[str] = []
+        seen: set[str] = set()
+        for k, item in enumerate(self.items):
+            if isinstance(item, Setting):
+                settings.append((len(productions), item))
+                continue
+            if item.name in seen:
+                where = item.location
+                warnings.append(f"{where.file}:{where.line}:{where.col}: warning: "
+                                f"production '{item.name}' replaces an earlier one"
+                                if where is not None else
+                                f"warning: production '{item.name}' replaces an earlier one")
+            seen.add(item.name)
+            if last[item.name] == k:
+                productions.append(item)
+        return RuleFile(tuple(productions), tuple(warnings), tuple(settings),
+                        tuple(self.files))
+
+    # -- files ---------------------------------------------------------------------
+    def source(self, path: str, at: RuleError | None) -> None:
+        """Read ``path`` as Soar's ``source`` does (``at``: the error to raise, with
+        its position, when the file cannot be read)."""
+        path = path.replace("\\", "/")
+        folder, slash, filename = path.rpartition("/")
+        base = self.dirs[-1]
+        if slash:
+            directory = _join(base, folder or "/")
+            if not os.path.isdir(directory):
+                raise _with_message(at, f"cannot source {path}: no directory {directory}",
+                                    directory)
+            self.dirs.append(directory)
+        name = _join(self.dirs[-1], filename)
+        try:
+            if at is not None and not os.path.isfile(name):
+                raise _with_message(at, f"cannot source {path}: no file {name}", name)
+            text = read_text_file(name)
+            self.files.append(name)
+            self.depth += 1
+            self.read_text(text, name)
+            self.depth -= 1
+        finally:
+            if slash:
+                self.dirs.pop()
+
+    def read_text(self, text: str, file: str) -> None:
+        """Read the productions and commands of ``text``."""
+        if text.startswith("\ufeff"):
+            text = text[1:]
+        pos = 0
+        n = len(text)
+        while True:
+            pos = skip_blank(text, pos)
+            if pos >= n:
+                return
+            if text.startswith("sp", pos) and (pos + 2 == n or not _word_char(text[pos + 2])):
+                after = skip_blank(text, pos + 2)
+                if after >= n or text[after] != '"':
+                    productions, pos = _Parser(text, file, self.table, pos,
+                                               self.flags).parse_run()
+                    self.items.extend(productions)
+                    continue
+            try:
+                command = read_command(text, pos)
+            except CommandSyntaxError as exc:
+                raise _error(RuleSyntaxError, text, file, exc.offset, exc.message) from None
+            pos = self.command(text, file, pos, command)
+
+    def command(self, text: str, file: str, pos: int, command: Command) -> int:
+        """Do one command; returns the offset after it."""
+        words = command.words
+        if words[0] == "sp":
+            return self.quoted_production(text, file, command)
+        try:
+            meaning = interpret(command, self.chunking)
+        except Refusal as exc:
+            at = command.starts[min(exc.word, len(command.starts) - 1)]
+            cls = RuleSyntaxError if exc.unknown else RuleSemanticError
+            raise _error(cls, text, file, at, exc.message) from None
+        if isinstance(meaning, Setting):
+            self.items.append(meaning)
+        elif isinstance(meaning, Source):
+            if self.depth >= MAX_SOURCE_DEPTH:
+                raise _error(RuleSemanticError, text, file, pos,
+                             f"source depth ({MAX_SOURCE_DEPTH}) exceeded: does a file source "
+                             "itself?")
+            here = _error(RuleError, text, file, command.starts[1 if len(words) > 1 else 0], "")
+            try:
+                self.source(meaning.path, here)
+            except RuleError as exc:
+                if exc.file == here.file and exc.line == here.line:
+                    raise
+                raise type(exc)(f"{exc.message} (in a file sourced at {here.location})",
+                                file=exc.file, line=exc.line, col=exc.col,
+                                source_line=exc.source_line) from None
+        elif isinstance(meaning, Pushd):
+            directory = _join(self.dirs[-1], meaning.path.replace("\\", "/"))
+            if not os.path.isdir(directory):
+                raise _error(RuleSemanticError, text, file, command.starts[1],
+                             f"pushd: no directory {directory}")
+            self.dirs.append(directory)
+        elif isinstance(meaning, Popd):
+            if len(self.dirs) == 1:
+                raise _error(RuleSemanticError, text, file, pos,
+                             "popd: the directory stack is empty (no pushd before it)")
+            self.dirs.pop()
+        return command.end
+
+    def quoted_production(self, text: str, file: str, command: Command) -> int:
+        """``sp "..."``: the production in the quoted word, read in place."""
+        if len(command.words) != 2 or text[command.starts[1]] != '"':
+            raise _error(RuleSyntaxError, text, file, command.starts[0],
+                         "expected '{' or '\"' after 'sp'")
+        start, end = command.starts[1], command.end
+        while text[end - 1] != '"':  # the word ends at its closing quote
+            end -= 1
+        # the same text with the quotes made braces and each escape one space
+        # and the character (positions stay those of the file)
+        body: list[str] = []
+        i = start + 1
+        while i < end - 1:
+            c = text[i]
+            if c == "\\" and i + 1 < end - 1:
+                nxt = text[i + 1]
+                body.append(" " + (" " if nxt in "abfnrtv" else nxt))
+                i += 2
+                continue
+            body.append(c)
+            i += 1
+        masked = text[:start] + "{" + "".join(body) + "}" + text[end:]
+        productions, stop = _Parser(masked, file, self.table, command.starts[0],
+                                    self.flags).parse_run()
+        self.items.extend(productions[:1])
+        return end
+
+
+def _word_char(c: str) -> bool:
+    return not (c.isspace() or c in '{";#')
+
+
+def _join(base: str, path: str) -> str:
+    if not base or os.path.isabs(path):
+        return os.path.normpath(path) if base else path
+    return os.path.normpath(os.path.join(base, path))
+
+
+def _error(cls: type[RuleError], text: str, file: str, offset: int, message: str) -> RuleError:
+    line = text.count("\n", 0, offset) + 1
+    line_start = text.rfind("\n", 0, offset) + 1
+    line_end = text.find("\n", offset)
+    source_line = text[line_start:] if line_end < 0 else text[line_start:line_end]
+    return cls(message, file=file, line=line, col=offset - line_start + 1,
+               source_line=source_line)
+
+
+def _with_message(at: RuleError | None, message: str, file: str) -> RuleError:
+    if at is None:
+        return RuleError(f"cannot read rule file: {message}", file=file)
+    return RuleSemanticError(message, file=at.file, line=at.line, col=at.col,
+                             source_line=at.source_line)

@@ -151,25 +151,33 @@ class ResultMaker:
         if not grounds and self._surely_ungrounded(inst):
             self._ungrounded(inst, results)
             return
-        negations = _connected(grounds, negated)
         target = min((self.level(p[1]) for p in results), default=inst.goal.level - 1)
-        # the justification's match goal: the lowest state among its WMEs' ids
-        goal: Goal | None = None
-        for w in grounds:
-            g = k.goals.get(w.id)
-            if g is not None and (goal is None or g.level > goal.level):
-                goal = g
-        if goal is None:
-            goal = _goal_at(k, target)
-        support = Support.I
-        for w in grounds:
-            if w.id is goal.id and w.attr == "operator" and not w.acceptable:
-                support = Support.O
+        just = self._justification(grounds, negated, target)
+        goal = just.goal
+        # bottom up, as Soar's chunker does: a justification whose match goal
+        # is below the results' level makes them results of its own, and the
+        # justification for those -- one level up, backtracing through the
+        # first one's local grounds -- is the one that holds them (so a result
+        # two levels up that depends on the top state's selected operator is
+        # o-supported there)
+        while goal.level > target:
+            negated = []
+            higher = self.backtrace(just, stop_at_o=False, negated=negated)
+            if not higher:
                 break
-        just = Justification(goal, support, tuple(grounds), negations)
+            just = self._justification(higher, negated, target)
+            goal = just.goal
+        grounds = list(just.wmes)
+        negations = just.negations
+        support = just.support
         for p in results:
             self._promote(p, target)
         k.events.emit(Event.RESULT, (inst, just, results))
+        if inst.support is Support.O:
+            # Soar keeps the firing's own o-supported preferences too (the
+            # justification holds clones of them) until the substate goes: the
+            # result outlives a justification that retracts meanwhile
+            self._keep_own(inst, results)
         k.preferences.assert_preferences(just, results, support is Support.O)
         if just.slot_prefs and support is Support.O:
             # o-supported operator-slot preferences stay, as in Soar, until
@@ -189,6 +197,26 @@ class ResultMaker:
                 # a negation already has a match (the instantiation behind it
                 # is waiting to retract): the justification does not hold
                 k.schedule_retraction(just)
+
+    def _justification(self, grounds: list[WME], negated: list[Negation],
+                       target: int) -> Justification:
+        """The justification over ``grounds``: its match goal is the lowest state
+        among its WMEs' identifiers; it is o-supported when it tests that
+        state's selected operator."""
+        k = self.kernel
+        goal: Goal | None = None
+        for w in grounds:
+            g = k.goals.get(w.id)
+            if g is not None and (goal is None or g.level > goal.level):
+                goal = g
+        if goal is None:
+            goal = _goal_at(k, target)
+        support = Support.I
+        for w in grounds:
+            if w.id is goal.id and w.attr == "operator" and not w.acceptable:
+                support = Support.O
+                break
+        return Justification(goal, support, tuple(grounds), _connected(grounds, negated))
 
     def _surely_ungrounded(self, inst: Instantiation) -> bool:
         """Whether a complete backtrace of ``inst`` meets no superstate WME.
@@ -249,11 +277,17 @@ class ResultMaker:
         :meth:`adapt.engine.kernel.Kernel.remove_goal`).
         """
         k = self.kernel
-        goal = inst.goal
         target = min(self.level(p[1]) for p in results)
         for p in results:
             self._promote(p, target)
         k.events.emit(Event.RESULT, (inst, None, results))
+        self._keep_own(inst, results)
+
+    def _keep_own(self, inst: Instantiation, results: list[MadePreference]) -> None:
+        """Assert ``results`` held by the substate instantiation that made them,
+        with its support; o-supported ones are removed with its goal."""
+        k = self.kernel
+        goal = inst.goal
         o_supported = inst.support is Support.O
         k.preferences.assert_preferences(inst, results, o_supported)
         if o_supported:

@@ -133,15 +133,31 @@ class PreferenceMemory:
                 supporters.append(holder)
             self.wm.pending_adds[key] = None
 
-    def o_reject(self, p: MadePreference) -> None:
-        """An o-supported reject: remove every preference for the WME, and the WME."""
+    def o_reject(self, p: MadePreference) -> list[Goal]:
+        """An o-supported reject: remove every preference for the value, and the WME.
+
+        In an operator slot (Soar's ``process_o_rejects``) every preference for
+        the operator leaves the slot, whatever instantiation made it, with its
+        ``(S ^operator O +)`` WME.  Returns the goals whose selected operator
+        that was (Soar deselects it).
+        """
         _, ident, attr, value, _, _ = p
         if attr == "operator" and ident in self.goals:
-            return
-        key = (ident, attr, value, False)
-        had = self.osup.pop(key, None) is not None
-        if self.isup.pop(key, None) is not None or had:
-            self.wm.remove_key(key)
+            goal = self.goals[ident]
+            kept = [sp for sp in goal.prefs if sp.preference.value is not value]
+            if len(kept) == len(goal.prefs):
+                return []
+            goal.prefs = kept
+            goal.changed = True
+            key = (ident, "operator", value, True)
+            if self.isup.pop(key, None) is not None:
+                self.wm.remove_key(key)
+            return [goal] if goal.operator is value else []
+        wme_key = (ident, attr, value, False)
+        had = self.osup.pop(wme_key, None) is not None
+        if self.isup.pop(wme_key, None) is not None or had:
+            self.wm.remove_key(wme_key)
+        return []
 
     # -- retracting ----------------------------------------------------------------
     def retract(self, holder: Instantiation) -> list[Goal]:

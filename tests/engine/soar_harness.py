@@ -10,10 +10,13 @@ file, runs ``run N`` and prints one JSON report.  Adapt runs in-process through
     halted, stop_reason, decisions, output, operators [[d, level, name]],
     impasses [[d, level, type, attribute]], writes [[d, text]] (optional)
 
-``writes`` segments the output by decision: ``d`` is the value of the decision
-counter while the text was written (0 = before the first decision; ``n`` = the
-apply and output phases of decision ``n`` and the next input and proposal
-phases), the convention of ``docs/trace-format.md``.
+``writes`` holds every ``(write ...)`` action's text with its decision: ``d``
+is the value of the decision counter while the text was written (0 = before
+the first decision; ``n`` = the apply and output phases of decision ``n`` and
+the next input and proposal phases), the convention of
+``docs/trace-format.md``.  The writes of one decision are compared as a
+multiset of texts, one per write action (Soar's order within an elaboration
+cycle is its Rete's, which adapt does not reproduce).
 
 An agent may state its own bound in a comment line ``# max-decisions: N``.
 """
@@ -52,12 +55,16 @@ def max_decisions_of(path: Path) -> int:
 
 
 def run_soar(path: Path, *, max_decisions: int | None = None, seed: int = 1,
-             timeout: float = DEFAULT_TIMEOUT_S) -> Report:
-    """Run ``path`` in real Soar in a child process; never raises for agent trouble."""
+             timeout: float = DEFAULT_TIMEOUT_S, learning_off: bool = False) -> Report:
+    """Run ``path`` in real Soar in a child process; never raises for agent trouble.
+
+    ``learning_off``: ``chunk never`` again after loading (an agent that turns
+    chunking on, run with learning off).
+    """
     path = Path(path).resolve()
     bound = max_decisions if max_decisions is not None else max_decisions_of(path)
     argv = [sys.executable, str(Path(__file__).resolve()), "--child", str(path),
-            str(bound), str(seed), str(timeout)]
+            str(bound), str(seed), str(timeout), "learning-off" if learning_off else "-"]
     try:
         proc = subprocess.run(argv, capture_output=True, timeout=timeout + 15.0)
     except subprocess.TimeoutExpired:
@@ -86,7 +93,8 @@ def _failed(path: Path, reason: str, error: str) -> Report:
 # --------------------------------------------------------------------------
 
 
-def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
+def _child(path: str, max_decisions: int, seed: int, timeout: float,
+           learning_off: bool = False) -> Report:
     import xml.etree.ElementTree as ET
 
     import soar_sml  # only ever imported in the child
@@ -137,6 +145,11 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
     if not agent.GetLastCommandLineResult():
         return {"agent": os.path.basename(path), "error": "load failed: " + text.strip(),
                 "halted": False, "stop_reason": "load-error"}
+    if learning_off:
+        agent.ExecuteCommandLine("chunk never")
+    # an agent's own `watch 0` would hide the decisions this harness reads
+    agent.ExecuteCommandLine("trace 1")
+    agent.ExecuteCommandLine("trace --phases")
     load_messages = [e["text"] for e in events if e["t"] == "msg"]
     events.clear()
     agent.ExecuteCommandLine(f"run {max_decisions}")
@@ -152,7 +165,7 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
     elif any("infinite loop" in m or "Goal stack depth" in m for m in messages):
         stop = "max-goal-depth"
     else:
-        stop = "stopped"
+        stop = "interrupted"  # (interrupt), or a stop the agent asked for
     writes = [[e["d"], e["text"]] for e in events if e["t"] == "write"]
     firings = re.search(r"^(\d+) production firings", stats, re.MULTILINE)
     return {
@@ -178,7 +191,8 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float) -> Report:
 
 
 def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
-              matcher: str = "rete", trace_level: int | None = 2) -> Report:
+              matcher: str = "rete", trace_level: int | None = 2,
+              chunking: str = "refuse") -> Report:
     """Run ``path`` in adapt.
 
     Writes are segmented by decision from a trace of ``trace_level``; with
@@ -199,19 +213,22 @@ def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
         heard: list[list[Any]] = []
         agent.on_write(lambda text: heard.append([agent.decisions, text]))
         try:
-            agent.load_file(str(path))
+            if chunking == "refuse":
+                agent.load_file(str(path))
+            else:
+                agent.load_file(str(path), chunking=chunking)
             report: Report = dict(agent.run(max_decisions=bound).to_dict())
         except Exception as exc:  # the test reports it against Soar's run
             return {"error": f"{type(exc).__name__}: {exc}", "halted": False,
                     "stop_reason": "error", "decisions": None}
         finally:
             agent.close()
-        report["writes"] = _merge(heard)
+        report["writes"] = heard
         if trace_level is not None and trace_level >= 2:
             from_trace = _merge(_writes_from_trace(trace))
-            if from_trace != report["writes"]:
+            if from_trace != _merge(heard):
                 report["error"] = (f"the trace's writes {from_trace!r} differ from the "
-                                   f"writes heard {report['writes']!r}")
+                                   f"writes heard {_merge(heard)!r}")
     return report
 
 
@@ -279,8 +296,8 @@ def _warnings(report: Report) -> int:
 
 
 def _segment(writes: list[list[Any]], d: int) -> list[str]:
-    text = "".join(t for dd, t in writes if dd == d)
-    return text.splitlines(keepends=True)
+    """The texts of the ``(write ...)`` actions of decision ``d``, one per action."""
+    return [t for dd, t in writes if dd == d]
 
 
 def _output_difference(soar: Report, adapt_output: str) -> str:
@@ -306,9 +323,10 @@ def _show(value: object, limit: int = 200) -> str:
     return text if len(text) <= limit else text[:limit] + "..."
 
 
-if __name__ == "__main__" and len(sys.argv) == 6 and sys.argv[1] == "--child":
+if __name__ == "__main__" and len(sys.argv) == 7 and sys.argv[1] == "--child":
     try:
-        result = _child(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), float(sys.argv[5]))
+        result = _child(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), float(sys.argv[5]),
+                        sys.argv[6] == "learning-off")
     except Exception as exc:  # reported, not raised: the parent reads stdout
         result = {"agent": os.path.basename(sys.argv[2]), "error": f"{type(exc).__name__}: {exc}",
                   "halted": False, "stop_reason": "crashed"}

@@ -77,9 +77,13 @@ def test_duplicate_production_and_unbound_relation_are_errors() -> None:
                               cond("<s>", "c", rel("<", "<y>"), neg=True)))
 
 
+# Soar's compare_symbols: between types the tested value is "less"; identifiers
+# by letter, then number (checked with soar-sml 9.6.5: agents/relations_soar_order.soar)
 @pytest.mark.parametrize("relation,a,b,holds", [
     ("<", 1, 2, True), ("<", 2, Float(1.5), False), (">=", Float(2.0), 2, True),
-    ("<=", "a", "b", True), ("<", "a", 1, False), ("<", Identifier("A", 1), 5, False),
+    ("<=", "a", "b", True), ("<", "a", 1, True), (">", "a", 1, False), (">=", 1, "a", False),
+    ("<", Identifier("A", 1), 5, True), (">", Identifier("O", 10), Identifier("O", 9), True),
+    ("<", Identifier("O", 10), Identifier("S", 1), True),
     ("<>", 2, Float(2.0), True), ("=", 2, 2, True), ("<=>", Float(1.0), 2, False),
     ("<=>", "x", "y", True), ("<=>", Identifier("A", 1), Identifier("B", 2), True),
 ])

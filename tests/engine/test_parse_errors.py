@@ -19,45 +19,58 @@ SYN, SEM = RuleSyntaxError, RuleSemanticError
 
 CASES = [
     # --- file level
-    ("hello world", SYN, "1:1", "expected 'sp {' to begin a production, found 'hello'"),
+    ("hello world", SYN, "1:1",
+     "expected 'sp {' to begin a production, or an agent-file command, found 'hello'"),
     ("sp t", SYN, "1:4", "expected '{' after 'sp', found 't'"),
     ("sp {t (state <s>) --> (<s> ^a 1)} }", SYN, "1:35",
-     "expected 'sp {' to begin a production, found '}'"),
+     "expected 'sp {' to begin a production, or an agent-file command, found '}'"),
     ("sp {t (state <s>) --> (<s> ^a 1)\nsp {u (state <s>) --> }", SYN, "2:1",
      "expected '(' to begin an action, or '}', found 'sp' "
      "(is the '}' that ends production 't' missing?)"),
     ("sp {t (state <s>) -->", SYN, "1:22",
      "expected '(' to begin an action, or '}', found the end of the file "
      "(is the '}' that ends production 't' missing?)"),
+    # --- agent-file commands that ask for what adapt lacks
     ("chunk always", SEM, "1:1",
-     "'chunk' is a Soar command, which rule files cannot contain (chunking is not "
-     "implemented); a rule file holds only 'sp {...}' productions and comments"),
+     "'chunk always' turns chunking on, which adapt does not implement; remove the line, "
+     "or write 'chunk never'"),
     ("learn --on", SEM, "1:1",
-     "'learn' is a Soar command, which rule files cannot contain (chunking is not "
-     "implemented); a rule file holds only 'sp {...}' productions and comments"),
+     "'learn --on' turns chunking on, which adapt does not implement; remove the line, "
+     "or write 'chunk never'"),
+    ("chunk never\nchunk add-osk on", SEM, "2:1",
+     "'chunk add-osk on' configures chunking, which adapt does not implement; remove the "
+     "line, or write 'chunk never'"),
     ("rl --set learning on", SEM, "1:1",
-     "'rl' is a Soar command, which rule files cannot contain (reinforcement learning is not "
-     "implemented); a rule file holds only 'sp {...}' productions and comments"),
+     "'rl' is a Soar command adapt does not run (reinforcement learning is not implemented)"),
     ("smem --enable", SEM, "1:1",
-     "'smem' is a Soar command, which rule files cannot contain (semantic memory is not "
-     "implemented); a rule file holds only 'sp {...}' productions and comments"),
+     "'smem' is a Soar command adapt does not run (semantic memory is not implemented)"),
     ("epmem --enable", SEM, "1:1",
-     "'epmem' is a Soar command, which rule files cannot contain (episodic memory is not "
-     "implemented); a rule file holds only 'sp {...}' productions and comments"),
+     "'epmem' is a Soar command adapt does not run (episodic memory is not implemented)"),
     ("# ok\n  gp {t (state <s> ^a [1 2]) -->}", SEM, "2:3",
-     "'gp' is a Soar command, which rule files cannot contain (generated productions are not "
-     "supported; write each production with sp); a rule file holds only 'sp {...}' "
-     "productions and comments"),
-    ("source other.soar", SEM, "1:1",
-     "'source' is a Soar command, which rule files cannot contain (rule files cannot include "
-     "other files; load each file yourself); a rule file holds only 'sp {...}' productions "
-     "and comments"),
-    ("watch 5", SEM, "1:1",
-     "'watch' is a Soar command, which rule files cannot contain; a rule file holds only "
-     "'sp {...}' productions and comments"),
-    ("multi-attributes foo 3", SEM, "1:1",
-     "'multi-attributes' is a Soar command, which rule files cannot contain; a rule file "
-     "holds only 'sp {...}' productions and comments"),
+     "'gp' is a Soar command adapt does not run (generated productions are not supported; "
+     "write each production with sp)"),
+    ("indifferent-selection --epsilon-greedy", SEM, "1:1",
+     "'indifferent-selection' is a Soar command adapt does not run (only Soar's default "
+     "selection policy (softmax) is implemented)"),
+    ("  excise foo", SEM, "1:3",
+     "'excise foo' is a Soar command adapt does not run in agent files (besides 'sp' "
+     "productions they may hold source, pushd, popd, srand, multi-attributes, chunk never, "
+     "watch, echo, max-elaborations, max-goal-depth and output agent-writes)"),
+    # --- agent-file commands adapt accepts, used wrongly
+    ("source other.soar", SEM, "1:8", "cannot source other.soar: no file other.soar"),
+    ("source", SEM, "1:1",
+     "'source' takes one file name (put quotes around a name with spaces)"),
+    ("popd", SEM, "1:1", "popd: the directory stack is empty (no pushd before it)"),
+    ("pushd no-such-folder", SEM, "1:7", "pushd: no directory no-such-folder"),
+    ("srand", SEM, "1:1",
+     "'srand' without a seed seeds Soar from the clock, which would make the run "
+     "irreproducible; give a seed ('srand 1')"),
+    ("srand x", SEM, "1:7", "the seed must be an integer, not 'x'"),
+    ("multi-attributes foo 0", SEM, "1:22", "the number of values must be at least 1, not 0"),
+    ("max-elaborations", SEM, "1:1", "'max-elaborations' needs the max-elaborations limit"),
+    ("output agent-writes maybe", SEM, "1:21", "'output agent-writes' takes 'on' or 'off'"),
+    ("echo {unterminated", SYN, "1:6", "unterminated '{': no matching '}'"),
+    ('sp "a (state <s>) --> (write x)', SYN, "1:4", "unterminated quoted word: no closing '\"'"),
     # --- header
     ("sp {p1 (state <s>) -->}", SEM, "1:5",
      "production name 'p1' is shaped like an identifier (a letter followed by digits), "
@@ -107,7 +120,8 @@ CASES = [
     ("sp {t -(state <s>) -->}", SEM, "1:8",
      "the first condition must test a state: '(state <s> ...)'"),
     ("sp {t --> (halt)}", SEM, "1:7", "the first condition must test a state: '(state <s> ...)'"),
-    # Soar 9.6.5 accepts conditions that are not linked to a state.
+    # Soar 9.6.5 accepts conditions that are not linked to a state.  (A negation
+    # linked through its value, -(<x> ^on <b>), is accepted: test_agent_files.py.)
     ("sp {t (state <s>)\n   (<x> ^a 1) -->}", SEM, "2:4",
      "condition on <x> is not linked to a state: <x> is not the value of any condition "
      "reachable from a state variable"),

@@ -76,7 +76,10 @@ def compile_tests(tests: tuple[AlphaTest, ...]) -> Callable[[WME], bool] | None:
     >>> check = compile_tests((("<", 2, True, 10),))
     >>> s1 = Identifier("S", 1)
     >>> [check(WME(s1, "count", v, False, 1)) for v in (3, 12, "x", Float(2.5))]
-    [True, False, False, True]
+    [True, False, True, True]
+
+    (A string is *less* than a number, as in Soar: see
+    :func:`adapt.engine.conditions.soar_compare`.)
     """
     if not tests:
         return None

@@ -1,12 +1,9 @@
 """From conditions to node specifications: ordering and test placement.
 
 :func:`order_elements` chooses the order in which a conjunction's condition
-elements become nodes: positive conditions greedily by connectivity (the
-next one is the first, in source order, that tests a variable already bound
--- its identifier or any other field, since every equality test is part of
-the join's hash key -- so a condition is never joined as a cross product
-while another could connect it; if none connects, the first remaining), and
-each negated condition or
+elements become nodes: positive conditions as Soar's reorderer orders them
+(:mod:`adapt.engine.reorder`: cheapest join first, by Soar's cost estimates
+and the agent's ``multi-attributes`` hints), and each negated condition or
 conjunctive negation right after the positive condition that binds the last
 of the variables it shares with the conjunction's positive conditions.
 
@@ -33,6 +30,7 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -47,9 +45,9 @@ from adapt.engine.production import (
     EqualityTest,
     Term,
     Variable,
-    condition_equality_variables,
     simple_tests,
 )
+from adapt.engine.reorder import join_order
 from adapt.engine.rete.alpha import ANY, AlphaKey, AlphaTest
 from adapt.engine.rete.join import JoinTest
 
@@ -129,19 +127,11 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> Condition
     )
 
 
-def order_elements(elements: Sequence[ConditionElement], outer: set[Variable]) -> list[int]:
-    """Indexes of ``elements`` in the order their nodes are built (see the
-    module docstring); ``outer`` are the variables bound above."""
-    remaining = [i for i, e in enumerate(elements) if is_positive(e)]
-    known = set(outer)
-    positives: list[int] = []
-    while remaining:
-        pick = next(
-            (i for i in remaining
-             if not condition_equality_variables(elements[i]).isdisjoint(known)),  # type: ignore[arg-type]
-            remaining[0],
-        )
-        remaining.remove(pick)
-        positives.append(pick)
-        known |= condition_equality_variables(elements[pick])  # type: ignore[arg-type]
-    return evaluation_order(elements, outer, positives)
+def order_elements(elements: Sequence[ConditionElement], outer: set[Variable],
+                   multi_attributes: Mapping[str, int] | None = None) -> list[int]:
+    """Indexes of ``elements`` in the order their nodes are built: the positive
+    conditions as Soar's reorderer orders them (:func:`adapt.engine.reorder.join_order`,
+    with the ``multi-attributes`` hints), each negation after the positive
+    condition that binds the last of its variables; ``outer`` are the
+    variables bound above."""
+    return evaluation_order(elements, outer, join_order(elements, outer, multi_attributes))

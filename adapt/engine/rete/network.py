@@ -68,7 +68,7 @@ class Rete:
 
     __slots__ = (
         "state", "root", "_wmes", "_alpha", "_alpha_by_sig", "_wme_alphas", "_pnodes",
-        "_shapes",
+        "_shapes", "multi_attributes",
     )
 
     def __init__(self) -> None:
@@ -84,6 +84,9 @@ class Rete:
         #: how many alpha memories have a constant attribute/value: the
         #: key shapes (attr, value), (attr, ANY), (ANY, value), (ANY, ANY)
         self._shapes = [0, 0, 0, 0]
+        #: ``multi-attributes`` hints for ordering the conditions of productions
+        #: added from now on (attribute -> expected number of values)
+        self.multi_attributes: dict[str, int] = {}
 
     # -- working memory -----------------------------------------------------
 
@@ -239,7 +242,7 @@ class Rete:
         levels: dict[int, int] = {}
         hops = 0
         node = parent
-        for i in order_elements(elements, set(bound)):
+        for i in order_elements(elements, set(bound), self.multi_attributes):
             element = elements[i]
             hops += 1
             if isinstance(element, ConjunctiveNegation):
