@@ -1,7 +1,7 @@
 """Engine benchmarks: adapt against real Soar on the same rule files (figures, not tests).
 
-Run ``python bench/engine.py`` (``--quick`` for a smoke run).  Two workloads,
-each written as a ``.soar`` file that both systems load unchanged:
+Run ``python bench/engine.py`` (``--quick`` for a smoke run).  The workloads
+are each written as a ``.soar`` file that both systems load unchanged:
 
 * counter: one operator per decision (propose ``count``, apply ``^count n+1``)
   until ^count reaches 100,000 -- decisions per second.  Target: adapt
@@ -12,6 +12,14 @@ each written as a ``.soar`` file that both systems load unchanged:
   hints for ``^a`` and ``^b`` (N values each), a matcher which hashes joins on
   values orders the join on ``<v>`` first and follows it in linear time.  Targets: adapt >= 10 x faster than real
   Soar at N = 5,000, and adapt's time(20,000) / time(5,000) <= 5.
+* loading: N generated rules -- seconds to parse and build the matcher.
+* towers of hanoi and fifteen puzzle: agents of the shape of Soar's own
+  (``hanoi_file``, ``fifteen_file``: written here, not copied): many
+  ``^holds`` / ``^binding`` structures on the top state and a goal test naming
+  all of them in one condition, which only load-time condition reordering
+  makes tractable -- firings per second and Soar's rate / adapt's.  Before
+  timing, each runs once in both engines with a write per move and the two
+  runs are compared decision by decision (``tests/engine/soar_harness.py``).
 
 Each child may use at most 8 GB of address space (real Soar's value join
 needs N^2 partial matches and runs out of memory at N = 20,000).  Every
@@ -128,11 +136,250 @@ def join_file(n: int) -> str:
     return "\n".join(lines) + "\n" + JOIN_RULES
 
 
+# ---- the shapes of Soar's own agents -----------------------------------------------
+
+HANOI_RULES = """
+sp {hanoi*elaborate*clear
+   (state <s> ^holds <h>)
+   (<h> ^disk <d>)
+   -{(<s> ^holds <x>)
+     (<x> ^above <d>)}
+-->
+   (<s> ^clear <h>)}
+
+sp {hanoi*elaborate*empty-peg
+   (state <s> ^peg <p>)
+   -{(<s> ^holds <x>)
+     (<x> ^on <p>)}
+-->
+   (<s> ^empty <p>)}
+
+sp {hanoi*propose*move-smallest
+   (state <s> ^holds <h> ^last-moved <> 1 ^cycle <c>)
+   (<h> ^disk 1 ^on <from>)
+   (<c> ^from <from> ^to <to>)
+-->
+   (<s> ^operator <o> +)
+   (<o> ^name move ^holds <h> ^disk 1 ^from <from> ^to <to>)}
+
+sp {hanoi*propose*move-onto-disk
+   (state <s> ^clear <h> ^clear <t> ^last-moved <l>)
+   (<h> ^disk { <d> > 1 <> <l> } ^on <from>)
+   (<t> ^disk > <d> ^on { <to> <> <from> })
+-->
+   (<s> ^operator <o> +)
+   (<o> ^name move ^holds <h> ^disk <d> ^from <from> ^to <to>)}
+
+sp {hanoi*propose*move-onto-peg
+   (state <s> ^clear <h> ^empty <to> ^last-moved <l>)
+   (<h> ^disk { <d> > 1 <> <l> } ^on { <from> <> <to> })
+-->
+   (<s> ^operator <o> +)
+   (<o> ^name move ^holds <h> ^disk <d> ^from <from> ^to <to>)}
+
+sp {hanoi*apply*move-onto-disk
+   (state <s> ^operator <o> ^clear <t> ^last-moved <l> ^moves <m>)
+   (<o> ^name move ^holds <h> ^disk <d> ^from <from> ^to <to>)
+   (<t> ^on <to> ^disk <below>)
+   (<h> ^above <old>)
+-->
+   (<h> ^on <from> - <to> ^above <old> - <below>)
+   (<s> ^last-moved <l> - <d> ^moves <m> - (+ <m> 1))}
+
+sp {hanoi*apply*move-onto-peg*from-disk
+   (state <s> ^operator <o> ^empty <to> ^last-moved <l> ^moves <m>)
+   (<o> ^name move ^holds <h> ^disk <d> ^from <from> ^to <to>)
+   (<h> ^above { <old> <> 0 })
+-->
+   (<h> ^on <from> - <to> ^above <old> - 0)
+   (<s> ^last-moved <l> - <d> ^moves <m> - (+ <m> 1))}
+
+sp {hanoi*apply*move-onto-peg*from-peg
+   (state <s> ^operator <o> ^empty <to> ^last-moved <l> ^moves <m>)
+   (<o> ^name move ^holds <h> ^disk <d> ^from <from> ^to <to>)
+   (<h> ^above 0)
+-->
+   (<h> ^on <from> - <to>)
+   (<s> ^last-moved <l> - <d> ^moves <m> - (+ <m> 1))}
+"""
+
+#: Added for the decision-by-decision check only (not timed): one line per move.
+HANOI_MONITOR = """
+sp {hanoi*monitor*move
+   (state <s> ^operator <o>)
+   (<o> ^name move ^disk <d> ^from <from> ^to <to>)
+-->
+   (write |disk | <d> | | <from> |->| <to>)}
+"""
+
+
+def hanoi_file(disks: int = 11) -> str:
+    """A Towers of Hanoi of ``disks`` disks on pegs a, b, c: ``2**disks - 1`` moves.
+
+    The top state holds one ``^holds`` structure per disk (``^disk i ^on peg
+    ^above j``, ``^above 0`` for a disk on the peg's floor).  The moves are the
+    iterative solution, chosen by the rules alone: the smallest disk moves
+    round the pegs in one direction (``^cycle``), every other move is the one
+    legal move of another disk, and no disk moves twice in a row -- so exactly
+    one operator is proposed at each decision.  The goal test names every
+    ``^holds`` in one condition, ``(state <s> ^holds <h1> ... <hN>)``, and then
+    each structure, as Soar's Towers of Hanoi agents do: written order builds
+    ``N**N`` partial matches; reordered, one chain of joins.
+    """
+    cycle = ("a c", "c b", "b a") if disks % 2 else ("a b", "b c", "c a")
+    holds = " ".join(f"<h{i}>" for i in range(1, disks + 1))
+    init = [
+        "sp {hanoi*propose*init",
+        "   (state <s> ^superstate nil -^holds)",
+        "-->",
+        "   (<s> ^operator <o> + !)",
+        "   (<o> ^name init)}",
+        "",
+        "sp {hanoi*apply*init",
+        "   (state <s> ^operator.name init)",
+        "-->",
+        "   (<s> ^peg a b c ^last-moved 0 ^moves 0 ^cycle <c1> <c2> <c3>",
+        f"        ^holds {holds})",
+    ]
+    for k, pair in enumerate(cycle, 1):
+        src, dst = pair.split()
+        init.append(f"   (<c{k}> ^from {src} ^to {dst})")
+    for i in range(1, disks + 1):
+        below = i + 1 if i < disks else 0
+        init.append(f"   (<h{i}> ^disk {i} ^on a ^above {below})")
+    init[-1] += "}"
+    goal = ["sp {hanoi*detect*goal", f"   (state <s> ^holds {holds} ^moves <m>)"]
+    for i in range(1, disks + 1):
+        below = i + 1 if i < disks else 0
+        goal.append(f"   (<h{i}> ^disk {i} ^on c ^above {below})")
+    goal += ["-->", "   (write |done in | <m> | moves|)", "   (halt)}"]
+    return "\n".join(init) + "\n" + HANOI_RULES + "\n" + "\n".join(goal) + "\n"
+
+
+FIFTEEN_RULES = """
+sp {fifteen*propose*move
+   (state <s> ^binding <bb> <bt> ^last-tile <l>)
+   (<bb> ^tile.name 0 ^cell <cb>)
+   (<cb> ^cell <ct>)
+   (<bt> ^cell <ct> ^tile { <t> <> <l> })
+-->
+   (<s> ^operator <o> +)
+   (<o> ^name move ^tile <t> ^from <bt> ^to <bb>)}
+
+sp {fifteen*evaluate*move
+   (state <s> ^operator <o> +)
+   (<o> ^name move ^tile <t> ^from <bt> ^to <bb>)
+   (<t> ^name <n> ^goal-row <gr> ^goal-col <gc>)
+   (<bt> ^cell <ct>)
+   (<ct> ^row <r1> ^col <c1>)
+   (<bb> ^cell <cb>)
+   (<cb> ^row <r2> ^col <c2>)
+-->
+   (<o> ^score (+ <n> (* 100 (- (+ (abs (- <r2> <gr>)) (abs (- <c2> <gc>)))
+                                (+ (abs (- <r1> <gr>)) (abs (- <c1> <gc>)))))))}
+
+sp {fifteen*compare*moves
+   (state <s> ^operator <o1> + ^operator { <o2> <> <o1> } +)
+   (<o1> ^score <x>)
+   (<o2> ^score > <x>)
+-->
+   (<s> ^operator <o1> > <o2>)}
+
+sp {fifteen*apply*move
+   (state <s> ^operator <o> ^last-tile <l> ^moves <m>)
+   (<o> ^name move ^tile <t> ^from <bt> ^to <bb>)
+   (<bb> ^tile <blank>)
+-->
+   (<bb> ^tile <blank> - <t>)
+   (<bt> ^tile <t> - <blank>)
+   (<s> ^last-tile <l> - <t> ^moves <m> - (+ <m> 1))}
+"""
+
+#: Added for the decision-by-decision check only (not timed): one line per move.
+FIFTEEN_MONITOR = """
+sp {fifteen*monitor*move
+   (state <s> ^operator <o>)
+   (<o> ^name move ^tile.name <n> ^score <x>)
+-->
+   (write |tile | <n> | score | <x>)}
+"""
+
+
+def fifteen_start(size: int = 4, scramble: int = 200, seed: int = 15) -> list[list[int]]:
+    """A solvable start: the goal board (blank last) after ``scramble`` random
+    moves of the blank (a fixed seed)."""
+    import random
+
+    rng = random.Random(seed)
+    board = [[r * size + c + 1 for c in range(size)] for r in range(size)]
+    board[-1][-1] = 0
+    r = c = size - 1
+    for _ in range(scramble):
+        steps = [(r + dr, c + dc) for dr, dc in ((-1, 0), (1, 0), (0, -1), (0, 1))
+                 if 0 <= r + dr < size and 0 <= c + dc < size]
+        nr, nc = rng.choice(steps)
+        board[r][c], board[nr][nc] = board[nr][nc], 0
+        r, c = nr, nc
+    return board
+
+
+def fifteen_file(size: int = 4, scramble: int = 200, seed: int = 15) -> str:
+    """A fifteen puzzle (``size`` x ``size``) shaped like Soar's eight/fifteen-puzzle agents.
+
+    The top state has one ``^binding`` per cell (``^cell <c> ^tile <t>``);
+    cells link to their neighbours (``^cell``) and know their row and column,
+    tiles know their goal row and column (tile 0 is the blank).  Each decision
+    proposes moving every tile next to the blank into it (except the tile just
+    moved), scores each move by the change of that tile's Manhattan distance
+    to its goal (x 100, plus the tile's number as the tie-break) and prefers
+    the lower score with binary ``>`` preferences between every pair: one
+    best operator, no random choice, so both engines make the same moves.
+    The goal test names all ``size**2`` bindings in one condition,
+    ``(state <s> ^binding <b11> ... <b44>)``.
+    """
+    board = fifteen_start(size, scramble, seed)
+    cells = [(r, c) for r in range(1, size + 1) for c in range(1, size + 1)]
+    lines = ["sp {fifteen*propose*init",
+             "   (state <s> ^superstate nil -^binding)",
+             "-->",
+             "   (<s> ^operator <o> + !)",
+             "   (<o> ^name init)}",
+             "",
+             "sp {fifteen*apply*init",
+             "   (state <s> ^operator.name init)",
+             "-->",
+             "   (<s> ^last-tile none ^moves 0 ^binding "
+             + " ".join(f"<b{r}{c}>" for r, c in cells) + ")"]
+    for r, c in cells:
+        near = [(r + dr, c + dc) for dr, dc in ((-1, 0), (1, 0), (0, -1), (0, 1))
+                if 1 <= r + dr <= size and 1 <= c + dc <= size]
+        links = " ".join(f"<c{a}{b}>" for a, b in near)
+        lines.append(f"   (<c{r}{c}> ^name c{r}{c} ^row {r} ^col {c} ^cell {links})")
+        lines.append(f"   (<b{r}{c}> ^cell <c{r}{c}> ^tile <t{board[r - 1][c - 1]}>)")
+    for n in range(size * size):
+        goal = n - 1 if n else size * size - 1
+        lines.append(f"   (<t{n}> ^name {n} ^goal-row {goal // size + 1} ^goal-col {goal % size + 1})")
+    lines[-1] += "}"
+    goal_test = ["sp {fifteen*detect*goal",
+                 "   (state <s> ^binding " + " ".join(f"<b{r}{c}>" for r, c in cells)
+                 + " ^moves <m>)"]
+    for k, (r, c) in enumerate(cells, 1):
+        goal_test.append(f"   (<b{r}{c}> ^cell.name c{r}{c} ^tile.name {k % (size * size)})")
+    goal_test += ["-->", "   (write |solved in | <m> | moves|)", "   (halt)}"]
+    return "\n".join(lines) + "\n" + FIFTEEN_RULES + "\n" + "\n".join(goal_test) + "\n"
+
+
 # ---- children ---------------------------------------------------------------
 
 
+def adapt_root() -> str:
+    """The checkout whose ``adapt`` the bench runs: ``--adapt-root`` (e.g. a
+    checkout with the compiled engine built), else this one."""
+    return os.environ.get("ADAPT_BENCH_ROOT") or str(ROOT)
+
+
 def child_adapt(path: str, max_decisions: int) -> dict[str, object]:
-    sys.path.insert(0, str(ROOT))
+    sys.path.insert(0, adapt_root())
     from adapt.engine import Agent, engine_build
     from adapt.engine.agent import DEFAULT_GC_THRESHOLD
 
@@ -340,17 +587,87 @@ def bench_join(tmp: Path, sizes: list[int], runs: int, timeout: float,
               f"{times[('soar', 20000)] / times[('soar', 5000)]:.2f}")
 
 
+def same_decisions(path: Path, max_decisions: int, timeout: float) -> str:
+    """Run ``path`` once in real Soar and once in adapt through the differential
+    harness (``tests/engine/soar_harness.py``) and compare them decision by
+    decision: selections, impasses, every ``(write ...)`` with its decision,
+    decisions, halt.  Not timed."""
+    sys.path.insert(0, str(ROOT / "tests" / "engine"))
+    sys.path.insert(0, adapt_root())
+    from soar_harness import first_difference, run_adapt, run_soar
+
+    soar = run_soar(path, max_decisions=max_decisions, timeout=timeout)
+    adapt = run_adapt(path, max_decisions=max_decisions, trace_level=None)
+    difference = first_difference(soar, adapt)
+    if difference is not None:
+        return f"DIFFER: {difference}"
+    return (f"identical ({soar['decisions']:,} decisions, {len(soar.get('writes', [])):,} "
+            f"writes, halted: {soar['halted']})")
+
+
+def bench_agent(tmp: Path, name: str, text: str, monitor: str, max_decisions: int, runs: int,
+                timeout: float, systems: tuple[str, ...] = SYSTEMS, check: bool = True) -> None:
+    """Firings per second of one agent in each system and Soar's rate / adapt's.
+
+    The timed file is ``text``; the check runs ``text + monitor`` (one write
+    per move) once in each engine and compares them decision by decision."""
+    path = tmp / f"{name}.soar"
+    path.write_text(text)
+    if check:
+        checked = tmp / f"{name}-checked.soar"
+        checked.write_text(text + monitor)
+        print(f"  same decisions as Soar (with a write per move, not timed): "
+              f"{same_decisions(checked, max_decisions, timeout)}")
+    rates: dict[str, float] = {}
+    seen: dict[str, tuple[object, object, object]] = {}
+    for system, (seconds, info) in interleaved(systems, path, max_decisions, runs, timeout).items():
+        if seconds is None:
+            print(f"  {system:<8} {info.get('error')}")
+            continue
+        firings = int(info["firings"])  # type: ignore[call-overload]
+        rates[system] = firings / seconds
+        seen[system] = (info["decisions"], info["halted"], firings)
+        engine = f", {info['engine']}" if "engine" in info else ""
+        print(f"  {system:<8} {int(info['decisions']):,} decisions, "  # type: ignore[call-overload]
+              f"{firings:,} firings in {fmt(seconds)}  ->  {rates[system]:,.0f} firings/s  "
+              f"(halted: {info['halted']}{engine})")
+    if len(set(seen.values())) > 1:
+        print("  DIFFERENT WORK: decisions, halt or firings differ between the systems")
+    for system in ("adapt", "adapt-py"):
+        if system in rates and "soar" in rates:
+            print(f"  Soar's rate / {system}'s = {rates['soar'] / rates[system]:.1f}x")
+
+
+def bench_hanoi(tmp: Path, disks: int, runs: int, timeout: float,
+                systems: tuple[str, ...] = SYSTEMS, check: bool = True) -> None:
+    moves = 2**disks - 1
+    print(f"towers of hanoi: {disks} disks, {moves:,} moves, a goal test naming all {disks} "
+          f"^holds (median of {runs})")
+    bench_agent(tmp, f"hanoi-{disks}", hanoi_file(disks), HANOI_MONITOR, moves + 10, runs,
+                timeout, systems, check)
+
+
+def bench_fifteen(tmp: Path, decisions: int, runs: int, timeout: float,
+                  systems: tuple[str, ...] = SYSTEMS, check: bool = True) -> None:
+    print(f"fifteen puzzle: 4 x 4 ^binding structures, best move by binary preferences, "
+          f"{decisions:,} decisions (median of {runs})")
+    bench_agent(tmp, "fifteen", fifteen_file(), FIFTEEN_MONITOR, decisions, runs, timeout,
+                systems, check)
+
+
 def main() -> int:
     if len(sys.argv) == 5 and sys.argv[1] == "--child":
         runner = child_soar if sys.argv[2] == "soar" else child_adapt  # adapt, adapt-py
         print(json.dumps(runner(sys.argv[3], int(sys.argv[4]))), flush=True)
         os._exit(0)  # the native kernel sometimes misbehaves at interpreter exit
-    parser = argparse.ArgumentParser(description="adapt vs real Soar: counter, value join, loading")
+    parser = argparse.ArgumentParser(description="adapt vs real Soar: counter, value join, loading, "
+                                                 "towers of hanoi, fifteen puzzle")
     parser.add_argument("--quick", action="store_true", help="small sizes, one run each")
     parser.add_argument("--runs", type=int, default=None, help="runs per figure (default 3)")
     parser.add_argument("--timeout", type=float, default=300.0,
                         help="limit per single run, seconds (default 300)")
-    parser.add_argument("--only", choices=("counter", "join", "load"), default=None,
+    parser.add_argument("--only", choices=("counter", "join", "load", "hanoi", "fifteen"),
+                        default=None,
                         help="run one workload only")
     parser.add_argument("--sizes", default=None,
                         help="value-join sizes, comma-separated (default 1000,5000,20000)")
@@ -360,10 +677,18 @@ def main() -> int:
                         help="comma-separated subset of soar,adapt,adapt-py (default all; "
                              "adapt-py is adapt forced to its pure-Python source; the value "
                              "join runs soar and adapt)")
+    parser.add_argument("--no-check", action="store_true",
+                        help="skip the decision-by-decision comparison of the agent "
+                             "workloads (hanoi, fifteen) with Soar")
     parser.add_argument("--gc-threshold", type=int, default=None,
                         help="adapt's Agent(gc_threshold=...); 0 leaves Python's collector "
                              "alone (default: the agent's default policy)")
+    parser.add_argument("--adapt-root", type=Path, default=None,
+                        help="run the adapt of another checkout (one whose compiled engine "
+                             "is built, or a 'before' figure); default this checkout")
     opts = parser.parse_args()
+    if opts.adapt_root is not None:
+        os.environ["ADAPT_BENCH_ROOT"] = str(opts.adapt_root.resolve())
     runs = opts.runs or (1 if opts.quick else 3)
     limit = 5_000 if opts.quick else 100_000
     sizes = [500, 1_000] if opts.quick else [1_000, 5_000, 20_000]
@@ -377,11 +702,12 @@ def main() -> int:
         os.environ["ADAPT_BENCH_GC"] = str(opts.gc_threshold)
     gc_note = ("default" if opts.gc_threshold is None
                else "off" if opts.gc_threshold == 0 else str(opts.gc_threshold))
-    sys.path.insert(0, str(ROOT))
+    sys.path.insert(0, adapt_root())
     from adapt.engine import engine_build
 
     print(f"bench/engine.py  {time.strftime('%Y-%m-%d %H:%M')}  python {sys.version.split()[0]}"
-          f"  cpus {os.cpu_count()}  adapt gc_threshold: {gc_note}  adapt engine: {engine_build()}")
+          f"  cpus {os.cpu_count()}  adapt {adapt_root()}  adapt gc_threshold: {gc_note}"
+          f"  adapt engine: {engine_build()}")
     with tempfile.TemporaryDirectory() as tmp:
         if opts.only in (None, "counter"):
             bench_counter(Path(tmp), limit, runs, opts.timeout, systems)
@@ -390,6 +716,11 @@ def main() -> int:
                        tuple(s for s in systems if s != "adapt-py"))
         if opts.only in (None, "load"):
             bench_load(Path(tmp), load_sizes, runs, opts.timeout, systems)
+        if opts.only in (None, "hanoi"):
+            bench_hanoi(Path(tmp), 11, runs, opts.timeout, systems, not opts.no_check)
+        if opts.only in (None, "fifteen"):
+            bench_fifteen(Path(tmp), 1_000 if opts.quick else 5_000, runs, opts.timeout,
+                          systems, not opts.no_check)
     return 0
 
 
