@@ -116,9 +116,10 @@ def test_a_key_path_that_names_nothing_is_refused(room: Path) -> None:
 
 
 def test_a_combination_the_scenario_refuses_names_its_cell(room: Path) -> None:
-    # each value alone is fine; run.duration beside the file's run.max_frames is not
+    # each value alone is fine; run.duration beside run.max_frames, both set, is not (one
+    # --set of either alone replaces the file's other)
     with pytest.raises(ScenarioError) as err:
-        make_plan(room, sets=["run.duration=1,2"])
+        make_plan(room, sets=["run.max_frames=5", "run.duration=1,2"])
     assert "max_frames" in str(err.value)
 
 
