@@ -30,7 +30,7 @@ import numpy as np
 from adapt.imagination.predict import Trajectory, time_to_reach
 from adapt.imagination.scene import RobotSpec, SceneSpec, Vec2
 
-__all__ = ["Meeting", "standing_point", "meet", "body_radius", "APPROACH"]
+__all__ = ["Meeting", "Footprint", "standing_point", "meet", "body_radius", "APPROACH"]
 
 #: The robot plans to stop this fraction of the reach short of the object's centre.
 APPROACH = 0.9
@@ -91,6 +91,26 @@ def _clear(scene: SceneSpec, p: Vec2, radius: float, segments: list[tuple[Vec2, 
         if math.hypot(p[0] - (ax + t * dx), p[1] - (ay + t * dy)) < radius:
             return False
     return not any(_inside(p, ob.polygon) for ob in scene.obstacles)
+
+
+class Footprint:
+    """Where a disc of ``radius`` (a robot's footprint) may stand: on the floor, clear of the
+    walls and obstacles.
+
+    >>> from adapt.imagination.scene import SceneSpec, Wall
+    >>> room = Footprint(SceneSpec(walls=(Wall("north", (-2.0, 1.0), (2.0, 1.0)),)), 0.25)
+    >>> room.clear((0.0, 0.5)), room.clear((0.0, 0.8))
+    (True, False)
+    """
+
+    def __init__(self, scene: SceneSpec, radius: float) -> None:
+        self.scene = scene
+        self.radius = float(radius)
+        self._segments = _segments(scene)
+
+    def clear(self, p: Sequence[float]) -> bool:
+        """Whether the disc fits at ``p``."""
+        return _clear(self.scene, (float(p[0]), float(p[1])), self.radius, self._segments)
 
 
 def standing_point(scene: SceneSpec, robot: RobotSpec, target: Sequence[float], reach: float,

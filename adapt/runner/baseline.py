@@ -4,7 +4,8 @@ A constant-velocity Kalman filter (:class:`~adapt.kalman.ConstantVelocityKF`,
 no bounce handling) follows each object from the sightings its perceptual
 schema makes; it predicts at the same horizons by straight-line
 extrapolation, and drives a simulated robot with the real robot's speed and
-acceleration limits, re-planned every frame towards the earliest point of
+acceleration limits and its footprint (it slides along walls and obstacles and does not pass
+where the real robot would not fit), re-planned every frame towards the earliest point of
 its own predicted straight path the robot can reach, or, when no point of it
 is reachable, towards where the filter has the object now (pursuit).  That is
 the tracker the paper argues cannot foresee a bounce ("playing catch-up").
@@ -30,21 +31,42 @@ from typing import Sequence
 
 import numpy as np
 
-from adapt.imagination import RobotSpec
+from adapt.imagination import RobotSpec, SceneSpec
 from adapt.imagination.predict import Trajectory, intercept
+from adapt.imagination.reach import Footprint, body_radius
 from adapt.kalman import ConstantVelocityKF
 
 __all__ = ["Baseline", "SimulatedRobot"]
 
 
 class SimulatedRobot:
-    """A point robot with bounded speed and acceleration, driven towards a target."""
+    """A robot with bounded speed and acceleration, driven towards a target.
 
-    def __init__(self, position: Sequence[float], max_speed: float, max_accel: float) -> None:
+    With a ``footprint`` it is the real robot's body: it never stands where that body does
+    not fit (a wall, an obstacle, a gap too narrow), and slides along what blocks it (the
+    part of the step along x or y that fits); without one it is a point.
+    """
+
+    def __init__(self, position: Sequence[float], max_speed: float, max_accel: float,
+                 footprint: Footprint | None = None) -> None:
         self.position = np.array(position[:2], float)
         self.velocity = np.zeros(2)
         self.max_speed = max_speed
         self.max_accel = max_accel
+        self.footprint = footprint
+
+    def _move(self, h: float) -> None:
+        step = self.velocity * h
+        fp = self.footprint
+        if fp is None or fp.clear(tuple(self.position + step)):
+            self.position += step
+            return
+        for keep in (np.array([1.0, 0.0]), np.array([0.0, 1.0])):
+            if fp.clear(tuple(self.position + step * keep)):
+                self.position += step * keep
+                self.velocity *= keep
+                return
+        self.velocity[:] = 0.0
 
     def drive(self, target: Sequence[float] | None, seconds: float, substep: float = 1 / 240) -> None:
         """Move for ``seconds`` towards ``target`` (None: brake), arriving at rest."""
@@ -64,18 +86,21 @@ class SimulatedRobot:
             if norm > lim:
                 dv *= lim / norm
             self.velocity += dv
-            self.position += self.velocity * h
+            self._move(h)
 
 
 class Baseline:
     """A constant-velocity Kalman filter and the robot it would drive (see the module docstring)."""
 
     def __init__(self, robot: RobotSpec | None, *, reach: float, horizons: Sequence[float],
-                 dt: float, q: float = 0.3, r: float = 0.005, plan: float = 3.0) -> None:
+                 dt: float, q: float = 0.3, r: float = 0.005, plan: float = 3.0,
+                 scene: SceneSpec | None = None) -> None:
         self.kf = ConstantVelocityKF(q=q, r=r)
-        #: The simulated robot (None in a world without a robot: predictions only).
-        self.robot = None if robot is None else SimulatedRobot(robot.position, robot.max_speed,
-                                                               robot.max_accel)
+        #: The simulated robot (None in a world without a robot: predictions only), with the
+        #: real robot's footprint in ``scene``'s walls and obstacles when a scene is given.
+        self.robot = None if robot is None else SimulatedRobot(
+            robot.position, robot.max_speed, robot.max_accel,
+            None if scene is None else Footprint(scene, body_radius(robot)))
         self.reach = reach
         self.horizons = tuple(horizons)
         self.dt = dt

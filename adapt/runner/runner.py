@@ -511,7 +511,8 @@ class Runner:
 
                     b = self.baselines[name] = Baseline(
                         robot, reach=0.0 if robot is None else intercept_reach(s.ball, robot),
-                        horizons=self.scenario.predict.horizons, dt=1.0 / self.fps)
+                        horizons=self.scenario.predict.horizons, dt=1.0 / self.fps,
+                        scene=self.scenario.scene)
                 sighting = s.last.position if s.last is not None and s.misses == 0 else None
                 b.step(self.network.time, sighting)
                 baseline[name] = b.predictions()
