@@ -7,7 +7,7 @@ radius away from walls and obstacles and on the floor, so it cannot stand
 everywhere within reach of an object that lies against a wall or in a gap
 behind an obstacle.  :func:`standing_point` finds where it can stand,
 :func:`meet` the earliest point of a path it can reach and stand at in time
-(driving straight, from rest, without turning), and where to stand then.
+(straight, or round what is in the way; from rest, without turning), and where to stand then.
 
 Examples
 --------
@@ -27,10 +27,11 @@ from typing import Sequence
 
 import numpy as np
 
+from adapt.imagination.footprint import Footprint, path_length
 from adapt.imagination.predict import Trajectory, time_to_reach
 from adapt.imagination.scene import RobotSpec, SceneSpec, Vec2
 
-__all__ = ["Meeting", "Footprint", "standing_point", "meet", "body_radius", "APPROACH"]
+__all__ = ["Meeting", "standing_point", "meet", "body_radius", "APPROACH"]
 
 #: The robot plans to stop this fraction of the reach short of the object's centre.
 APPROACH = 0.9
@@ -61,58 +62,6 @@ def body_radius(robot: RobotSpec) -> float:
     return math.hypot(robot.size[0], robot.size[1]) / 2.0
 
 
-def _segments(scene: SceneSpec) -> list[tuple[Vec2, Vec2]]:
-    out = [(w.start, w.end) for w in scene.walls]
-    for ob in scene.obstacles:
-        poly = ob.polygon
-        out.extend((poly[i], poly[(i + 1) % len(poly)]) for i in range(len(poly)))
-    return out
-
-
-def _inside(p: Vec2, polygon: Sequence[Vec2]) -> bool:
-    n = len(polygon)
-    for i in range(n):
-        (ax, ay), (bx, by) = polygon[i], polygon[(i + 1) % n]
-        if (bx - ax) * (p[1] - ay) - (by - ay) * (p[0] - ax) < 0:
-            return False
-    return True
-
-
-def _clear(scene: SceneSpec, p: Vec2, radius: float, segments: list[tuple[Vec2, Vec2]]) -> bool:
-    if scene.floor.extent is not None:
-        x0, y0, x1, y1 = scene.floor.extent
-        if not (x0 + radius <= p[0] <= x1 - radius and y0 + radius <= p[1] <= y1 - radius):
-            return False
-    for (ax, ay), (bx, by) in segments:
-        dx, dy = bx - ax, by - ay
-        length2 = dx * dx + dy * dy
-        t = 0.0 if length2 == 0 else max(0.0, min(1.0, ((p[0] - ax) * dx + (p[1] - ay) * dy)
-                                                  / length2))
-        if math.hypot(p[0] - (ax + t * dx), p[1] - (ay + t * dy)) < radius:
-            return False
-    return not any(_inside(p, ob.polygon) for ob in scene.obstacles)
-
-
-class Footprint:
-    """Where a disc of ``radius`` (a robot's footprint) may stand: on the floor, clear of the
-    walls and obstacles.
-
-    >>> from adapt.imagination.scene import SceneSpec, Wall
-    >>> room = Footprint(SceneSpec(walls=(Wall("north", (-2.0, 1.0), (2.0, 1.0)),)), 0.25)
-    >>> room.clear((0.0, 0.5)), room.clear((0.0, 0.8))
-    (True, False)
-    """
-
-    def __init__(self, scene: SceneSpec, radius: float) -> None:
-        self.scene = scene
-        self.radius = float(radius)
-        self._segments = _segments(scene)
-
-    def clear(self, p: Sequence[float]) -> bool:
-        """Whether the disc fits at ``p``."""
-        return _clear(self.scene, (float(p[0]), float(p[1])), self.radius, self._segments)
-
-
 def standing_point(scene: SceneSpec, robot: RobotSpec, target: Sequence[float], reach: float,
                    approach_from: Sequence[float]) -> Vec2 | None:
     """Where the robot's centre can stand within ``reach`` of ``target`` (at
@@ -121,11 +70,14 @@ def standing_point(scene: SceneSpec, robot: RobotSpec, target: Sequence[float], 
 
     A robot already within reach of the target stays where it is.
     """
-    radius = body_radius(robot)
-    segments = _segments(scene)
+    return _standing_point(Footprint(scene, body_radius(robot)), target, reach, approach_from)
+
+
+def _standing_point(fp: Footprint, target: Sequence[float], reach: float,
+                    approach_from: Sequence[float]) -> Vec2 | None:
     tx, ty = float(target[0]), float(target[1])
     fx, fy = float(approach_from[0]), float(approach_from[1])
-    if math.hypot(fx - tx, fy - ty) <= reach and _clear(scene, (fx, fy), radius, segments):
+    if math.hypot(fx - tx, fy - ty) <= reach and fp.clear((fx, fy)):
         return (fx, fy)
     d = APPROACH * reach
     base = math.atan2(fy - ty, fx - tx)
@@ -134,13 +86,14 @@ def standing_point(scene: SceneSpec, robot: RobotSpec, target: Sequence[float], 
         step = (k + 1) // 2 * (1 if k % 2 else -1)
         a = base + step * 2.0 * math.pi / DIRECTIONS
         p = (tx + d * math.cos(a), ty + d * math.sin(a))
-        if _clear(scene, p, radius, segments):
+        if fp.clear(p):
             return p
     return None
 
 
 def meet(path: Trajectory, scene: SceneSpec, robot: RobotSpec, position: Sequence[float], *,
-         reach: float, start: float, max_speed: float | None = None) -> Meeting | None:
+         reach: float, start: float, max_speed: float | None = None,
+         footprint: Footprint | None = None) -> Meeting | None:
     """The earliest point of ``path`` (from ``start`` on) the robot, starting at rest at
     ``position``, can reach and stand at in time; None when there is none.
 
@@ -152,6 +105,13 @@ def meet(path: Trajectory, scene: SceneSpec, robot: RobotSpec, position: Sequenc
         How close the robot's centre must come to the object's.
     max_speed : float, optional
         The speed to plan with (default the robot's own).
+    footprint : Footprint, optional
+        The robot's footprint in ``scene`` (built when not given; pass one to reuse its
+        way-round graph).
+
+    When the straight line to where it would stand is blocked, the robot goes round
+    (:meth:`Footprint.route <adapt.imagination.footprint.Footprint.route>`), from rest
+    to rest between corners (a bound on the time it takes, not the best it could do).
     """
     speed = robot.max_speed if max_speed is None else max_speed
     rx, ry = float(position[0]), float(position[1])
@@ -163,13 +123,25 @@ def meet(path: Trajectory, scene: SceneSpec, robot: RobotSpec, position: Sequenc
     # a necessary condition first, vectorised: the straight distance less the reach
     dist = np.maximum(np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) - reach, 0.0)
     need = np.array([time_to_reach(float(v), speed, robot.max_accel) for v in dist])
+    fp = footprint if footprint is not None else Footprint(scene, body_radius(robot))
     for k in np.flatnonzero(ok & (need <= times - start + 1e-9)):
         target = (float(pts[k, 0]), float(pts[k, 1]))
-        stand = standing_point(scene, robot, target, reach, (rx, ry))
+        stand = _standing_point(fp, target, reach, (rx, ry))
         if stand is None:
             continue
         travel = math.hypot(stand[0] - rx, stand[1] - ry)
         drive = time_to_reach(travel, speed, robot.max_accel)
-        if drive <= float(times[k]) - start + 1e-9:
-            return Meeting(float(times[k]), target, stand, travel, drive)
+        if drive > float(times[k]) - start + 1e-9:
+            continue
+        if (rx, ry) != stand and not fp.path_clear((rx, ry), stand):
+            # the straight line is blocked: the way round, slowing at each corner
+            way = fp.route((rx, ry), stand)
+            if way is None:
+                continue
+            travel = path_length((rx, ry), way)
+            drive = sum(time_to_reach(math.dist(a, b), speed, robot.max_accel)
+                        for a, b in zip([(rx, ry)] + way[:-1], way))
+            if drive > float(times[k]) - start + 1e-9:
+                continue
+        return Meeting(float(times[k]), target, stand, travel, drive)
     return None

@@ -4,8 +4,8 @@ A constant-velocity Kalman filter (:class:`~adapt.kalman.ConstantVelocityKF`,
 no bounce handling) follows each object from the sightings its perceptual
 schema makes; it predicts at the same horizons by straight-line
 extrapolation, and drives a simulated robot with the real robot's speed and
-acceleration limits and its footprint (it slides along walls and obstacles and does not pass
-where the real robot would not fit), re-planned every frame towards the earliest point of
+acceleration limits and its footprint (it goes round obstacles like the robot's drive schema,
+slides along what it still meets, and does not pass where the real robot would not fit), re-planned every frame towards the earliest point of
 its own predicted straight path the robot can reach, or, when no point of it
 is reachable, towards where the filter has the object now (pursuit).  That is
 the tracker the paper argues cannot foresee a bounce ("playing catch-up").
@@ -32,8 +32,9 @@ from typing import Sequence
 import numpy as np
 
 from adapt.imagination import RobotSpec, SceneSpec
+from adapt.imagination.footprint import Footprint
 from adapt.imagination.predict import Trajectory, intercept
-from adapt.imagination.reach import Footprint, body_radius
+from adapt.imagination.reach import body_radius
 from adapt.kalman import ConstantVelocityKF
 
 __all__ = ["Baseline", "SimulatedRobot"]
@@ -121,7 +122,17 @@ class Baseline:
             hit = intercept(path, self.robot.position, self.robot.max_speed, self.robot.max_accel,  # type: ignore[arg-type]
                             reach=self.reach, start=time)
             self.target = hit.position if hit is not None else (float(p[0]), float(p[1]))
-        self.robot.drive(self.target, self.dt)
+        self.robot.drive(self._next_point(), self.dt)
+
+    def _next_point(self) -> tuple[float, float] | None:
+        """The target, or the next corner on the way round what stands in between (when
+        the target is a place the robot fits)."""
+        assert self.robot is not None
+        fp = self.robot.footprint
+        if fp is None or self.target is None:
+            return self.target
+        way = fp.route(tuple(self.robot.position), self.target)
+        return self.target if way is None else way[0]
 
     def predict(self, horizon: float) -> tuple[float, float]:
         """Where the filter expects the object ``horizon`` seconds after its last time."""

@@ -5,7 +5,11 @@ Commands come from the output-link (``^command`` with ``^schema <name>``):
 Each frame the schema commands a velocity towards the target, no faster than
 the robot's ``max_speed`` and slowing so that ``max_accel`` can stop it
 there, to both the real robot (when reality has one) and the imagined one
-(the commanded motion: odometry).  The robot moves without turning.  Its
+(the commanded motion: odometry).  When an obstacle or a wall stands on the
+straight line, it goes round, through points just off the obstacles'
+corners (:meth:`Footprint.route <adapt.imagination.footprint.Footprint.route>`,
+re-planned from where the robot is whenever it passes one of them, and
+every half second).  The robot moves without turning.  Its
 status is ``idle``, ``executing``, ``complete`` (within ``tolerance``) or
 ``failed`` (a target off the floor, inside an obstacle, or not reached
 within ``timeout``).
@@ -16,6 +20,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any, Mapping
 
+from adapt.imagination.footprint import Footprint
+from adapt.imagination.reach import body_radius
 from adapt.imagination.scene import Vec2
 from adapt.schemas.base import Schema, Status
 from adapt.schemas.links import Structure
@@ -24,7 +30,10 @@ from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.schemas.network import SchemaNetwork
 
-__all__ = ["Drive", "DRIVE"]
+__all__ = ["Drive", "DRIVE", "REPLAN_S"]
+
+#: The way round is planned again this often (seconds) while driving.
+REPLAN_S = 0.5
 
 
 class Drive(Schema):
@@ -38,6 +47,12 @@ class Drive(Schema):
             raise ValueError("the world has no robot to drive")
         self.robot = robot
         self.target: Vec2 | None = None
+        #: the robot's footprint in the scene: where it fits, and the way round
+        self.footprint = Footprint(network.mirror.scene, body_radius(robot))
+        #: the points still to drive through, ending at the target
+        self.way: list[Vec2] = []
+        self._way_for: Vec2 | None = None
+        self._way_time = -math.inf
         self.started = 0.0
         self.commands = 0
         self._velocity = (0.0, 0.0)
@@ -88,10 +103,10 @@ class Drive(Schema):
         pose = self.network.mirror.robot_pose()
         assert pose is not None
         (x, y), _ = pose
-        dx, dy = self.target[0] - x, self.target[1] - y
-        dist = math.hypot(dx, dy)
-        if dist <= float(self.parameters["tolerance"]):
+        tolerance = float(self.parameters["tolerance"])
+        if math.hypot(self.target[0] - x, self.target[1] - y) <= tolerance:
             self.status = Status.COMPLETE
+            self.way = []
             self._send((0.0, 0.0))
             return
         if time - self.started > float(self.parameters["timeout"]):
@@ -99,9 +114,28 @@ class Drive(Schema):
             self.message = f"not there after {self.parameters['timeout']:g} s"
             self._send((0.0, 0.0))
             return
+        nx, ny = self._next_point((x, y), time, tolerance)
+        dx, dy = nx - x, ny - y
+        dist = math.hypot(dx, dy)
+        if dist <= 1e-9:
+            self._send((0.0, 0.0))
+            return
         speed = min(self.robot.max_speed * float(self.parameters["speed"]),
                     math.sqrt(2.0 * self.robot.max_accel * dist))
         self._send((dx / dist * speed, dy / dist * speed))
+
+    def _next_point(self, here: Vec2, time: float, tolerance: float) -> Vec2:
+        """The point to head for now: the target, or the next corner on the way round."""
+        assert self.target is not None
+        if self.way and len(self.way) > 1 and math.dist(here, self.way[0]) <= max(tolerance, 0.05):
+            self.way.pop(0)
+            self._way_time = -math.inf  # passed a corner: look again from here
+        if self._way_for != self.target or time - self._way_time >= REPLAN_S or not self.way:
+            way = self.footprint.route(here, self.target)
+            # no way round (the target does not fit, or all is blocked): head straight for it
+            self.way = way if way is not None else [self.target]
+            self._way_for, self._way_time = self.target, time
+        return self.way[0]
 
     def _send(self, velocity: Vec2, turn: float | None = None) -> None:
         """Command the robot's velocity (world frame, m/s) and, when given, its turn rate

@@ -137,7 +137,7 @@ class Intercept(Drive):
         speed = self.robot.max_speed * float(self.parameters["speed"])
         scene = self.network.mirror.scene
         hit = meet(pred.trajectory, scene, self.robot, (x, y), reach=reach, start=time,
-                   max_speed=speed)
+                   max_speed=speed, footprint=self.footprint)
         path = pred.trajectory
         moving = len(path.times) > 0 and float(np.hypot(*path.velocities[-1])) >= REST_SPEED
         if hit is None and len(path.times) and not moving:
@@ -146,7 +146,8 @@ class Intercept(Drive):
             t_end = float(path.times[-1])
             rest = Trajectory(path.body, np.array([t_end, t_end + REST_PLAN]),
                               np.array([end, end]), np.zeros((2, 2)), ())
-            hit = meet(rest, scene, self.robot, (x, y), reach=reach, start=time, max_speed=speed)
+            hit = meet(rest, scene, self.robot, (x, y), reach=reach, start=time, max_speed=speed,
+                       footprint=self.footprint)
         horizons = [h.horizon for h in pred.horizons]
         confs = [h.confidence for h in pred.horizons]
         if hit is None and moving:

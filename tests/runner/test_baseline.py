@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from adapt.imagination import Obstacle, SceneSpec, Wall
-from adapt.imagination.reach import Footprint
+from adapt.imagination.footprint import Footprint
 from adapt.runner.baseline import SimulatedRobot
 
 ROOM = SceneSpec(walls=(Wall("north", (-3.0, 2.0), (3.0, 2.0)),))

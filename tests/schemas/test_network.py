@@ -161,3 +161,25 @@ def test_the_registry_lists_every_builtin_type() -> None:
     for spec in REGISTRY:
         data = spec.as_json()
         assert data["name"] == spec.name and data["parameters"]
+
+
+def test_the_drive_schema_goes_round_an_obstacle_in_its_way() -> None:
+    from adapt.imagination import Obstacle
+
+    box = Obstacle("box", ((-0.6, 1.0), (0.6, 1.0), (0.6, 1.6), (-0.6, 1.6)), 0.5)
+    scene = SceneSpec(robot=RobotSpec(position=(0.0, 0.0), max_speed=1.0, max_accel=2.0),
+                      obstacles=(box,))
+    mirror = Mirror(scene, CAM)
+    net = SchemaNetwork(mirror)
+    d = net.instantiate("drive")
+    assert d.command({"x": 0.0, "y": 2.6}) is None
+    assert len(d.footprint.route((0.0, 0.0), (0.0, 2.6)) or []) == 3  # round one side
+    t, closest = 0.0, 9.0
+    while d.status is Status.EXECUTING and t < 12:
+        net.act(t)
+        t += 1 / 30
+        mirror.step_to(t)
+        x, y = mirror.world.position(scene.robot.name)  # type: ignore[union-attr]
+        closest = min(closest, max(abs(x) - 0.6, abs(y - 1.3) - 0.3))
+    assert d.status is Status.COMPLETE, (t, mirror.world.position("robot"))
+    assert closest >= d.footprint.radius - 0.02  # never pressed against the box
