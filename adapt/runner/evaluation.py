@@ -320,7 +320,7 @@ class Evaluation:
         From where the robot stood when the object first came into the true
         camera's view (when first there, without a true camera), at rest,
         knowing the object's whole true path: is there a point of it the robot
-        could drive to straight, in time, and stand at (room for its body clear
+        could drive to in time (straight, or round what is in its way) and stand at (room for its body clear
         of walls and obstacles)?  (:func:`adapt.imagination.reach.meet` on the
         true path.)
         """
