@@ -46,6 +46,7 @@ import cv2
 import numpy as np
 
 from adapt.imagination import Ball
+from adapt.imagination.reach import body_radius
 from adapt.imagination.sight import behind_wall
 from adapt.kalman import ConstantVelocityKF
 from adapt.schemas.base import BBox, Schema, Status
@@ -368,9 +369,28 @@ class ForegroundObject(Schema):
         self.ball = Ball(self.body, radius=float(np.median(self._radii)),
                          color=(int(bgr[2]), int(bgr[1]), int(bgr[0])))
 
+    def overlaps(self, position: tuple[float, float], radius: float) -> str | None:
+        """The imagined body (a ball or the robot) that a body of ``radius`` at ``position``
+        would overlap, or None: two solid things are never in one place, so a sighting there
+        is part of that one (a fragment, its shadow), not an object of its own."""
+        mirror = self.network.mirror
+        world = mirror.world
+        for other in world.balls:
+            if other.name != self.body and other.name in world.names:
+                if math.dist(position, world.position(other.name)) < radius + other.radius:
+                    return other.name
+        pose = mirror.robot_pose()
+        robot = mirror.scene.robot
+        if pose is not None and robot is not None:
+            if math.dist(position, pose[0]) < radius + body_radius(robot):
+                return robot.name
+        return None
+
     def _create_body(self, frame: "Frame") -> None:
         mirror = self.network.mirror
         ball = self.ball if self.ball is not None else Ball(self.body, radius=0.1)
+        if self.overlaps(self.kf.position, ball.radius) is not None:
+            return  # not yet, and not there (see overlaps)
         mirror.add_ball(ball, self.kf.position, self.kf.velocity)
         self.network.note(self, "created", {"body": self.body,
                                             "position": [round(v, 4) for v in self.kf.position],

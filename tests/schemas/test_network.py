@@ -183,3 +183,22 @@ def test_the_drive_schema_goes_round_an_obstacle_in_its_way() -> None:
         closest = min(closest, max(abs(x) - 0.6, abs(y - 1.3) - 0.3))
     assert d.status is Status.COMPLETE, (t, mirror.world.position("robot"))
     assert closest >= d.footprint.radius - 0.02  # never pressed against the box
+
+
+def test_an_object_is_never_created_where_another_body_is() -> None:
+    from adapt.imagination import Ball
+
+    net = network()
+    net.mirror.add_ball(Ball("ball", radius=0.1), (0.0, 1.0), (0.0, 0.0))
+    fo = net.instantiate("foreground-object", origin=Origin.BOTTOM_UP)
+    assert fo.overlaps((0.15, 1.0), 0.1) == "ball"          # a fragment of the ball
+    assert fo.overlaps((0.0, -0.8), 0.1) == "robot"         # the robot's own body
+    assert fo.overlaps((1.0, 1.0), 0.1) is None
+    fo.ball = Ball(fo.body, radius=0.1)
+    fo.kf.step(0.0, (0.1, 1.0))
+    fo._create_body(None)  # type: ignore[arg-type]
+    assert not fo.in_imagination
+    fo.kf = type(fo.kf)(q=0.3, r=0.005)
+    fo.kf.step(0.0, (1.0, 1.0))
+    fo._create_body(None)  # type: ignore[arg-type]
+    assert fo.in_imagination
