@@ -36,7 +36,7 @@ __all__ = ["Meeting", "standing_point", "meet", "body_radius", "APPROACH"]
 #: The robot plans to stop this fraction of the reach short of the object's centre.
 APPROACH = 0.9
 #: Directions tried around the object for standing room.
-DIRECTIONS = 24
+DIRECTIONS = 72
 
 
 @dataclass(frozen=True, slots=True)
