@@ -188,9 +188,14 @@ def draw_spin_marker(image: NDArray[np.uint8], labels: NDArray[np.int32], camera
     cosv = np.einsum("ij,ij->i", dirs[facing], to_cam[facing]) / dist
     major = MARKER_SIZE * radius * camera.fx / pc[:, 2]
     # Direction of the normal in the image: the ellipse's minor axis lies along it.
+    depth = float(camera.to_camera(c[None, :])[0, 2])
+    if depth <= 1e-6:
+        return 0  # the ball's centre is level with the camera or behind it (the camera at the ball)
     centre_px = camera.project(c[None, :])[0]
     h, w = labels.shape
-    r_px = radius * camera.fx / float(camera.to_camera(c[None, :])[0, 2]) + 2.0
+    r_px = radius * camera.fx / depth + 2.0
+    if not (np.isfinite(centre_px).all() and math.isfinite(r_px)):
+        return 0
     x0, x1 = max(int(centre_px[0] - r_px), 0), min(int(centre_px[0] + r_px) + 2, w)
     y0, y1 = max(int(centre_px[1] - r_px), 0), min(int(centre_px[1] + r_px) + 2, h)
     if x0 >= x1 or y0 >= y1:

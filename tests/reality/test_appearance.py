@@ -132,6 +132,23 @@ def test_the_spin_marker_darkens_the_ball_and_nothing_else() -> None:
     assert changed.sum() < 0.5 * (out.labels == LABEL_BALL).sum()
 
 
+def test_a_ball_level_with_the_camera_gets_no_marker() -> None:
+    # a camera on a robot passing the ball (seed 42 of bench/mirror.py): the ball's centre a
+    # hair behind the image plane, one of its dots in front of it and facing the camera (its
+    # centre projected to NaN pixels, which crashed the reality)
+    sc, out, ball = ball_view()
+    cam = sc.camera
+    u, v, a = cam.rotation          # right, down, forward, in the world
+    centre = cam.position + 0.4 * u - 0.002 * a
+    theta = np.radians(10.0)
+    x = -np.cos(theta) * u + np.sin(theta) * a      # the one dot that faces the camera
+    y = np.sin(theta) * u + np.cos(theta) * a
+    turn = np.column_stack([x, y, np.cross(x, y)])
+    image = out.image.copy()
+    assert draw_spin_marker(image, out.labels, cam, tuple(centre), 0.11, turn, LABEL_BALL) == 0
+    assert np.array_equal(image, out.image)
+
+
 def test_the_spin_marker_turns_with_the_ball() -> None:
     sc, out, ball = ball_view()
     centre = (*ball.position, ball.radius)
