@@ -28,6 +28,11 @@ SKIPPED: dict[tuple[str, str], str] = {
     ("getting-started.md", "python -m pytest"): "the whole suite, which holds this test",
     ("getting-started.md", "python bench/"): "benchmarks: 5 s to 15 minutes each, run by hand "
                                              "(docs/performance.md)",
+    ("getting-started.md", "python -m adapt run scenarios/bouncing-ball.yaml  "): "the main job, "
+        "a whole 640x480 run (about 10 s); tests/runner/test_cli.py runs it for a few frames and "
+        "the next commands here run it for 30",
+    ("getting-started.md", "python -m adapt run scenarios/bouncing-ball.yaml --set"): "a whole "
+        "640x480 run; the --set itself is checked by tests/runner/test_cli.py",
     ("getting-started.md", "python -m adapt sync"): "about 9 s of camera loop; docs/mmd.md's sync of a "
                                                     "turned camera, run by tests/vision/test_docs.py, "
                                                     "is the same loop",
