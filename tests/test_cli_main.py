@@ -102,3 +102,13 @@ def test_a_closed_pipe_ends_quietly(tmp_path: Path) -> None:
     proc.stdout.close()
     err = proc.stderr.read()
     assert proc.wait(timeout=60) == 0 and err == b"", err
+
+
+def test_version_says_which_engine_runs(capsys) -> None:  # type: ignore[no-untyped-def]
+    from adapt import __version__
+    from adapt.engine.compiled import engine_build
+
+    with pytest.raises(SystemExit) as done:
+        main(["--version"])
+    assert done.value.code == 0
+    assert capsys.readouterr().out == f"adapt {__version__}, engine: {engine_build()}\n"

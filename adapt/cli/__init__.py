@@ -60,13 +60,30 @@ class _Parser(argparse.ArgumentParser):
         self.exit(int(Exit.USAGE), f"adapt: error: {where + ': ' if where else ''}{message}\n")
 
 
+class _Version(argparse.Action):
+    """``--version``: the version and the engine build (``rules info`` says the same); the
+    engine is imported only when asked."""
+
+    def __init__(self, option_strings: list[str], dest: str = argparse.SUPPRESS,
+                 default: str = argparse.SUPPRESS, help: str | None = None) -> None:
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: object, option_string: str | None = None) -> None:
+        from adapt.engine.compiled import engine_build
+
+        sys.stdout.write(f"adapt {__version__}, engine: {engine_build()}\n")
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Build the argument parser with every subcommand module that is present."""
     parser = _Parser(
         prog="adapt",
         description="ADAPT mirror system: rules, imagination, MMD and traces.",
     )
-    parser.add_argument("--version", action="version", version=f"adapt {__version__}")
+    parser.add_argument("--version", action=_Version,
+                        help="show adapt's version and which rule engine runs (compiled or pure Python)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for name in SUBCOMMAND_MODULES:
