@@ -120,12 +120,12 @@ _DECODER = json.JSONDecoder(parse_constant=_constant, parse_float=_finite)
 
 
 def load_line(line: bytes, *, paths: str | None = None) -> Any:
-    """One JSON value of a trace line, strictly.
+    r"""One JSON value of a trace line, strictly.
 
     Raises :class:`LineError` (a :class:`ValueError`) for a line that is not
     UTF-8 JSON, that holds ``NaN``, ``Infinity`` or a number too large for a
     float, that nests too deeply, or whose strings hold a lone surrogate
-    (``"\\ud800"``: not text, and not writable as UTF-8).  The one exception
+    (``"\ud800"``: not text, and not writable as UTF-8).  The one exception
     is the list of file names under the key ``paths`` (the header's
     ``"files"``): Python writes a file name's bytes that are not UTF-8 as the
     surrogates U+DC80..U+DCFF, and those are kept.
@@ -135,9 +135,9 @@ def load_line(line: bytes, *, paths: str | None = None) -> Any:
     >>> load_line(b'{"kind": "x", "v": "\\ud800"}')
     Traceback (most recent call last):
     ...
-    adapt.traceview.reader.LineError: a string holds a lone surrogate, \\ud800, which is not text
+    adapt.traceview.reader.LineError: a string holds a lone surrogate, \ud800, which is not text
     >>> load_line(b'{"files": ["\\udcff.soar"]}', paths="files")
-    {'files': ['\\udcff.soar']}
+    {'files': ['\udcff.soar']}
     """
     try:
         value = _DECODER.decode(line.decode("utf-8"))
