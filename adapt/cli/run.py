@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from adapt.cli.exits import Exit
+from adapt.cli.progress import ProgressLine
 from adapt.errors import AdaptError
 
 __all__ = ["register"]
@@ -61,25 +62,13 @@ def _overrides(p: Any) -> None:
                    "index, e.g. reality.objects.ball.restitution) and a YAML value; repeatable")
 
 
-class _ProgressLine:
+class _ProgressLine(ProgressLine):
     """``frame 120/300  28.4 frames/s  3 schemas`` on a terminal, rewritten in place."""
-
-    def __init__(self, stream: Any) -> None:
-        self.stream = stream
-        self.width = 0
 
     def __call__(self, p: Any) -> None:
         text = (f"frame {p.frame}/{p.frames}  t={p.time:6.2f} s  {p.fps:5.1f} frames/s  "
                 f"{p.schemas} schema{'' if p.schemas == 1 else 's'}")
-        self.stream.write("\r" + text.ljust(self.width))
-        self.width = len(text)
-        self.stream.flush()
-
-    def clear(self) -> None:
-        if self.width:
-            self.stream.write("\r" + " " * self.width + "\r")
-            self.stream.flush()
-            self.width = 0
+        self.show(text)
 
 
 def _run(args: argparse.Namespace) -> int:

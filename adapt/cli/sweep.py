@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from adapt.cli.exits import Exit
+from adapt.cli.progress import ProgressLine
 
 __all__ = ["register"]
 
@@ -62,12 +63,8 @@ def register(sub: Any) -> None:
     p.set_defaults(func=_sweep)
 
 
-class _ProgressLine:
+class _ProgressLine(ProgressLine):
     """``  37/200 runs  35 ok  2 failed  163 to go  1.9 runs/s  ~1m25s  2 workers``."""
-
-    def __init__(self, stream: Any) -> None:
-        self.stream = stream
-        self.width = 0
 
     def __call__(self, p: Any) -> None:
         rate = p.ran / p.elapsed if p.elapsed > 0 else 0.0
@@ -77,15 +74,7 @@ class _ProgressLine:
         text = (f"{p.done}/{p.total} runs  {p.ok} ok  {p.failed} failed{lost}  "
                 f"{p.remaining} to go  {rate:.2f} runs/s{eta}  {p.workers} worker"
                 f"{'s' * (p.workers != 1)}{gone}")
-        self.stream.write("\r" + text.ljust(self.width))
-        self.width = len(text)
-        self.stream.flush()
-
-    def clear(self) -> None:
-        if self.width:
-            self.stream.write("\r" + " " * self.width + "\r")
-            self.stream.flush()
-            self.width = 0
+        self.show(text)
 
 
 def _duration(seconds: float) -> str:
