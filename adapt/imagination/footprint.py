@@ -30,7 +30,7 @@ import heapq
 import math
 from typing import Sequence
 
-from adapt.imagination.scene import SceneSpec, Vec2
+from adapt.imagination.scene import Obstacle, SceneSpec, Vec2
 
 __all__ = ["Footprint", "path_length"]
 
@@ -109,7 +109,14 @@ class Footprint:
         for (ax, ay), (bx, by) in self.segments:
             if _point_segment(x, y, ax, ay, bx, by) < r:
                 return False
-        return not any(_inside((x, y), ob.polygon) for ob in self.scene.obstacles)
+        return self.obstacle_at((x, y)) is None
+
+    def obstacle_at(self, p: Sequence[float]) -> Obstacle | None:
+        """The obstacle whose footprint holds the point ``p`` (the disc's size aside), or None."""
+        for ob in self.scene.obstacles:
+            if _inside(p, ob.polygon):
+                return ob
+        return None
 
     def path_clear(self, a: Sequence[float], b: Sequence[float]) -> bool:
         """Whether the disc can drive straight from ``a`` to ``b`` (both ends fitting)."""

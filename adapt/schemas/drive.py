@@ -92,9 +92,9 @@ class Drive(Schema):
             x0, y0, x1, y1 = scene.floor.extent
             if not (x0 + margin <= p[0] <= x1 - margin and y0 + margin <= p[1] <= y1 - margin):
                 return f"target ({p[0]:g}, {p[1]:g}) is off the floor for a robot this size"
-        for ob in scene.obstacles:
-            if _inside(p, ob.polygon):
-                return f"target ({p[0]:g}, {p[1]:g}) is inside obstacle {ob.name!r}"
+        ob = self.footprint.obstacle_at(p)
+        if ob is not None:
+            return f"target ({p[0]:g}, {p[1]:g}) is inside obstacle {ob.name!r}"
         return ""
 
     def act(self, time: float) -> None:
@@ -169,15 +169,6 @@ class Drive(Schema):
         out = super().summary()
         out["target"] = None if self.target is None else [round(v, 4) for v in self.target]
         return out
-
-
-def _inside(p: Vec2, polygon: tuple[Vec2, ...]) -> bool:
-    n = len(polygon)
-    for i in range(n):
-        (ax, ay), (bx, by) = polygon[i], polygon[(i + 1) % n]
-        if (bx - ax) * (p[1] - ay) - (by - ay) * (p[0] - ax) < 0:
-            return False
-    return True
 
 
 def _make(name: str, parameters: Mapping[str, Any], network: "SchemaNetwork") -> Drive:
