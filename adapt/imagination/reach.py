@@ -63,14 +63,17 @@ def body_radius(robot: RobotSpec) -> float:
 
 
 def standing_point(scene: SceneSpec, robot: RobotSpec, target: Sequence[float], reach: float,
-                   approach_from: Sequence[float]) -> Vec2 | None:
+                   approach_from: Sequence[float], *,
+                   footprint: Footprint | None = None) -> Vec2 | None:
     """Where the robot's centre can stand within ``reach`` of ``target`` (at
     :data:`APPROACH` of it), clear of the walls and obstacles and on the floor,
     preferring the side it comes from; None when there is no room.
 
-    A robot already within reach of the target stays where it is.
+    A robot already within reach of the target stays where it is. ``footprint`` is the
+    robot's in ``scene``, built when not given.
     """
-    return _standing_point(Footprint(scene, body_radius(robot)), target, reach, approach_from)
+    fp = footprint if footprint is not None else Footprint(scene, body_radius(robot))
+    return _standing_point(fp, target, reach, approach_from)
 
 
 def _standing_point(fp: Footprint, target: Sequence[float], reach: float,

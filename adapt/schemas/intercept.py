@@ -152,7 +152,8 @@ class Intercept(Drive):
         confs = [h.confidence for h in pred.horizons]
         if hit is None and moving:
             end = (float(path.positions[-1][0]), float(path.positions[-1][1]))
-            stand = standing_point(scene, self.robot, end, reach, approach_from=(x, y))
+            stand = standing_point(scene, self.robot, end, reach, approach_from=(x, y),
+                                   footprint=self.footprint)
             if stand is not None:
                 t_end = float(path.times[-1])
                 self.plan = Plan(t_end, stand, end, bool(pred.contacts), confs[-1],
