@@ -380,6 +380,14 @@ class Ball:
     ``rolling_resistance`` is the dimensionless coefficient ``c`` of a
     resisting force ``c m g`` against the motion (a ball rolling freely at
     speed ``v`` stops after ``v**2 / (2 c g)`` metres).
+
+    ``floor_friction`` says whether the ball has spin of its own.  ``None``
+    (the default): it always rolls, its spin following its velocity at once,
+    through a bounce too.  A coefficient ``mu``: it is a solid sphere that
+    keeps its spin through a bounce but for what the surface's friction
+    takes (the contact is at the height of its centre), and slides on the
+    floor, with friction ``mu m g``, until spin and velocity agree (see
+    :mod:`adapt.imagination.world`).
     """
 
     name: str
@@ -392,6 +400,7 @@ class Ball:
     velocity: Vec2 = (0.0, 0.0)
     color: Color = (220, 60, 40)
     texture: str | None = None
+    floor_friction: float | None = None
 
     def __post_init__(self) -> None:
         _name(self.name)
@@ -408,6 +417,9 @@ class Ball:
         object.__setattr__(self, "velocity", _velocity("velocity", self.velocity))
         object.__setattr__(self, "color", _color("color", self.color))
         object.__setattr__(self, "texture", _texture("texture", self.texture))
+        if self.floor_friction is not None:
+            object.__setattr__(self, "floor_friction", _nonnegative(
+                "floor_friction", self.floor_friction, "(coefficient)"))
 
 
 @dataclass(frozen=True, slots=True)
