@@ -13,6 +13,10 @@ Modelling choices, all inside pymunk's C solver so a step stays cheap:
   with ``max_bias = 0`` and ``max_force = c m g``.  It removes at most
   ``c g dt`` of speed per step and never reverses the motion: a ball rolling
   at ``v`` stops after ``v**2 / (2 c g)`` metres.  There is no global damping.
+* **Drag** (a ball's ``drag``, ``d``): the rolling resistance's joint
+  resists with ``(c g + d v**2) m`` instead, its force following the speed
+  every :data:`DRAG_EVERY` steps (counted from the world's step 0, so a
+  world run in one call and step by step still agree).
 * **Spin** (a ball with ``floor_friction``): a solid sphere's spin is a
   second velocity ``w``, the one it would roll at, carried by a body of mass
   ``2/5 m`` (the sphere's ``I / r**2``) that touches nothing.  A pivot joint
@@ -77,6 +81,7 @@ Examples
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, replace
 from typing import Any, Callable, Sequence
@@ -119,6 +124,9 @@ COLLISION_SLOP = 5e-4
 
 #: The robot's shape restitution (a contact's is the product with the ball's).
 ROBOT_RESTITUTION = 0.5
+
+#: Steps between two updates of a drag's force (1/60 s at the default ``dt``).
+DRAG_EVERY = 4
 
 #: A solid sphere's ``I / (m r**2)``: the mass its spin velocity carries, per unit of its mass.
 SPIN_MASS = 2.0 / 5.0
@@ -245,6 +253,8 @@ class World:
         # a spinning ball's spin body and the floor's friction joint (see the module docstring)
         self._spins: dict[str, tuple[pymunk.Body, pymunk.PivotJoint]] = {}
         self._spin_handlers = False
+        # balls with drag: their resistance joint, its force at rest per (m/s)^2, and at rest
+        self._drag: dict[str, tuple[pymunk.Constraint, float, float]] = {}
         # a spinning ball's contacts under way: velocity before, normal, friction
         self._touching: dict[tuple[pymunk.Shape, pymunk.Shape],
                              tuple[float, float, float, float, float]] = {}
@@ -323,7 +333,7 @@ class World:
                     space.on_collision(BALL_TYPE, other, begin=self._on_touch,
                                        separate=self._on_part)
                 self._spin_handlers = True
-        if ball.rolling_resistance > 0:
+        if ball.rolling_resistance > 0 or ball.drag > 0:
             rr = pymunk.PivotJoint(space.static_body, rolling, (0.0, 0.0), (0.0, 0.0))
             rr.max_bias = 0.0
             rr.max_force = self._rolling_force(ball)
@@ -333,10 +343,29 @@ class World:
             spin.max_force = ball.rolling_resistance * ball.mass * self.scene.gravity * ball.radius
             space.add(rr, spin)
             joints = (rr, spin)
+            self._set_drag(ball, rr)
         self._balls[ball.name] = body
+        if ball.name in self._drag:
+            self._update_drag()
         self._parts[ball.name] = (shape, joints)
         self._radius[ball.name] = ball.radius
         self._names[shape] = ball.name
+
+    def _set_drag(self, ball: Ball, rr: pymunk.Constraint) -> None:
+        if ball.drag > 0:
+            share = (1.0 + SPIN_MASS) if ball.floor_friction is not None else 1.0
+            self._drag[ball.name] = (rr, self._rolling_force(ball), ball.drag * ball.mass * share)
+            self._update_drag()
+        else:
+            self._drag.pop(ball.name, None)
+
+    def _update_drag(self) -> None:
+        """Each drag's force for the speed now."""
+        for name, (rr, rest, per) in self._drag.items():
+            body = self._balls.get(name)
+            if body is not None:  # (not yet while it is being added)
+                vx, vy = body.velocity
+                rr.max_force = rest + per * (vx * vx + vy * vy)
 
     def _rolling_force(self, ball: Ball) -> float:
         """The rolling resistance's largest force: ``c m g``, on the spin of a spinning ball
@@ -478,6 +507,7 @@ class World:
         body = self._balls.pop(name)
         shape, joints = self._parts.pop(name)
         self.space.remove(*joints, shape, body)
+        self._drag.pop(name, None)
         spin = self._spins.pop(name, None)
         if spin is not None:
             self.space.remove(spin[1], spin[0])
@@ -504,15 +534,14 @@ class World:
         if name not in self._balls:
             raise ImaginationError(f"no ball called {name!r} in the world; balls: {list(self._balls)}")
         unknown = set(values) - {"restitution", "friction", "rolling_resistance", "mass",
-                                 "floor_friction"}
+                                 "floor_friction", "drag"}
         if unknown:
             raise ImaginationError(f"cannot set {sorted(unknown)} of a ball; expected restitution, "
-                                   "friction, rolling_resistance, mass or floor_friction")
+                                   "friction, rolling_resistance, mass, floor_friction or drag")
         old = next(b for b in self.scene.balls if b.name == name)
-        changes: dict[str, Any] = dict(values)
-        new = replace(old, **changes)  # validates the values
+        new = old.with_parameters(**values)  # checks the values
         shape, joints = self._parts[name]
-        if (new.rolling_resistance > 0) != bool(joints) or \
+        if (new.rolling_resistance > 0 or new.drag > 0) != bool(joints) or \
                 (new.floor_friction is None) != (old.floor_friction is None):
             state = next(b for b in self.snapshot().bodies if b.name == name)
             self.remove_ball(name)
@@ -537,8 +566,12 @@ class World:
             rr, spin = joints
             rr.max_force = self._rolling_force(new)
             spin.max_force = new.rolling_resistance * new.mass * self.scene.gravity * new.radius
-        self.scene = replace(self.scene, balls=tuple(new if b.name == name else b
-                                                     for b in self.scene.balls))
+            self._set_drag(new, rr)
+        # the same names, the same shapes: the scene's checks hold, so it is copied, not rebuilt
+        scene = copy.copy(self.scene)
+        object.__setattr__(scene, "balls", tuple(new if b.name == name else b
+                                                 for b in self.scene.balls))
+        self.scene = scene
         self._update_extremes()
         self._calm = False
 
@@ -599,6 +632,17 @@ class World:
             raise ImaginationError(
                 f"steps: expected 0 to {MAX_STEPS:,} steps per call, got {n:,}"
             )
+        if not self._drag:
+            self._step(n)
+            return
+        while n > 0:  # a drag's force follows the speed every DRAG_EVERY steps
+            if self._steps % DRAG_EVERY == 0:
+                self._update_drag()
+            chunk = min(n, DRAG_EVERY - self._steps % DRAG_EVERY)
+            self._step(chunk)
+            n -= chunk
+
+    def _step(self, n: int) -> None:
         if n == 0:
             return
         if self._hooks:

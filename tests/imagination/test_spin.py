@@ -135,3 +135,25 @@ def test_floor_friction_is_checked() -> None:
     world = World(SceneSpec(balls=(Ball("b"),)))
     with pytest.raises(ImaginationError, match="floor_friction"):
         world.set_ball_parameters("b", floor_friction=float("nan"))
+
+
+@pytest.mark.parametrize("floor", [None, 0.5])
+def test_drag_slows_as_v_squared(floor: float | None) -> None:
+    # dv/dt = -d v**2: v = v0 / (1 + d v0 t), with or without spin (rolling, the pair slows so)
+    d, v0 = 0.3, 2.0
+    world = World(SceneSpec(balls=(Ball("b", drag=d, floor_friction=floor, velocity=(v0, 0.0)),)))
+    world.run(2.0)
+    assert world.velocity("b")[0] == pytest.approx(v0 / (1 + d * v0 * 2.0), rel=0.01)
+    assert world.position("b")[0] == pytest.approx(math.log(1 + d * v0 * 2.0) / d, rel=0.01)
+
+
+def test_drag_is_the_same_run_in_one_call_or_step_by_step() -> None:
+    scene = SceneSpec(balls=(Ball("b", drag=0.2, rolling_resistance=0.01, velocity=(1.5, 0.5)),),
+                      walls=(Wall("east", (1.0, -2.0), (1.0, 2.0)),))
+    once, steps = World(scene), World(scene)
+    once.run(1.5)
+    for _ in range(once.steps):
+        steps.step(1)
+    assert steps.position("b") == once.position("b")
+    steps.set_ball_parameters("b", drag=0.0)
+    assert steps.scene.balls[0].drag == 0.0
