@@ -58,7 +58,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Mapping, Sequence
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -76,21 +76,40 @@ PARAMETERS: dict[str, tuple[float, float]] = {
     "friction": (0.0, 3.0),
     "rolling_resistance": (0.0, 1.0),
     "floor_friction": (0.0, 3.0),
+    "drag": (0.0, 3.0),
 }
 #: Nudge of each unknown for the forward differences (metres, m/s, or the parameter's unit).
 STEPS: dict[str, float] = {
     "x": 0.002, "y": 0.002, "vx": 0.02, "vy": 0.02, "ux": 0.05, "uy": 0.05,
     "restitution": 0.03, "friction": 0.05, "rolling_resistance": 0.003, "floor_friction": 0.05,
+    "drag": 0.02,
+}
+#: How far each parameter may drift, as a standard deviation per ``window`` (it is added to
+#: the prior's when the window's answer becomes the prior): the model is not reality, and
+#: what fits it best changes a little as the ball does (an effective rolling resistance with
+#: the speed, say); a prior that only narrowed would hold a stale value against the sightings.
+DRIFT: dict[str, float] = {
+    "restitution": 0.02, "friction": 0.05, "rolling_resistance": 0.004, "floor_friction": 0.05,
+    "drag": 0.01,
 }
 #: Parameters that a window without a contact does not inform.
 CONTACT_PARAMETERS = ("restitution", "friction")
 #: A path whose slip stays below this (m/s) does not inform the floor's friction.
 MIN_SLIP = 0.05
+#: A ball slower than this (m/s) all through the window informs no parameter (at rest).
+MIN_SPEED = 0.05
 #: The start state's prior, relative to where the last fitted path had the ball:
 #: standard deviations of position (m), velocity and slip (m/s).
 START_STD = {"position": 0.01, "velocity": 0.1, "slip": 0.3}
 #: Damping factors of the candidate steps, relative to the current one.
 DAMPING = (0.3, 3.0)
+#: The next window starts within this many seconds of this one's start (the frames
+#: between two fits, a few missed), so the fitted path's state is kept only there.
+START_SPAN = 0.3
+#: Most Levenberg-Marquardt steps in one fit: more than one only while the path fits the
+#: sightings worse than :data:`REFIT_CHI2` times their noise's chi-square.
+MAX_ITERATIONS = 3
+REFIT_CHI2 = 4.0
 #: Least sightings before a fit.
 MIN_SIGHTINGS = 4
 
@@ -101,7 +120,10 @@ class Fit:
 
     ``parameters`` and ``std`` are the fitted parameters' means and standard
     deviations; ``residual`` the RMS distance of the window's sightings from
-    the fitted path (metres); ``contacts`` the contacts on that path.
+    the fitted path (metres); ``contact`` whether that path meets a surface;
+    ``chi2`` the sightings' chi-square per degree of freedom, at least 1 (about 1:
+    the path passes as close as the noise allows; much more: it does not fit
+    them yet, and its state is not to be trusted).
     """
 
     time: float
@@ -112,11 +134,26 @@ class Fit:
     std: Mapping[str, float]
     residual: float
     sightings: int
-    contacts: int
+    contact: bool
+    chi2: float
 
 
 #: A state on a path: position, velocity, slip.
 State = tuple[Vec2, Vec2, Vec2]
+
+
+@dataclass(slots=True)
+class _Best:
+    """The best guess so far in one fit: its unknowns, its path's positions at the
+    sightings and kept states, its first contact, its sightings' chi-square and its cost
+    (the chi-square with the priors')."""
+
+    x: FloatArray
+    positions: FloatArray | None
+    states: dict[int, State]
+    contact: float
+    chi2: float
+    cost: float
 
 
 class Identifier:
@@ -133,6 +170,8 @@ class Identifier:
         The parameters to fit (keys of :data:`PARAMETERS`) and what is known of them.
     window : float
         Seconds of sightings fitted.
+    every : int
+        Frames with a sighting between two fits (the others only keep the sighting).
     noise : float
         The sightings' noise, metres (standard deviation).
     dt : float, optional
@@ -140,13 +179,16 @@ class Identifier:
     """
 
     def __init__(self, scene: SceneSpec, ball: Ball, priors: Mapping[str, tuple[float, float]],
-                 *, window: float = 1.2, noise: float = 0.005, dt: float | None = None) -> None:
+                 *, window: float = 0.9, every: int = 1, noise: float = 0.005,
+                 dt: float | None = None) -> None:
         for key in priors:
             if key not in PARAMETERS:
                 raise ValueError(f"cannot fit {key!r}; expected one of {', '.join(PARAMETERS)}")
         self.scene = replace(scene, balls=(), robot=None)
         self.ball = ball
         self.window = float(window)
+        self.every = max(1, int(every))
+        self._count = 0
         self.noise = float(noise)
         self.dt = self.scene.dt if dt is None else float(dt)
         self.spin = ball.floor_friction is not None
@@ -155,10 +197,13 @@ class Identifier:
         self.prior_std = np.array([max(float(priors[k][1]), 1e-6) for k in self.names])
         self.theta = self.prior.copy()
         self.theta_std = self.prior_std.copy()
+        #: Fits that informed each parameter (it was fitted, not kept), by name.
+        self.counts = {k: 0 for k in self.names}
         self._sightings: list[tuple[float, float, float]] = []
         self._path: dict[float, State] = {}
-        self._contacts = 0
+        self._contact = math.inf   # the first contact on the last fitted path
         self._slipping = False
+        self._moving = True
         self._since = math.inf     # when the current path started (a first sighting, a gap)
         self._damping = 1e-2
         self._retired = -math.inf
@@ -183,7 +228,9 @@ class Identifier:
         self._sightings = [s for s in self._sightings if s[0] >= first]
         if len(self._sightings) < MIN_SIGHTINGS:
             return self.fit
-        self.fit = self._step()
+        self._count += 1
+        if self.fit is None or (self._count - 1) % self.every == 0:
+            self.fit = self._step()
         return self.fit
 
     def _start(self) -> tuple[State, bool]:
@@ -211,10 +258,12 @@ class Identifier:
         return world
 
     def _run(self, starts: Sequence[FloatArray], params: Sequence[FloatArray], full: int = 0
-             ) -> tuple[FloatArray, list[list[State]], list[int]]:
+             ) -> tuple[FloatArray, list[dict[int, State]], list[float]]:
         """Roll copies through the window, each from its start ``(x, y, vx, vy[, ux, uy])``
         with its parameters: positions ``(K, N, 2)`` at the sighting times, the states of
-        the first ``full`` copies there, and each copy's contact count."""
+        the first ``full`` copies where the next windows may start (the sightings of the
+        window's first :data:`START_SPAN` seconds) and at the last sighting, by index, and
+        the time of each copy's first contact (``inf``: none)."""
         n = len(starts)
         world = self._world(n)
         window = self._sightings
@@ -235,25 +284,28 @@ class Identifier:
         world.contacts.clear()
         handles = [world.body(f"copy{k}") for k in range(n)]
         out = np.empty((n, len(window), 2))
-        states: list[list[State]] = [[] for _ in range(full)]
+        states: list[dict[int, State]] = [{} for _ in range(full)]
+        last = len(window) - 1
         done = 0
         for i, (t, _, _) in enumerate(window):
             k = int(round((t - t0) / self.dt))
             if k > done:
                 world.step(k - done)
                 done = k
+            keep = full if (t - t0 <= START_SPAN or i == last) else 0
             for j, b in enumerate(handles):
                 p = b.position
                 out[j, i] = (p[0], p[1])
-                if j < full:
+                if j < keep:
                     v = b.velocity
-                    states[j].append(((float(p[0]), float(p[1])), (float(v[0]), float(v[1])),
-                                      world.slip(f"copy{j}")))
+                    states[j][i] = ((float(p[0]), float(p[1])), (float(v[0]), float(v[1])),
+                                    world.slip(f"copy{j}"))
         self.simulated_s += n * done * self.dt
-        counts = [0] * n
+        firsts = [math.inf] * n
         for c in world.contacts:
-            counts[int(c.ball[4:])] += 1
-        return out, states, counts
+            k = int(c.ball[4:])
+            firsts[k] = min(firsts[k], c.time)
+        return out, states, firsts
 
     # -- one step of the fit -------------------------------------------------------------------
 
@@ -273,76 +325,130 @@ class Identifier:
         sstd = [START_STD["position"]] * 2 + [START_STD["velocity"]] * 2
         sstd += [START_STD["slip"]] * 2 if self.spin else []
         prior_std = np.concatenate([sstd, self.prior_std])
+        if self._contact < window[0][0]:
+            # the contact that taught what a contact teaches has left the window: that is
+            # now what is known before it (and it counts once)
+            self._retire(CONTACT_PARAMETERS + ("floor_friction",))
+            prior_x[ns:] = self.prior
+            prior_std[ns:] = self.prior_std
+        contact = self._contact < math.inf
         # what the window can inform (see the module docstring)
         fresh = window[0][0] - self._since < self.window
         free = []
         for i, k in enumerate(keys):
+            if i >= ns and not (self._moving or fresh):
+                continue
             if k in ("ux", "uy") and not fresh:
                 continue
-            if k in CONTACT_PARAMETERS and not self._contacts:
+            if k in CONTACT_PARAMETERS and not contact:
                 continue
-            if k == "floor_friction" and not (self._slipping or fresh):
+            if k == "floor_friction" and not (self._slipping or fresh or contact):
                 continue
             free.append(i)
 
         def residuals(pos: FloatArray, v: FloatArray) -> FloatArray:
             return np.concatenate([((pos - obs) / self.noise).ravel(), (v - prior_x) / prior_std])
 
+        best = _Best(x, None, {}, math.inf, math.inf, math.inf)
+        jtj = np.eye(len(free))
+        for _ in range(MAX_ITERATIONS):
+            best, jtj = self._iterate(best, free, keys, ns, residuals, prior_std)
+            if best.contact < math.inf and not contact:
+                # the path meets a surface it did not before: what a contact teaches is
+                # free from now on (this fit too)
+                contact = True
+                free = sorted(set(free) | {i for i, k in enumerate(keys)
+                                           if k in CONTACT_PARAMETERS + ("floor_friction",)})
+                continue
+            # sightings far off the path (a new contact, a parameter far from its prior):
+            # another step now rather than a frame of poor predictions
+            if best.chi2 / max(obs.size - len(free), 1) <= REFIT_CHI2:
+                break
+        assert best.positions is not None
+        self._path = {round(window[i][0], 6): st for i, st in best.states.items()}
+        self._contact = best.contact
+        self._slipping = any(math.hypot(*st[2]) > MIN_SLIP for st in best.states.values())
+        self._moving = any(math.hypot(*st[1]) > MIN_SPEED for st in best.states.values())
+        # the fit's uncertainty, widened by how much worse than the noise the path fits (a
+        # fit not yet converged, or a model that does not fit, is not to be trusted more)
+        scale = math.sqrt(max(1.0, best.chi2 / max(obs.size - len(free), 1)))
+        std = np.concatenate([prior_std[:ns], self.theta_std])
+        try:
+            std[free] = scale * np.sqrt(np.clip(np.diag(np.linalg.inv(jtj)), 0.0, None))
+        except np.linalg.LinAlgError:
+            pass
+        now = window[-1][0]
+        for i in free:
+            if i >= ns:
+                self.counts[keys[i]] += 1
+        self.theta = best.x[ns:].copy()
+        self.theta_std = std[ns:].copy()
+        if now - self._retired >= self.window:
+            # what the window taught of rolling becomes the prior of what follows (no
+            # sighting counts twice)
+            self._retire(tuple(k for k in self.names if k not in CONTACT_PARAMETERS
+                               and k != "floor_friction"))
+            self._retired = now
+        resid = best.positions - obs
+        p, v, u = best.states[len(window) - 1]
+        return Fit(now, p, v, u, dict(zip(self.names, (float(t) for t in self.theta))),
+                   dict(zip(self.names, (float(s) for s in self.theta_std))),
+                   float(np.sqrt((resid ** 2).sum(axis=1).mean())), len(window),
+                   best.contact < math.inf, scale * scale)
+
+    def _iterate(self, start: "_Best", free: list[int], keys: tuple[str, ...], ns: int,
+                 residuals: Callable[[FloatArray, FloatArray], FloatArray],
+                 prior_std: FloatArray) -> tuple["_Best", FloatArray]:
+        """One Levenberg-Marquardt step from ``start.x``: the Jacobian's rollout, then the
+        candidates'; the best of them and the start (and ``J^T J`` over ``free``)."""
+        x = start.x
         xs = [x]
         for i in free:
             xn = x.copy()
             xn[i] += STEPS[keys[i]]
             xs.append(xn)
-        pos, states, counts = self._run([v[:ns] for v in xs], [v[ns:] for v in xs], full=1)
+        pos, states, firsts = self._run([v[:ns] for v in xs], [v[ns:] for v in xs], full=1)
         r0 = residuals(pos[0], x)
         m = len(r0) - len(keys)
-        jac = np.zeros((len(r0), len(keys)))
+        jf = np.zeros((len(r0), len(free)))
         for col, i in enumerate(free):
-            jac[:m, i] = (pos[col + 1] - pos[0]).ravel() / (self.noise * STEPS[keys[i]])
-        jac[m:, :] = np.diag(1.0 / prior_std)
-        jtj = jac.T @ jac
-        g = jac.T @ r0
+            jf[:m, col] = (pos[col + 1] - pos[0]).ravel() / (self.noise * STEPS[keys[i]])
+            jf[m + i, col] = 1.0 / prior_std[i]
+        # the unknowns not nudged stay as they are (their prior would pull them back)
+        jtj = jf.T @ jf
+        g = jf.T @ r0
+        best = _Best(x, pos[0], states[0], firsts[0], float(np.sum(r0[:m] ** 2)),
+                     float(r0 @ r0))
         cands = []
         for f in DAMPING:
             a = jtj + self._damping * f * np.diag(np.diag(jtj))
             try:
-                xc = x - np.linalg.solve(a, g)
+                xc = x.copy()
+                xc[free] -= np.linalg.solve(a, g)
             except np.linalg.LinAlgError:
                 continue
             for i, key in enumerate(self.names):
                 xc[ns + i] = min(max(xc[ns + i], PARAMETERS[key][0]), PARAMETERS[key][1])
             cands.append(xc)
-        best_x, best_states, best_count = x, states[0], counts[0]
-        best_cost = float(r0 @ r0)
         if cands:
-            pos_c, states_c, counts_c = self._run([v[:ns] for v in cands],
+            pos_c, states_c, firsts_c = self._run([v[:ns] for v in cands],
                                                   [v[ns:] for v in cands], full=len(cands))
-            costs = [float(np.sum(residuals(pos_c[c], cands[c]) ** 2)) for c in range(len(cands))]
+            rs = [residuals(pos_c[c], cands[c]) for c in range(len(cands))]
+            costs = [float(r @ r) for r in rs]
             c = int(np.argmin(costs))
-            if costs[c] < best_cost:
-                best_x, best_states, best_count, best_cost = cands[c], states_c[c], counts_c[c], \
-                    costs[c]
+            if costs[c] < best.cost:
+                best = _Best(cands[c], pos_c[c], states_c[c], firsts_c[c],
+                             float(np.sum(rs[c][:m] ** 2)), costs[c])
                 self._damping = max(self._damping * DAMPING[c] / 3.0, 1e-4)
-                pos = pos_c[c:c + 1]
             else:
                 self._damping = min(self._damping * 4.0, 1e4)
-        self._path = {round(s[0], 6): st for s, st in zip(window, best_states)}
-        self._contacts = best_count
-        self._slipping = any(math.hypot(*st[2]) > MIN_SLIP for st in best_states)
-        try:
-            std = np.sqrt(np.clip(np.diag(np.linalg.inv(jtj)), 0.0, None))
-        except np.linalg.LinAlgError:
-            std = prior_std
-        now = window[-1][0]
-        self.theta = best_x[ns:].copy()
-        self.theta_std = std[ns:]
-        if now - self._retired >= self.window:
-            # what the window taught becomes the prior of what follows (no sighting twice)
-            self.prior = self.theta.copy()
-            self.prior_std = np.maximum(std[ns:], 1e-4)
-            self._retired = now
-        resid = pos[0] - obs
-        p, v, u = best_states[-1]
-        return Fit(now, p, v, u, dict(zip(self.names, (float(t) for t in self.theta))),
-                   dict(zip(self.names, (float(s) for s in self.theta_std))),
-                   float(np.sqrt((resid ** 2).sum(axis=1).mean())), len(window), best_count)
+        return best, jtj
+
+    def _retire(self, names: Sequence[str]) -> None:
+        """The current estimates of ``names`` become their priors (widened by their drift)."""
+        for k in names:
+            if k in self.names:
+                i = self.names.index(k)
+                self.prior[i] = self.theta[i]
+                self.prior_std[i] = math.hypot(float(self.theta_std[i]), DRIFT[k])
+                self.theta_std[i] = self.prior_std[i]
