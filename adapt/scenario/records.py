@@ -59,7 +59,8 @@ __all__ = [
 ]
 
 #: Ball parameters an object model may give as ranges (what is known before it is seen).
-MODEL_RANGE_PARAMETERS = ("restitution", "friction", "rolling_resistance")
+MODEL_RANGE_PARAMETERS = ("restitution", "friction", "rolling_resistance", "floor_friction",
+                          "drag")
 
 
 @dataclass(frozen=True, slots=True)
@@ -165,9 +166,10 @@ class ObjectModel:
         ``WHEN_SEEN``: instantiated where it is first perceived, by the schema
         spawned for it.
     ranges : mapping of str to Range
-        The plausible values of ``restitution``, ``friction`` and
-        ``rolling_resistance`` (a fixed range at the nominal value when the
-        scenario gives none); prediction ensembles draw from them.
+        The plausible values of ``restitution``, ``friction``,
+        ``rolling_resistance``, ``floor_friction`` (a ball with spin) and ``drag``
+        (a fixed range at the nominal value when the scenario gives none);
+        identification starts from them and prediction ensembles draw from them.
     """
 
     ball: Ball
@@ -180,11 +182,13 @@ class ObjectModel:
         """The object's name."""
         return self.ball.name
 
-    def range(self, parameter: str) -> Range:
-        """The range of a ball parameter (the nominal value when none was given)."""
+    def range(self, parameter: str) -> Range | None:
+        """The range of a ball parameter (the nominal value when none was given; None for
+        ``floor_friction`` of a ball without spin)."""
         if parameter in self.ranges:
             return self.ranges[parameter]
-        return Range.fixed(float(getattr(self.ball, parameter)))
+        value = getattr(self.ball, parameter)
+        return None if value is None else Range.fixed(float(value))
 
 
 # -- reality ---------------------------------------------------------------------

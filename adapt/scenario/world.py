@@ -52,7 +52,8 @@ SURFACE_KEYS = ("name", "height", "texture", "tile", "color", "restitution", "fr
 WALL_KEYS = ("name", "from", "to", "height", "texture", "tile", "color", "restitution", "friction")
 OBSTACLE_KEYS = ("name", "polygon", "height", "texture", "tile", "color", "restitution", "friction")
 OBJECT_KEYS = ("name", "radius", "mass", "restitution", "friction", "rolling_resistance",
-               "position", "velocity", "color", "texture", "create", "ranges")
+               "floor_friction", "drag", "position", "velocity", "color", "texture", "create",
+               "ranges")
 ROBOT_KEYS = ("name", "shape", "radius", "size", "position", "heading_deg", "max_speed",
               "max_accel", "mass", "height", "color")
 
@@ -342,6 +343,8 @@ class WorldReader(NodeReader):
             "restitution": lambda n, p: self.number(n, p, "unit"),
             "friction": lambda n, p: self.number(n, p, "nonnegative"),
             "rolling_resistance": lambda n, p: self.number(n, p, "nonnegative"),
+            "floor_friction": lambda n, p: self.number(n, p, "nonnegative"),
+            "drag": lambda n, p: self.number(n, p, "nonnegative"),
             "position": lambda n, p: self.vector(n, p, 2),
             "velocity": lambda n, p: self.vector(n, p, 2),
             "color": self.color,
@@ -372,7 +375,8 @@ class WorldReader(NodeReader):
         return ObjectModel(ball, create, MappingProxyType(ranges), self.source(node, path))
 
     def model_ranges(self, node: Node, path: str) -> dict[str, Range]:
-        """``ranges: {restitution: [lo, hi], ...}``."""
+        """``ranges: {restitution: [lo, hi], ...}`` (a ``floor_friction`` range gives the ball
+        spin)."""
         items = self.mapping(node, path)
         self.check_keys(items, MODEL_RANGE_PARAMETERS, path)
         out = {}
