@@ -500,7 +500,7 @@ class Runner:
             out.setdefault(name, {"observed": None, "imagined": None})
             out[name]["observed"] = None if o is None else [round(o[0], 4), round(o[1], 4)]
             if s.estimator is not None:
-                params[name] = {k: e.as_json() for k, e in s.estimator.estimates().items()}
+                params[name] = {k: e.as_json() for k, e in s.estimate_records().items()}
             if s.prediction is not None:
                 preds[name] = [h.as_json() for h in s.prediction.horizons]
                 contacts[name] = s.prediction.contacts_json()
@@ -616,7 +616,7 @@ class Runner:
         """The object schemas' parameter estimates at the end."""
         from adapt.schemas.foreground import ForegroundObject
 
-        return {s.object_name: {k: e.as_json() for k, e in s.estimator.estimates().items()}
+        return {s.object_name: {k: e.as_json() for k, e in s.estimate_records().items()}
                 for s in self.network.ordered()
                 if isinstance(s, ForegroundObject) and s.estimator is not None}
 

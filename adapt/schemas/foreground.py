@@ -21,11 +21,16 @@ imagination (paper section 4.4, Figure 6):
   a sighting of the wrong size is refused); a constant-velocity Kalman filter
   (:mod:`adapt.kalman`) smooths position and estimates velocity, restarted
   from the fitted line after a recognised bounce.
-* **what it is like.**  :class:`~adapt.schemas.estimator.ParameterEstimator`
-  turns bounces and free rolling into estimates of restitution, friction and
-  rolling resistance, which the imagined body takes on (``adapt``); and
-  :class:`~adapt.schemas.predictor.Predictor` forks the imagination to
-  predict, with a confidence (``predict``).
+* **what it is like.**  :class:`~adapt.mirror.identify.Identifier` fits
+  the ball's state and parameters by imagined rollouts to its last sightings
+  (``identify``, every ``identify_every`` frames over ``identify_window``
+  seconds), and the imagined body takes the parameters on (``adapt``);
+  without it :class:`~adapt.schemas.estimator.ParameterEstimator` turns
+  bounces and free rolling into estimates of restitution, friction and
+  rolling resistance by line fits (it also notes the bounces it sees either
+  way).  :class:`~adapt.schemas.predictor.Predictor` forks the imagination
+  to predict, with a confidence (``predict``), from the identified state (or
+  the filter's).
 * **in the imagination.**  An object declared ``create: when_seen`` (or one
   the scenario does not know) is created in the imagination after
   ``confirm`` sightings, where it is perceived and with the estimated
@@ -39,7 +44,6 @@ imagination (paper section 4.4, Figure 6):
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Mapping
 
 import cv2
@@ -49,8 +53,10 @@ from adapt.imagination import Ball
 from adapt.imagination.reach import body_radius
 from adapt.imagination.sight import behind_wall
 from adapt.kalman import ConstantVelocityKF
+from adapt.mirror.identify import Fit, Identifier
+from adapt.scenario.records import MODEL_RANGE_PARAMETERS
 from adapt.schemas.base import BBox, Schema, Status
-from adapt.schemas.estimator import PARAMETERS, ParameterEstimator
+from adapt.schemas.estimator import PARAMETERS, Estimate, ParameterEstimator, surprise
 from adapt.schemas.links import Structure
 from adapt.schemas.predictor import Prediction, Predictor
 from adapt.schemas.silhouette import fit_ball
@@ -69,6 +75,14 @@ RADIUS_TOLERANCE = 0.25
 #: An object is created in the imagination only once its estimated speed is below this (m/s):
 #: faster is a filter started on bad sightings.
 MAX_SPEED = 20.0
+#: A prediction starts from the identified state when the fit is at most this old (seconds)
+#: and its path passes the sightings within this chi-square per degree of freedom (2 noise
+#: sigmas); otherwise (a contact whose parameters are still being learned, say) from the filter's.
+FIT_AGE = 0.2
+FIT_CHI2 = 4.0
+#: What is known of an object nobody described: anything plausible.
+UNKNOWN_RANGES = {"restitution": (0.2, 0.95), "friction": (0.0, 1.0),
+                  "rolling_resistance": (0.0, 0.2)}
 
 
 class Observation:
@@ -111,6 +125,9 @@ class ForegroundObject(Schema):
         self._radii: list[float] = []
         self.model = model
         self.estimator: ParameterEstimator | None = None
+        self.identifier: Identifier | None = None
+        self.fit: Fit | None = None
+        self._ranges: dict[str, tuple[float, float]] = {}
         self.prediction: Prediction | None = None
         self.bounces_seen = 0
         settings = network.predict
@@ -139,17 +156,29 @@ class ForegroundObject(Schema):
         assert self.ball is not None
         ranges: dict[str, tuple[float, float]] = {}
         if self.model is not None:
-            for name in PARAMETERS:
+            for name in MODEL_RANGE_PARAMETERS:
                 r = self.model.range(name)
-                ranges[name] = (r.low, r.high)
-        else:  # an object nobody described: anything plausible
-            ranges = {"restitution": (0.2, 0.95), "friction": (0.0, 1.0),
-                      "rolling_resistance": (0.0, 0.2)}
+                if r is not None:
+                    ranges[name] = (r.low, r.high)
+        else:
+            ranges = dict(UNKNOWN_RANGES)
+        self._ranges = ranges
         nominal = {name: float(getattr(self.ball, name)) for name in PARAMETERS}
-        self.estimator = ParameterEstimator(ranges, nominal=nominal,
+        self.estimator = ParameterEstimator({k: ranges[k] for k in PARAMETERS}, nominal=nominal,
                                             scene=self.network.mirror.scene,
                                             gravity=self.network.mirror.scene.gravity,
                                             radius=self.ball.radius)
+        if self.parameters["identify"]:
+            # the parameters with a range are fitted (unless adapt is off: the state only)
+            priors = {name: (float(getattr(self.ball, name)), (hi - lo) / math.sqrt(12.0))
+                      for name, (lo, hi) in ranges.items()
+                      if hi > lo and self.parameters["adapt"]}
+            mirror = self.network.mirror
+            self.identifier = Identifier(mirror.scene, self.ball, priors,
+                                         window=float(self.parameters["identify_window"]),
+                                         every=int(self.parameters["identify_every"]),
+                                         noise=float(self.parameters["measurement_noise"]),
+                                         dt=mirror.world.dt)
         self.predictor.catch_radius = self._catch_radius()
 
     @property
@@ -242,6 +271,8 @@ class ForegroundObject(Schema):
         give the imagined ball the estimated parameters."""
         assert self.estimator is not None
         bounce = self.estimator.observe(time, position)
+        if self.identifier is not None:
+            self.fit = self.identifier.observe(time, position)
         if bounce is not None:
             self.bounces_seen += 1
             after = self.estimator.last_after
@@ -256,20 +287,32 @@ class ForegroundObject(Schema):
                 "friction": None if bounce.friction is None else round(bounce.friction, 4)})
         if self.parameters["adapt"] and self.in_imagination and self.ball is not None:
             changes = {}
-            for name, est in self.estimator.estimates().items():
+            for name, est in self.estimate_records().items():
                 value = min(max(est.mean, 0.0), 1.0) if name == "restitution" else max(est.mean, 0.0)
-                if abs(value - float(getattr(self.ball, name))) > (0.002 if name ==
-                                                                    "rolling_resistance" else 0.01):
+                if abs(value - float(getattr(self.ball, name))) > (
+                        0.002 if name in ("rolling_resistance", "drag") else 0.01):
                     changes[name] = value
             if changes:
-                self.ball = replace(self.ball, **changes)  # type: ignore[arg-type]
+                self.ball = self.ball.with_parameters(**changes)
                 self.network.mirror.replace_ball(self.ball)
+
+    def estimate_records(self) -> dict[str, Estimate]:
+        """Each estimated parameter's :class:`~adapt.schemas.estimator.Estimate`: the
+        identification's for the parameters it fits, the estimator's for the others."""
+        if self.estimator is None:
+            return {}
+        out = self.estimator.estimates()
+        fit, ident = self.fit, self.identifier
+        if fit is not None and ident is not None:
+            for name, mean in fit.parameters.items():
+                lo, hi = self._ranges[name]
+                out[name] = Estimate(name, mean, fit.std[name], ident.counts[name],
+                                     surprise(mean, lo, hi))
+        return dict(sorted(out.items()))
 
     def estimates(self) -> dict[str, tuple[float, float]]:
         """``(mean, std)`` of each estimated parameter (the model's values before any)."""
-        if self.estimator is None:
-            return {}
-        return {name: (e.mean, e.std) for name, e in self.estimator.estimates().items()}
+        return {name: (e.mean, e.std) for name, e in self.estimate_records().items()}
 
     def _predict(self) -> Prediction | None:
         """Roll the imagination forward from the object's state (filtered while seen; the
@@ -277,6 +320,14 @@ class ForegroundObject(Schema):
         mirror = self.network.mirror
         if not self.in_imagination:
             return None
+        fit = self.fit
+        since = mirror.world.time - fit.time if fit is not None else math.inf
+        if fit is not None and self.misses == 0 and -1e-9 <= since <= FIT_AGE \
+                and fit.chi2 <= FIT_CHI2:
+            # the identified state (its time may be a frame back: identify_every)
+            return self.predictor.predict(mirror.world, self.body, fit.position, fit.velocity,
+                                          self.estimates(), velocity_std=self.kf.velocity_sigma,
+                                          slip=fit.slip, since=max(since, 0.0))
         if self.kf.initialised and self.misses == 0:
             position, velocity, vstd = self.kf.position, self.kf.velocity, self.kf.velocity_sigma
         else:
@@ -483,7 +534,7 @@ class ForegroundObject(Schema):
             return
         p = node.child("parameters", 0)
         consistent = True
-        for name, e in self.estimator.estimates().items():
+        for name, e in self.estimate_records().items():
             key = name.replace("_", "-")
             p.set(key, round(e.mean, 4))
             p.set(f"{key}-std", round(e.std, 4))
@@ -570,7 +621,15 @@ FOREGROUND_OBJECT = SchemaSpec(
         Parameter("gate", float, 6.0, "innovation (sigmas) beyond which the filter restarts "
                   "from the last two sightings (a bounce)", low=0.0, low_open=True),
         Parameter("adapt", bool, True, "estimate restitution, friction and rolling resistance "
-                  "online and give them to the imagined body"),
+                  "(and floor friction and drag, given ranges) online and give them to the "
+                  "imagined body"),
+        Parameter("identify", bool, True, "fit the state and the parameters by imagined "
+                  "rollouts to the last sightings (false: the Kalman filter's state, line fits "
+                  "at bounces and quadratic fits of rolling)"),
+        Parameter("identify_window", float, 0.9, "seconds of sightings the identification "
+                  "fits", unit="s", low=0.2),
+        Parameter("identify_every", int, 2, "frames with a sighting between two steps of the "
+                  "identification", low=1),
         Parameter("predict", bool, True, "predict at the scenario's horizons (predict section)"),
     ),
 )
