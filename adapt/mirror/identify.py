@@ -63,6 +63,7 @@ from typing import Callable, Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from adapt.errors import ImaginationError
 from adapt.imagination.scene import Ball, SceneSpec, Vec2
 from adapt.imagination.world import BodyState, World, WorldState
 
@@ -181,13 +182,26 @@ class Identifier:
     def __init__(self, scene: SceneSpec, ball: Ball, priors: Mapping[str, tuple[float, float]],
                  *, window: float = 0.9, every: int = 1, noise: float = 0.005,
                  dt: float | None = None) -> None:
-        for key in priors:
+        for key, prior in priors.items():
             if key not in PARAMETERS:
-                raise ValueError(f"cannot fit {key!r}; expected one of {', '.join(PARAMETERS)}")
+                raise ImaginationError(
+                    f"cannot fit {key!r}; expected one of {', '.join(PARAMETERS)}")
+            mean, std = prior
+            if not (math.isfinite(mean) and math.isfinite(std) and std >= 0):
+                raise ImaginationError(f"{key}: expected a finite mean and a standard "
+                                       f"deviation >= 0, got {prior!r}")
+        for name, value, low in (("window", window, 0.0), ("noise", noise, 0.0)):
+            if not (math.isfinite(value) and value > low):
+                raise ImaginationError(f"{name}: expected a positive number, got {value!r}")
+        if isinstance(every, bool) or not isinstance(every, int) or every < 1:
+            raise ImaginationError(f"every: expected a whole number >= 1, got {every!r}")
+        if ball.floor_friction is None and "floor_friction" in priors:
+            raise ImaginationError("floor_friction: the ball has no spin to fit it for "
+                                   "(give its model a floor_friction)")
         self.scene = replace(scene, balls=(), robot=None)
         self.ball = ball
         self.window = float(window)
-        self.every = max(1, int(every))
+        self.every = every
         self._count = 0
         self.noise = float(noise)
         self.dt = self.scene.dt if dt is None else float(dt)

@@ -1,0 +1,134 @@
+"""The identification (adapt/mirror/identify.py) on tracks the imagination itself makes, with
+noise: what it learns, what it keeps, and when it says it does not fit."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from adapt.errors import ImaginationError
+from adapt.imagination import Ball, SceneSpec, Wall, World
+from adapt.imagination.world import BodyState, WorldState
+from adapt.mirror.identify import Identifier
+
+WALLS = (Wall("east", (1.5, -2.0), (1.5, 2.0)), Wall("west", (-1.5, -2.0), (-1.5, 2.0)))
+FPS = 30.0
+
+
+def track(ball: Ball, seconds: float, *, slip: tuple[float, float] = (0.0, 0.0),
+          noise: float = 0.003, seed: int = 1, walls: tuple[Wall, ...] = WALLS
+          ) -> list[tuple[float, tuple[float, float], tuple[float, float]]]:
+    """(time, noisy sighting, true velocity) of ``ball`` at 30 frames/s."""
+    world = World(SceneSpec(walls=walls, balls=(ball,)))
+    world.set_state(WorldState(0.0, 0, (BodyState(ball.name, ball.position, ball.velocity,
+                                                  slip=slip),)))
+    rng = np.random.default_rng(seed)
+    out = []
+    for k in range(int(seconds * FPS) + 1):
+        world.run_until(k / FPS)
+        x, y = world.position(ball.name)
+        n = rng.normal(0.0, noise, 2)
+        out.append((k / FPS, (x + n[0], y + n[1]), world.velocity(ball.name)))
+    return out
+
+
+def identify(ident: Identifier, sightings: list) -> list:
+    return [ident.observe(t, p) for t, p, _ in sightings]
+
+
+def model(**kw: float | None) -> Ball:
+    return Ball("b", radius=0.1, **kw)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("e", [0.4, 0.7, 0.95])
+def test_the_restitution_of_a_head_on_bounce_is_learned(e: float) -> None:
+    truth = model(restitution=e, velocity=(1.5, 0.0))
+    ident = Identifier(SceneSpec(walls=WALLS), model(), {"restitution": (0.7, 0.17)},
+                       noise=0.003)
+    fits = identify(ident, track(truth, 1.6))
+    assert fits[-1].parameters["restitution"] == pytest.approx(e, abs=0.03)
+    assert fits[-1].velocity[0] == pytest.approx(-e * 1.5, abs=0.04)
+    assert fits[-1].contact and ident.counts["restitution"] > 0
+
+
+def test_what_a_bounce_taught_is_kept_after_it_leaves_the_window() -> None:
+    truth = model(restitution=0.45, velocity=(2.0, 0.0))
+    ident = Identifier(SceneSpec(walls=WALLS), model(), {"restitution": (0.8, 0.1)},
+                       window=0.6, noise=0.003)
+    fits = identify(ident, track(truth, 2.5))   # east at 0.7 s, west at about 3.6 s
+    assert not fits[-1].contact                 # the bounce is long out of the window
+    assert fits[-1].parameters["restitution"] == pytest.approx(0.45, abs=0.04)
+    assert fits[-1].std["restitution"] < 0.05
+
+
+def test_rolling_resistance_and_drag_are_learned_from_rolling() -> None:
+    truth = model(rolling_resistance=0.03, drag=0.2, velocity=(0.0, 2.5))
+    ident = Identifier(SceneSpec(), model(), {"rolling_resistance": (0.02, 0.015),
+                                              "drag": (0.05, 0.05)}, window=1.2, noise=0.002)
+    fits = identify(ident, track(truth, 2.4, walls=()))
+    end = fits[-1]
+    # the two trade off against each other; what they do together is what counts: the
+    # deceleration at the speeds of the track
+    for v in (1.0, 2.0):
+        fitted = end.parameters["rolling_resistance"] * 9.81 + end.parameters["drag"] * v * v
+        assert fitted == pytest.approx(0.03 * 9.81 + 0.2 * v * v, rel=0.15)
+    assert not end.contact and ident.counts["rolling_resistance"] > 0
+
+
+def test_the_floor_friction_of_a_ball_thrown_sliding_is_learned() -> None:
+    # launched without spin: it slides until it rolls at 5/7 of its speed, at mu g
+    truth = model(floor_friction=0.25, velocity=(2.8, 0.0), position=(-1.3, 0.0))
+    ident = Identifier(SceneSpec(walls=WALLS), model(floor_friction=0.6),
+                       {"floor_friction": (0.6, 0.3)}, window=0.9, noise=0.002)
+    fits = identify(ident, track(truth, 0.6, slip=(-2.8, 0.0)))
+    assert fits[-1].parameters["floor_friction"] == pytest.approx(0.25, abs=0.05)
+    # it rolls from (2/7) v0 / (mu g) = 0.33 s on, at 5/7 of v0
+    assert fits[-1].velocity[0] == pytest.approx(5.0 / 7.0 * 2.8, abs=0.05)
+    assert fits[-1].slip[0] == pytest.approx(0.0, abs=0.05)
+
+
+def test_a_parameter_nothing_informs_keeps_its_prior() -> None:
+    truth = model(restitution=0.3, velocity=(0.5, 0.2))   # no wall within reach
+    ident = Identifier(SceneSpec(walls=WALLS), model(), {"restitution": (0.7, 0.1),
+                                                         "friction": (0.4, 0.2)}, noise=0.003)
+    fits = identify(ident, track(truth, 1.5))
+    assert fits[-1].parameters == {"restitution": 0.7, "friction": 0.4}
+    assert ident.counts == {"restitution": 0, "friction": 0}
+    assert not fits[-1].contact
+
+
+def test_a_path_that_fits_has_a_chi_square_near_one_and_one_that_does_not_says_so() -> None:
+    truth = model(velocity=(0.8, 0.0))
+    ident = Identifier(SceneSpec(walls=WALLS), model(), {}, noise=0.003)
+    fits = identify(ident, track(truth, 1.0))
+    assert fits[-1].chi2 < 2.0
+    # the ball is kicked sideways, as nothing in the model can: the path no longer fits
+    t0 = 1.0 + 1 / FPS
+    kicked = [(t0 + k / FPS, (0.8 * (t0 + k / FPS) + 0.0, 0.6 * k / FPS)) for k in range(3)]
+    last = [ident.observe(t, p) for t, p in kicked][-1]
+    assert last is not None and last.chi2 > 4.0
+
+
+def test_the_identification_needs_a_few_sightings_and_skips_the_missed_ones() -> None:
+    ident = Identifier(SceneSpec(), model(), {}, noise=0.003)
+    assert [ident.observe(k / FPS, (0.1 * k, 0.0)) for k in range(3)] == [None, None, None]
+    assert ident.observe(3 / FPS, None) is None
+    fit = ident.observe(4 / FPS, (0.4, 0.0))
+    assert fit is not None and fit.velocity[0] == pytest.approx(3.0, abs=0.1)
+    assert ident.observe(5 / FPS, None) is fit
+
+
+def test_bad_settings_are_refused() -> None:
+    scene = SceneSpec()
+    with pytest.raises(ImaginationError, match="cannot fit 'spin'"):
+        Identifier(scene, model(), {"spin": (0.5, 0.1)})
+    with pytest.raises(ImaginationError, match="restitution: expected a finite mean"):
+        Identifier(scene, model(), {"restitution": (math.nan, 0.1)})
+    with pytest.raises(ImaginationError, match="window: expected a positive number"):
+        Identifier(scene, model(), {}, window=0.0)
+    with pytest.raises(ImaginationError, match="every: expected a whole number"):
+        Identifier(scene, model(), {}, every=0)
+    with pytest.raises(ImaginationError, match="floor_friction: the ball has no spin"):
+        Identifier(scene, model(), {"floor_friction": (0.5, 0.2)})
