@@ -53,8 +53,10 @@ from types import MappingProxyType
 from typing import Mapping, Sequence
 
 from adapt.errors import ScenarioError
+from adapt.files import Inputs
 from adapt.geometry import Camera
 from adapt.imagination.scene import SceneSpec
+from adapt.scenario.inputs import scenario_inputs
 from adapt.scenario.nodes import Override, join  # noqa: F401  (re-exported)
 from adapt.scenario.records import (
     Appearance,
@@ -185,6 +187,12 @@ class Scenario:
             if m.name == name:
                 return m
         raise KeyError(name)
+
+    def inputs(self) -> Inputs:
+        """Every file the scenario names: itself, its rule files, textures, the learned
+        appearance, the video or its frames, the ground truth
+        (:func:`adapt.scenario.inputs.scenario_inputs`); no output may replace one."""
+        return scenario_inputs(self)
 
     def schema_settings(self, type_name: str) -> SchemaSettings | None:
         """The ``schemas.<type_name>`` parameters, or None."""

@@ -108,7 +108,8 @@ def test_an_interrupted_run_leaves_complete_outputs(tmp_path: Path) -> None:
     footer = [json.loads(x) for x in lines if '"kind":"footer"' in x]
     assert len(footer) == 1 and footer[0]["stop_reason"] == "interrupted"
     assert (tmp_path / "mmd.mp4").stat().st_size > 0
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["mmd.mp4", "report.json", "trace.jsonl"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".adapt.lock", "mmd.mp4", "report.json",
+                                                         "trace.jsonl"]  # no temporary file left
 
 
 def test_a_failed_run_leaves_a_valid_report_and_raises(tmp_path: Path) -> None:
@@ -145,14 +146,16 @@ def test_outputs_never_replace_inputs(tmp_path: Path) -> None:
     sc = room()
     (tmp_path / "report.json").write_text("{}")
     sc = replace(sc, path=tmp_path / "report.json")
-    with pytest.raises(OutputError, match="is an input of the run .*never replaces an input"):
+    with pytest.raises(OutputError, match="report output .* is the scenario; an output never "
+                                          "replaces an input"):
         Runner(sc, source=source(sc, 3), out=tmp_path)
     assert (tmp_path / "report.json").read_text() == "{}"
     rules = tmp_path / "figures" / "mine.soar"
     rules.parent.mkdir()
     rules.write_text((Path(sc.rules[0].path)).read_text())
     inside = replace(room(), rules=(replace(sc.rules[0], path=rules),))
-    with pytest.raises(RunError, match="the figures output .* would replace an input"):
+    with pytest.raises(OutputError, match="the figures output .* would hold the scenario's "
+                                          r"rules\[0\] \(a rule file\)"):
         Runner(inside, source=source(inside, 3), out=tmp_path)
     f = tmp_path / "file"
     f.write_text("x")
