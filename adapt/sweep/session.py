@@ -141,6 +141,10 @@ def run_sweep(plan: Plan, out: str | Path, *, workers: int | None = None,
     if folder.exists() and not folder.is_dir():
         raise SweepError(f"--out {str(folder)!r} is a file; expected a folder")
     _check_outputs(plan, folder)
+    if client is None and scheduler is None and workers is not None:
+        from adapt.sweep.cluster import check_workers
+
+        check_workers(workers)  # before anything is written
     status = on_status or (lambda text: None)
     with RunLog(folder / "runs.jsonl") as log:
         _check_fingerprints(log, plan, folder)
