@@ -136,9 +136,7 @@ def _receive(sock: socket.socket, n: int, deadline: float) -> bytes:
         sock.settimeout(left)
         try:
             chunk = sock.recv(min(n - len(data), 65536))
-        except (TimeoutError, socket.timeout):
-            break
-        except OSError:
+        except OSError:  # a timeout, a reset
             break
         if not chunk:
             break
