@@ -161,3 +161,38 @@ def test_outputs_never_replace_inputs(tmp_path: Path) -> None:
     f.write_text("x")
     with pytest.raises(RunError, match="is a file"):
         Runner(room(), source=source(room(), 3), out=f)
+
+
+def _footer(out: Path) -> dict:
+    lines = (out / "trace.jsonl").read_text().splitlines()
+    return json.loads(lines[-1])
+
+
+def test_the_trace_says_why_the_run_stopped(tmp_path: Path, capsys) -> None:
+    """Issue 21: a run that ended normally said "stopped: max-decisions" (its last slice's)."""
+    from adapt.cli import main
+    from adapt.traceview.html import build_payload
+    from adapt.traceview.reader import Trace
+
+    sc = room()
+    res = Runner(sc, source=source(sc, 5), out=tmp_path / "done", outputs=QUIET).run()
+    assert res.summary["stopped"] == "end-of-frames"
+    footer = _footer(tmp_path / "done")
+    assert footer["kind"] == "footer" and footer["stop_reason"] == "end-of-frames"
+    assert main(["trace", "stats", str(tmp_path / "done" / "trace.jsonl")]) == 0
+    assert "(stopped: end-of-frames)" in capsys.readouterr().out
+    payload = build_payload(Trace(tmp_path / "done" / "trace.jsonl"))
+    assert payload["footer"]["stop_reason"] == "end-of-frames"
+
+    with pytest.raises(RuntimeError, match="cable"):
+        Runner(sc, source=source(sc, 30, fail_at=4), out=tmp_path / "failed", outputs=QUIET).run()
+    footer = _footer(tmp_path / "failed")
+    assert footer["stop_reason"] == "error" and "cable" in footer["error"]
+    assert main(["trace", "stats", str(tmp_path / "failed" / "trace.jsonl")]) == 0
+    assert "(stopped: error: RuntimeError: " in capsys.readouterr().out
+
+    halting = tmp_path / "halt.soar"
+    halting.write_text("sp {halt (state <s> ^superstate nil) --> (halt)}\n")
+    sc = replace(sc, rules=(replace(sc.rules[0], path=halting),))
+    res = Runner(sc, source=source(sc, 5), out=tmp_path / "halted", outputs=QUIET).run()
+    assert res.summary["stopped"] == "halt" and _footer(tmp_path / "halted")["stop_reason"] == "halt"
