@@ -112,6 +112,9 @@ __all__ = [
     "OutputSettings",
 ]
 
+#: The largest scenario file read, in bytes; no more is read.
+MAX_BYTES = 16 * 1024 * 1024
+
 #: The top-level sections, in the order the documentation lists them.
 TOP_KEYS = ("seed", "camera", "world", "reality", "goals", "rules", "schemas", "run",
             "predict", "outputs")
@@ -212,13 +215,18 @@ def load_scenario(path: str | Path, overrides: Sequence[Override | str] = ()) ->
     """
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8-sig")
+        with open(p, "rb") as f:  # a bounded read: a device such as /dev/zero never ends
+            data = f.read(MAX_BYTES + 1)
+        text = data.decode("utf-8-sig")
     except FileNotFoundError:
         raise ScenarioError("no such scenario file", file=str(path), line=1, col=1) from None
     except IsADirectoryError:
         raise ScenarioError("is a folder; expected a scenario YAML file", file=str(path)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise ScenarioError(f"cannot read the scenario: {exc}", file=str(path)) from None
+    if len(data) > MAX_BYTES:
+        raise ScenarioError(f"larger than {MAX_BYTES // (1024 * 1024)} MiB; expected a scenario "
+                            "YAML file (a few kilobytes)", file=str(path))
     return loads_scenario(text, file=str(path), base=p.resolve().parent, path=p,
                           overrides=overrides)
 
