@@ -165,6 +165,7 @@ class Inputs:
 
     def __init__(self, items: Iterable[InputLike] = ()) -> None:
         self._items: list[Input] = []
+        self._given: set[str] = set()  # paths as given: a path added again is not resolved again
         self._by_name: dict[str, Input] = {}
         self._by_id: dict[tuple[int, int], Input] = {}
         self._folders: list[tuple[str, Input]] = []
@@ -173,6 +174,9 @@ class Inputs:
     def add(self, what: str, path: str | os.PathLike[str], *, folder: bool = False) -> None:
         """Add one input (a path already listed keeps its first name)."""
         item = Input(what, Path(path), folder)
+        if str(item.path) in self._given:
+            return
+        self._given.add(str(item.path))
         name, ident = _identity(item.path)
         if name in self._by_name or (ident is not None and ident in self._by_id):
             return

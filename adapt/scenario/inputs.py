@@ -29,17 +29,20 @@ from adapt.scenario.records import VideoReality
 if TYPE_CHECKING:
     from adapt.scenario import Scenario
 
-__all__ = ["scenario_inputs"]
+__all__ = ["scenario_inputs", "scenario_files"]
 
 _OWN = "the scenario's"
 
 
 def scenario_inputs(scenario: "Scenario") -> Inputs:
     """Every file the scenario names (see the module docstring)."""
-    return Inputs(_named(scenario))
+    return Inputs(scenario_files(scenario))
 
 
-def _named(sc: "Scenario") -> Iterator[Input]:
+def scenario_files(sc: "Scenario") -> Iterator[Input]:
+    """The files of :func:`scenario_inputs`, one by one, as named (not yet resolved: the
+    grid of a sweep adds those of every cell to one :class:`~adapt.files.Inputs`, which
+    resolves a path once)."""
     if sc.path is not None:
         yield Input("the scenario", sc.path)
     for i, rf in enumerate(sc.rules):

@@ -49,6 +49,7 @@ from typing import Any, Sequence
 from adapt.errors import LocatedError, RuleError, ScenarioError, SweepSpecError
 from adapt.files import Input, Inputs
 from adapt.scenario import Scenario, load_scenario
+from adapt.scenario.inputs import scenario_files
 from adapt.sweep.grid import Axis, Item, parse_axis, parse_seeds
 from adapt.sweep.task import RunSpec
 
@@ -217,7 +218,7 @@ def _check_cells(path: Path, axes: Sequence[Axis], overrides: Sequence[tuple[str
             check_settings(sc.schemas)
         except ScenarioError as exc:
             raise _relocate(exc, origin, cell) from None
-        inputs.extend(sc.inputs())
+        inputs.extend(scenario_files(sc))
         for rf in sc.rules:
             if rf.path in rules_seen:
                 continue
