@@ -89,7 +89,7 @@ def native_messages() -> Iterator[NativeMessages]:
 
 def _sort(text: str, caught: NativeMessages) -> None:
     """Keep the native libraries' lines; write the others back to standard error."""
-    other = []
+    other: list[str] = []
     for line in text.splitlines():
         if line.strip():
             (caught.lines if _NATIVE.match(line.strip()) else other).append(line.strip())

@@ -34,7 +34,7 @@ def sourced_inputs(rule: "RuleFile", files: Sequence[str]) -> list[Input]:
     the rule file first), as inputs named after its key."""
     top = Path(rule.path).resolve()
     return [Input(f"a file sourced by the scenario's {rule.source.path or 'rules'} "
-                  f"({rule.path})", f) for f in files if Path(f).resolve() != top]
+                  f"({rule.path})", Path(f)) for f in files if Path(f).resolve() != top]
 
 
 def run_inputs(scenario: "Scenario") -> Inputs:

@@ -21,6 +21,7 @@ Examples
 from __future__ import annotations
 
 import glob
+from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
 from adapt.files import Input, Inputs
@@ -61,7 +62,7 @@ def scenario_files(sc: "Scenario") -> Iterator[Input]:
                      for o in reality.objects]
     for key, texture in textures:
         if texture is not None and not texture.startswith("builtin:"):
-            yield Input(f"{_OWN} {key}", texture)
+            yield Input(f"{_OWN} {key}", Path(texture))
     if sc.appearance is not None:
         yield Input(f"{_OWN} world.appearance (a learned appearance)", sc.appearance, folder=True)
     if isinstance(reality, VideoReality):
@@ -70,7 +71,7 @@ def scenario_files(sc: "Scenario") -> Iterator[Input]:
         else:
             what = f"a frame of {_OWN} reality.path ({reality.pattern})"
             for frame in sorted(glob.glob(reality.pattern)):
-                yield Input(what, frame)
+                yield Input(what, Path(frame))
         if reality.ground_truth is not None:
             yield Input(f"{_OWN} reality.ground_truth", reality.ground_truth)
 

@@ -57,7 +57,7 @@ class YAML12Loader(yaml.SafeLoader):
 
     _depth = 0
 
-    def compose_node(self, parent: Node | None, index: object) -> Node | None:
+    def compose_node(self, parent: Node | None, index: int) -> Node | None:
         depth = self._depth
         if depth >= MAX_DEPTH:
             raise NestingError(problem=f"the YAML nests deeper than {MAX_DEPTH} levels of lists "
