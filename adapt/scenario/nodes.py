@@ -48,11 +48,11 @@ class YAML12Loader(yaml.SafeLoader):
     """PyYAML's safe loader with YAML 1.2 floats (``1e-3``, ``2E5``, ``.5e1``) and nesting
     bounded by :data:`MAX_DEPTH` (:class:`NestingError`).
 
-    >>> yaml.load("[" * 65 + "]" * 65, Loader=YAML12Loader)
-    Traceback (most recent call last):
-    ...
-    adapt.scenario.nodes.NestingError: the YAML nests deeper than 64 levels of lists and mappings
-      in "<unicode string>", line 1, column 65
+    >>> try:
+    ...     yaml.load("[" * 65 + "]" * 65, Loader=YAML12Loader)
+    ... except NestingError as exc:
+    ...     print(exc.problem, "at column", exc.problem_mark.column + 1)
+    the YAML nests deeper than 64 levels of lists and mappings at column 65
     """
 
     _depth = 0
