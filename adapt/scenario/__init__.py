@@ -47,6 +47,7 @@ adapt.errors.ScenarioError: <string>:8:1: sede: unknown key (did you mean 'seed'
 
 from __future__ import annotations
 
+import glob as globbing
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
@@ -57,16 +58,17 @@ from adapt.geometry import Camera
 from adapt.imagination.scene import SceneSpec
 from adapt.scenario.nodes import Override, join  # noqa: F401  (re-exported)
 from adapt.scenario.records import (
-    Appearance,
     CameraMount,
     CameraOffset,
     Creation,
     Goal,
+    GoalKind,
     Mount,
     ObjectModel,
     OutputSettings,
     PredictSettings,
     Range,
+    RealAppearance,
     Reality,
     RealityKind,
     RobotTruth,
@@ -97,12 +99,13 @@ __all__ = [
     "Throw",
     "TrueObject",
     "CameraOffset",
-    "Appearance",
+    "RealAppearance",
     "RobotTruth",
     "SyntheticReality",
     "VideoReality",
     "Reality",
     "Goal",
+    "GoalKind",
     "RuleFile",
     "SchemaSettings",
     "RunSettings",
@@ -192,6 +195,52 @@ class Scenario:
             if s.type == type_name:
                 return s
         return None
+
+    @property
+    def target(self) -> str | None:
+        """The object of the first ``intercept`` goal (:attr:`GoalKind.INTERCEPT`), or None."""
+        return next((str(g.get("object")) for g in self.goals
+                     if g.kind is GoalKind.INTERCEPT and g.get("object") is not None), None)
+
+    def inputs(self) -> tuple[tuple[str, Path], ...]:
+        """Every file (or folder) a run of this scenario reads, each with what it is: the
+        YAML, its rule files, its texture files, the video or the image sequence's
+        folder, the ground truth, and the learned look it starts from.  No output may
+        replace one of them.
+
+        Examples
+        --------
+        >>> sc = loads_scenario("camera: {fx: 1, fy: 1, cx: 0, cy: 0, width: 8, height: 8, "
+        ...                     "position: [0, 0, 1], look_at: [0, 1, 1]}\\nworld: {}\\n")
+        >>> sc.inputs()
+        ()
+        """
+        found: list[tuple[str, Path]] = []
+        if self.path is not None:
+            found.append(("the scenario", Path(self.path)))
+        found.extend(("a rule file of the scenario", r.path) for r in self.rules)
+        scene = self.scene
+        refs = [scene.floor.texture, *(w.texture for w in scene.walls),
+                *(o.texture for o in scene.obstacles), *(m.ball.texture for m in self.objects)]
+        if isinstance(self.reality, SyntheticReality):
+            refs.extend(o.ball.texture for o in self.reality.objects)
+        seen: set[str] = set()
+        for ref in refs:
+            if ref is not None and not ref.startswith("builtin:") and ref not in seen:
+                seen.add(ref)
+                found.append(("a texture of the scenario", Path(ref)))
+        reality = self.reality
+        if isinstance(reality, VideoReality):
+            if reality.pattern is None:
+                found.append(("the video of the scenario", reality.path))
+            else:
+                found.extend(("an image of the scenario's video", Path(f))
+                             for f in sorted(globbing.glob(reality.pattern)))
+            if reality.ground_truth is not None:
+                found.append(("the ground truth of the scenario", reality.ground_truth))
+        if self.appearance is not None:
+            found.append(("the learned look of the scenario", self.appearance))
+        return tuple(found)
 
 
 def load_scenario(path: str | Path, overrides: Sequence[Override | str] = ()) -> Scenario:
