@@ -16,7 +16,8 @@ This package imports the engine (its I/O links), vision, the imagination (throug
 from __future__ import annotations
 
 from adapt.schemas.base import Origin, Schema, Status
-from adapt.schemas.network import SchemaEvent, SchemaNetwork, check_settings
+from adapt.schemas.events import EventKind, SchemaEvent
+from adapt.schemas.network import SchemaNetwork, check_settings
 from adapt.schemas.registry import REGISTRY, Registry
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 
@@ -26,6 +27,7 @@ __all__ = [
     "Origin",
     "SchemaNetwork",
     "SchemaEvent",
+    "EventKind",
     "check_settings",
     "Registry",
     "REGISTRY",

@@ -13,7 +13,7 @@ from adapt.geometry import Camera
 from adapt.imagination import RobotSpec, SceneSpec
 from adapt.mirror import Mirror
 from adapt.scenario import SchemaSettings, Source
-from adapt.schemas import REGISTRY, Origin, SchemaNetwork, Status, check_settings
+from adapt.schemas import REGISTRY, EventKind, Origin, SchemaNetwork, Status, check_settings
 
 CAM = Camera.look_at(fx=200, fy=200, cx=80, cy=60, width=160, height=120,
                      position=(0, -2, 1), look_at=(0, 1, 0))
@@ -35,14 +35,14 @@ def test_instantiation_connects_ports_and_orders_providers_first() -> None:
     # the provider comes first, then the consumers in creation order
     assert net.names == [bg.name, drive.name, fo.name] == ["scene-background", "drive-1",
                                                            "foreground-object-1"]
-    edges = {(a, b, d["port"]) for a, b, d in net.graph.edges(data=True)}
+    edges = {(a, b, port) for a, b, d in net.graph.edges(data=True) for port in d["ports"]}
     assert edges == {(bg.name, drive.name, "camera"), (bg.name, fo.name, "regions")}
-    assert [e.kind for e in events] == ["instantiated", "spawned", "instantiated"]
+    assert [e.kind.value for e in events] == ["instantiated", "spawned", "instantiated"]
     assert fo.origin is Origin.BOTTOM_UP and drive.status is Status.IDLE
     sub = net.subscene()
     assert {n["name"] for n in sub["nodes"]} == {bg.name, drive.name, fo.name}
     net.remove(fo.name)
-    assert fo.name not in net and events[-1].kind == "removed"
+    assert fo.name not in net and events[-1].kind is EventKind.REMOVED
 
 
 @pytest.mark.parametrize("call, message", [
