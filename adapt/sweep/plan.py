@@ -4,8 +4,10 @@
 forms the grid's cells (the product of the axes, the first axis varying
 slowest) and reads the scenario **once per cell** with that cell's overrides,
 so a bad value is reported before anything runs, by the scenario reader
-itself, at its column in the ``--set`` argument.  Each cell's schema
-parameters are checked and each distinct rule file is parsed once.
+itself, at its column in the ``--set`` argument.  Each cell is checked as
+``adapt check`` and the runner check a scenario
+(:func:`adapt.runner.check_scenario`: its schema parameters, and each
+distinct rule file parsed once).
 
 Runs are ordered seed by seed, each seed over every cell, so a sweep stopped
 early still has about as many runs in every cell.
@@ -46,7 +48,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence
 
-from adapt.errors import LocatedError, RuleError, ScenarioError, SweepSpecError
+from adapt.errors import LocatedError, ScenarioError, SweepSpecError
+from adapt.runner.check import RuleCheck, check_scenario
 from adapt.scenario import Scenario, load_scenario
 from adapt.sweep.grid import Axis, Item, parse_axis, parse_seeds
 from adapt.sweep.task import RunSpec
@@ -190,33 +193,16 @@ def _axes(sets: Sequence[str]) -> tuple[Axis, ...]:
 
 def _check_cells(path: Path, axes: Sequence[Axis], overrides: Sequence[tuple[str, ...]],
                  cells: Sequence[Cell]) -> None:
-    from adapt.engine.functions import default_functions
-    from adapt.engine.parse import load_rule_file
-    from adapt.schemas import check_settings
-
     origin: dict[str, tuple[Axis, Item]] = {}
     for axis in axes:
         for item in axis.items:
             origin[f"{axis.path}={item.text}"] = (axis, item)
-    rules_seen: set[Path] = set()
-    table = default_functions()
+    parsed: dict[Path, RuleCheck] = {}
     for ovs, cell in zip(overrides, cells):
         try:
-            sc = load_scenario(path, overrides=list(ovs))
-            check_settings(sc.schemas)
+            check_scenario(load_scenario(path, overrides=list(ovs)), parsed=parsed)
         except ScenarioError as exc:
             raise _relocate(exc, origin, cell) from None
-        for rf in sc.rules:
-            if rf.path in rules_seen:
-                continue
-            rules_seen.add(rf.path)
-            try:
-                load_rule_file(rf.path, functions=table)
-            except RuleError as exc:
-                raise type(exc)(f"{exc.message} (a rule file of the scenario, "
-                                f"{rf.source.location}: {rf.source.path})", file=exc.file,
-                                line=exc.line, col=exc.col,
-                                source_line=exc.source_line) from None
 
 
 def _relocate(exc: LocatedError, origin: dict[str, tuple[Axis, Item]],
