@@ -27,9 +27,10 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Mapping, Sequence
+from typing import Any, Mapping
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from adapt.geometry import Camera
 from adapt.imagination.scene import Ball, Vec2
@@ -141,7 +142,7 @@ class CameraMount:
         rot, offset = _robot_frame(robot_position, robot_heading)
         return rot @ p + offset, rot @ t + offset
 
-    def mount_pose(self, position: Sequence[float], look_at: Sequence[float],
+    def mount_pose(self, position: ArrayLike, look_at: ArrayLike,
                    robot_position: Vec2, robot_heading: float) -> tuple[np.ndarray, np.ndarray]:
         """The inverse of :meth:`world_pose`: world ``position`` and ``look_at`` in the
         mount's frame (the robot's, for :attr:`Mount.ROBOT`; unchanged when fixed).

@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from adapt.imagination.scene import Ball, Floor, Obstacle, RobotSpec, Wall
-from adapt.scenario import TOP_KEYS, RealAppearance, OutputSettings, PredictSettings, RunSettings
+from adapt.scenario import TOP_KEYS, OutputSettings, PredictSettings, RealAppearance, RunSettings
 from adapt.scenario import reality as R
 from adapt.scenario import run as RUN
 from adapt.scenario import world as W
