@@ -2,12 +2,17 @@
 what the imagination does not explain.
 
 Every frame (paper section 4.1, Figure 3) it renders the imagination through
-the synthetic camera, computes the match-mediated difference against the
-real frame, corrects the synthetic camera with ``H_e`` (eq. 3, or the full
-pose from the floor's homography), and turns the difference into regions.
-A region that a schema monitors is *expected*; any other is *unexpected*,
-and the rules decide whether to spawn a perceptual schema for it.  Regions
-are followed over frames (:mod:`adapt.schemas.tracks`) so each has an age.
+the synthetic camera, takes the camera loop's step against the real frame
+(:func:`adapt.vision.sync.sync_step`: the match-mediated difference, its
+pixel error, and the camera corrected with ``H_e``, eq. 3, or the full pose
+from the floor's homography), and turns the difference into regions.  A
+region a schema claims (the one it was spawned for) or monitors is
+*expected*; any other is *unexpected*, and the rules decide whether to spawn
+a perceptual schema for it.  Regions are followed over frames
+(:mod:`adapt.schemas.tracks`) so each has an age.  What it perceives is
+published as a :class:`~adapt.schemas.percepts.BackgroundPercept` on its
+ports; the schema itself keeps only the policy: when to correct, the filter
+of false alignments, the learning schedule.
 
 Each region is reported with its bounding box, centroid and area (real-image
 pixels), its floor position (the bottom of its box back-projected onto the

@@ -8,7 +8,10 @@ imagination (paper section 4.4, Figure 6):
   imagined body, the last sighting, or the region it was spawned for), the
   real object is what differs from the imagination's *background*: the
   background render warped by ``H_e``, with the frame's gain and bias, outside
-  the MMD mask.  The imagination's label image (warped by ``H_e``) says which
+  the MMD mask.  All of it is read from the Scene Background's percept on the
+  ``regions`` port (:class:`~adapt.schemas.percepts.BackgroundPercept`); what
+  this schema perceives is published as an
+  :class:`~adapt.schemas.percepts.ObjectPercept` on its ``object`` port.  The imagination's label image (warped by ``H_e``) says which
   pixels other imagined objects cover; they are left out.  (Comparing with
   the full render instead would hide the object wherever the imagined body
   already covers it, and mistake background of the object's colour for the
