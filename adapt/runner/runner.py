@@ -327,12 +327,7 @@ class Runner:
                 break
             self._check_frame(frame)
             self.stats.add("reality", time.perf_counter() - t0)
-            record = self._step(frame)
-            t5 = time.perf_counter()
-            for listener in self.listeners:
-                listener.frame(record)
-            self.network.changed = False
-            self.stats.add("outputs", time.perf_counter() - t5)
+            self._step(frame)
             self.frames_done += 1
             if self.agent.halted:
                 break
@@ -349,8 +344,8 @@ class Runner:
             raise RunError(f"frame {frame.index} is {img.dtype} {tuple(img.shape)}; expected "
                            f"uint8 BGR {h}x{w}x3 like the camera")
 
-    def _step(self, frame: Frame) -> FrameRecord:
-        """Steps 2 to 6 of the module docstring for one frame; its record."""
+    def _step(self, frame: Frame) -> None:
+        """Steps 2 to 6 of the module docstring for one frame."""
         stats = self.stats
         t1 = time.perf_counter()
         self.network.perceive(frame)
@@ -363,6 +358,9 @@ class Runner:
         self.network.act(frame.time)
         t4 = time.perf_counter()
         record = self._record(frame)  # the imagination as it stands at the frame's time
+        for listener in self.listeners:
+            listener.frame(record)
+        self.network.changed = False
         t5 = time.perf_counter()
         self.mirror.step_to(frame.time + 1.0 / self.fps)
         self.twin.step_to(frame.time + 1.0 / self.fps)
@@ -372,7 +370,6 @@ class Runner:
         stats.add("action", t4 - t3)
         stats.add("physics", t6 - t5)
         stats.add("outputs", t5 - t4)
-        return record
 
     def _create_twins(self) -> None:
         """An object the mirror created this frame is created in the uncorrected twin too,

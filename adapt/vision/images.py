@@ -271,7 +271,7 @@ def encode_image(path: str | os.PathLike[str], image: NDArray) -> bytes:
     Examples
     --------
     >>> data = encode_image("labels.png", np.full((2, 3), 3000, np.uint16))
-    >>> cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED).max()
+    >>> int(cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED).max())
     3000
     """
     ext = Path(path).suffix.lower() or ".png"
