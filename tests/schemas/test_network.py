@@ -202,3 +202,54 @@ def test_an_object_is_never_created_where_another_body_is() -> None:
     fo.kf.step(0.0, (1.0, 1.0))
     fo._create_body(None)  # type: ignore[arg-type]
     assert fo.in_imagination
+
+
+def test_a_consumer_reads_its_providers_percepts_through_its_edges() -> None:
+    from dataclasses import dataclass
+
+    from adapt.schemas import Port, Schema, SchemaKind, SchemaSpec
+    from adapt.schemas.percepts import BackgroundPercept
+
+    @dataclass(frozen=True)
+    class Note:
+        text: str
+
+    def spec(name: str, provides: tuple[str, ...] = (), consumes: tuple[str, ...] = ()) -> SchemaSpec:
+        return SchemaSpec(name, SchemaKind.PERCEPTUAL, "a test type",
+                          factory=lambda n, p, net: Schema(n, specs[name], p, net),
+                          provides=tuple(Port(x) for x in provides),
+                          consumes=tuple(Port(x) for x in consumes), singleton=False)
+
+    specs = {"writer": spec("writer", provides=("note",)),
+             "reader": spec("reader", consumes=("note",)),
+             "bystander": spec("bystander", consumes=("other",))}
+    registry = REGISTRY.copy()
+    for s in specs.values():
+        registry.register(s)
+    net = SchemaNetwork(Mirror(SceneSpec(), CAM), registry=registry)
+    writer, reader = net.instantiate("writer"), net.instantiate("reader")
+    bystander = net.instantiate("bystander")
+    assert net.percepts(reader, "note", Note) == []
+    net.publish(writer, Note("hello"))
+    assert net.percepts(reader, "note", Note) == [Note("hello")]
+    assert net.percept(reader, "note", BackgroundPercept) is None     # typed: another kind
+    assert net.percepts(bystander, "note", Note) == []                 # no edge, no percept
+    assert net.published(Note) == [Note("hello")]
+    with pytest.raises(SchemaError, match="does not provide a port 'other'"):
+        net.publish(writer, Note("x"), port="other")
+    net.remove(writer.name)
+    assert net.percepts(reader, "note", Note) == [] and net.published(Note) == []
+
+
+def test_a_region_has_one_owner_and_an_object_one_monitor() -> None:
+    from adapt.imagination import Ball
+    from adapt.scenario import ObjectModel
+
+    net = SchemaNetwork(Mirror(SceneSpec(), CAM), models={"ball": ObjectModel(Ball("ball"))})
+    net.instantiate("foreground-object", parameters={"object": "ball"})
+    assert net.monitor_of("ball") == "foreground-object-1"
+    with pytest.raises(SchemaError, match="object 'ball' is already monitored"):
+        net.instantiate("foreground-object", parameters={"object": "ball"})
+    # spawned for a region no provider reports: it claims nothing
+    fo = net.instantiate("foreground-object", parameters={"region": 7}, origin=Origin.BOTTOM_UP)
+    assert fo.claimed_regions() == () and net.claims() == {}
