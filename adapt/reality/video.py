@@ -70,13 +70,9 @@ def natural_key(path: str) -> list[object]:
 
 
 def frame_limit(scenario: Scenario, fps: float) -> int:
-    """Frames a video run takes at most: ``run.max_frames``, or
-    ``run.duration`` (10 s when not given) at the video's ``fps``."""
-    run = scenario.run
-    if run.max_frames is not None:
-        return int(run.max_frames)
-    seconds = 10.0 if run.duration is None else run.duration
-    return max(1, int(math.floor(seconds * fps + 1e-9)))
+    """Frames a video run takes at most: the run's length at the video's ``fps``
+    (:meth:`RunSettings.frames_at <adapt.scenario.RunSettings.frames_at>`)."""
+    return scenario.run.frames_at(fps)
 
 
 def _check(image: NDArray[np.generic] | None, index: int, where: str,

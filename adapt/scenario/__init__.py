@@ -59,16 +59,17 @@ from adapt.imagination.scene import SceneSpec
 from adapt.scenario.inputs import scenario_inputs
 from adapt.scenario.nodes import Override, join  # noqa: F401  (re-exported)
 from adapt.scenario.records import (
-    Appearance,
     CameraMount,
     CameraOffset,
     Creation,
     Goal,
+    GoalKind,
     Mount,
     ObjectModel,
     OutputSettings,
     PredictSettings,
     Range,
+    RealAppearance,
     Reality,
     RealityKind,
     RobotTruth,
@@ -99,12 +100,13 @@ __all__ = [
     "Throw",
     "TrueObject",
     "CameraOffset",
-    "Appearance",
+    "RealAppearance",
     "RobotTruth",
     "SyntheticReality",
     "VideoReality",
     "Reality",
     "Goal",
+    "GoalKind",
     "RuleFile",
     "SchemaSettings",
     "RunSettings",
@@ -203,6 +205,12 @@ class Scenario:
             if s.type == type_name:
                 return s
         return None
+
+    @property
+    def target(self) -> str | None:
+        """The object of the first ``intercept`` goal (:attr:`GoalKind.INTERCEPT`), or None."""
+        return next((str(g.get("object")) for g in self.goals
+                     if g.kind is GoalKind.INTERCEPT and g.get("object") is not None), None)
 
 
 def load_scenario(path: str | Path, overrides: Sequence[Override | str] = ()) -> Scenario:

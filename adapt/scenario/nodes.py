@@ -30,7 +30,7 @@ from adapt.errors import ScenarioError
 from adapt.scenario.records import Range
 from adapt.scenario.source import Source
 
-__all__ = ["NodeReader", "Node", "Override", "join", "YAML12Loader"]
+__all__ = ["NodeReader", "Node", "Override", "join", "YAML12Loader", "yaml_value"]
 
 Node = yaml.Node
 
@@ -74,6 +74,26 @@ YAML12Loader.add_implicit_resolver(
     re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
     list("-+0123456789."),
 )
+
+
+def yaml_value(text: str) -> Any:
+    """A value written in YAML (``0.7``, ``[1, 2]``, ``brick``), read as a scenario's values
+    are (YAML 1.2 numbers).
+
+    Raises
+    ------
+    ValueError
+        When ``text`` is not YAML.
+
+    Examples
+    --------
+    >>> yaml_value("1e-3"), yaml_value("[1, 2]"), yaml_value("brick")
+    (0.001, [1, 2], 'brick')
+    """
+    try:
+        return yaml.load(text, Loader=YAML12Loader)
+    except yaml.YAMLError as exc:
+        raise ValueError(f"not a YAML value: {exc}") from None
 
 
 def join(path: str, key: str | int) -> str:

@@ -42,6 +42,7 @@ __all__ = [
     "check_pair",
     "conform",
     "as_uint8",
+    "encode_image",
     "to_grey",
     "describe",
     "read_image",
@@ -261,6 +262,31 @@ def read_image(path: str | os.PathLike[str]) -> NDArray[np.uint8]:
     return image  # type: ignore[return-value]
 
 
+def encode_image(path: str | os.PathLike[str], image: NDArray) -> bytes:
+    """``image`` encoded for a file called ``path`` (its extension; ``.png`` without one),
+    as it is: 8-bit, or 16-bit for a format that keeps it (a label image as PNG).
+
+    Raises
+    ------
+    ImageError
+        If OpenCV cannot encode it in that format.
+
+    Examples
+    --------
+    >>> data = encode_image("labels.png", np.full((2, 3), 3000, np.uint16))
+    >>> int(cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED).max())
+    3000
+    """
+    ext = Path(path).suffix.lower() or ".png"
+    try:
+        ok, buf = cv2.imencode(ext, image)
+    except cv2.error:
+        ok = False
+    if not ok:
+        raise ImageError(f"cannot encode an image as {ext!r} for {str(path)!r}")
+    return bytes(buf)
+
+
 def write_image(path: str | os.PathLike[str], image: NDArray) -> Path:
     """Write ``image`` atomically: encode in memory, write a temporary file
     beside the target, then rename it over the target.
@@ -272,15 +298,9 @@ def write_image(path: str | os.PathLike[str], image: NDArray) -> Path:
         writable; no partial file is left behind.
     """
     p = Path(path)
-    ext = p.suffix or ".png"
+    data = encode_image(p, as_uint8(image))
     try:
-        ok, buf = cv2.imencode(ext, as_uint8(image))
-    except cv2.error:
-        ok = False
-    if not ok:
-        raise ImageError(f"{path}: cannot encode an image as {ext!r}")
-    try:
-        write_atomic(p, buf.tobytes())
+        write_atomic(p, data)
     except OSError as exc:
         raise ImageError(f"{path}: cannot write ({exc.strerror or exc})") from exc
     return p

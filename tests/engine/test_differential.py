@@ -16,7 +16,7 @@ from typing import Any
 
 import pytest
 
-from soar_harness import (
+from .soar_harness import (
     DEFAULT_MAX_DECISIONS,
     Report,
     first_difference,

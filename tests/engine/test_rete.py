@@ -12,7 +12,7 @@ from adapt.engine.rete import Rete
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
-from strategies import (
+from .strategies import (
     A1,
     A2,
     EXAMPLES,

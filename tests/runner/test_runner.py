@@ -196,3 +196,71 @@ def test_the_trace_says_why_the_run_stopped(tmp_path: Path, capsys) -> None:
     sc = replace(sc, rules=(replace(sc.rules[0], path=halting),))
     res = Runner(sc, source=source(sc, 5), out=tmp_path / "halted", outputs=QUIET).run()
     assert res.summary["stopped"] == "halt" and _footer(tmp_path / "halted")["stop_reason"] == "halt"
+
+
+def test_every_listener_takes_one_typed_record_a_frame_before_the_imagination_steps(
+        tmp_path: Path) -> None:
+    from adapt.runner import FrameRecord
+
+    sc = room()
+    stranger = Ball("stranger", radius=0.12, position=(0.7, 1.4), color=(30, 200, 40))
+    records: list[FrameRecord] = []
+    times: list[float] = []
+
+    class Keep:
+        def frame(self, record: FrameRecord) -> None:
+            records.append(record)
+            times.append(runner.mirror.time)
+
+    runner = Runner(sc, source=source(sc, 30, extra=[(6, stranger)]), out=tmp_path,
+                    outputs=QUIET, listeners=(Keep(),))
+    runner.run()
+    frames = frames_of(tmp_path)
+    assert [r.index for r in records] == [f["index"] for f in frames] == list(range(30))
+    # as of the frame's time: the imagination has not stepped on yet
+    assert all(abs(t - r.time) < 1e-9 for t, r in zip(times, records))
+    last = records[-1]
+    assert last.schemas == tuple(frames[-1]["schemas"])
+    assert last.background is not None and last.background.frame == last.index
+    (obj,) = last.objects
+    tracked = last.tracked_object(obj.object)
+    assert tracked is not None and tracked.imagined is not None
+    assert [round(v, 4) for v in tracked.imagined] == frames[-1]["objects"][obj.object]["imagined"]
+    spawned = [e for r in records for e in r.events if e.kind.value == "spawned"]
+    assert len(spawned) == 1
+    assert sum(r.subscene is not None for r in records) >= 2   # instantiated, then spawned
+
+
+def test_the_baselines_are_a_keyed_collection_the_report_names_kalman_baseline(tmp_path: Path) -> None:
+    from adapt.runner.baseline import report_key
+
+    sc = room(objects="  objects:\n    - {name: ball, radius: 0.11, create: when_seen, "
+                      "color: [230, 60, 30]}\n",
+              extra="reality:\n  objects: [{name: ball, throw: {t: 0.3, x: 0, y: 1}}]\n")
+    sc = replace(sc, goals=(replace(sc.goals[0], attributes=(("object", "ball"),)),))
+    ball = Ball("ball", radius=0.11, position=(-0.4, 1.6), velocity=(0.4, 0.2),
+                color=(230, 60, 30))
+    runner = Runner(sc, source=source(sc, 30, extra=[(4, ball)]), out=tmp_path, outputs=QUIET)
+    assert list(runner.baselines) == ["kalman"] and report_key("kalman") == "baseline"
+    runner.run()
+    frames = frames_of(tmp_path)
+    followed = [f for f in frames if f["baseline"].get("ball")]
+    assert followed and all(set(p) == {"horizon", "position"} for p in followed[-1]["baseline"]["ball"])
+    assert "ball" in runner.baselines["kalman"].objects
+
+
+def test_a_video_runs_as_long_as_its_frames_at_its_own_rate(tmp_path: Path) -> None:
+    from adapt.runner import run_length
+    from adapt.scenario import load_scenario
+
+    root = Path(__file__).resolve().parents[2]
+    sc = load_scenario(root / "scenarios" / "video-sequence.yaml")
+    assert sc.run.frames == 300                      # 10 s at the run's default 30 frames/s
+    length = run_length(sc)
+    assert (length.fps, length.frames) == (15.0, 36)  # 36 images at 15 frames/s
+    seen: list[tuple[int, int]] = []
+    res = Runner(sc, out=tmp_path, outputs=QUIET,
+                 on_progress=lambda p: seen.append((p.frame, p.frames))).run()
+    report = json.loads((tmp_path / "report.json").read_text())
+    assert report["frames_planned"] == 36 == res.summary["frames"] == len(report["frames"])
+    assert seen[-1] == (36, 36)

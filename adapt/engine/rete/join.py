@@ -212,8 +212,15 @@ class TwoInputNode(BetaNode):
 class JoinNode(TwoInputNode):
     """A positive condition: one token per consistent (token, WME) pair.
 
-    Token creation (:meth:`make`) is inlined in both activations: it is the
-    hot path of the whole matcher.
+    Deliberately inlined copies, kept because both activations are the hot path
+    of the whole matcher: :meth:`left_add` copies :meth:`left_key` and
+    :meth:`index_left`, :meth:`right_add` copies :meth:`right_key` and
+    :meth:`index_right`, and both copy the registration of a new token under
+    its last WME's timetag (the inverse of :meth:`drop`).  Calling the functions
+    the Rete used to inline cost the pure engine 17% of its decisions per
+    second (``docs/performance.md``, "The price of one loop"); these are not
+    measured apart.  ``tests/engine/test_rete_inlined.py`` checks that the
+    copies agree with the functions.
     """
 
     kind = 1
@@ -221,6 +228,7 @@ class JoinNode(TwoInputNode):
 
     def left_add(self, token: Token) -> None:
         wmes = token.wmes
+        # inlined: left_key(wmes), then index_left(token, key) (see the class docstring)
         n = self._n
         if n == 1:
             key: Hashable = wmes[self._level][self._field]
@@ -255,7 +263,7 @@ class JoinNode(TwoInputNode):
             if tests and not self.check(wmes, wme):
                 continue
             new = Token(token, wmes + (wme,), self, 0)
-            timetag = wme[4]
+            timetag = wme[4]  # inlined: the registration drop() undoes
             registry = registries.get(timetag)
             if registry is None:
                 registries[timetag] = new
@@ -273,6 +281,7 @@ class JoinNode(TwoInputNode):
 
     def right_add(self, wme: WME) -> None:
         """``wme`` entered the alpha memory."""
+        # inlined: index_right(wme), right_key included (see the class docstring)
         n = self._n
         if n == 1:
             key: Hashable = wme[self._wfield]
@@ -307,7 +316,7 @@ class JoinNode(TwoInputNode):
             if tests and not self.check(parent.wmes, wme):
                 continue
             new = Token(parent, parent.wmes + (wme,), self, 0)
-            registry = registries.get(timetag)
+            registry = registries.get(timetag)  # inlined: the registration drop() undoes
             if registry is None:
                 registries[timetag] = new
             elif isinstance(registry, dict):
