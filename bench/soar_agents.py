@@ -17,7 +17,7 @@ files that are not agents but are sourced or loaded by hand into one
 (``monitor.soar``, the ``problems-*.soar`` data files), read following ``source``:
 
 * ``OWN``: the files hold only ``sp`` productions (flags ``:o-support``,
-  ``:i-support``, ``:default``) calling Soar 9.6's default RHS functions, and
+  ``:i-support``, ``:default``, ``:interrupt``) calling Soar 9.6's default RHS functions, and
   the agent-file commands adapt accepts (``adapt.engine.commands``: ``source``,
   ``pushd``, ``popd``, ``srand``, ``multi-attributes``, ``chunk never``,
   ``watch``, ``echo``, ``max-elaborations``, ``max-goal-depth``, ``output``);
@@ -27,7 +27,7 @@ files that are not agents but are sourced or loaded by hand into one
   loading).
 
 Everything else needs what adapt does not have (reinforcement learning, semantic
-or episodic memory, ``gp``, ``exec``/``cmd``, ``:interrupt`` ...).  ``--select``
+or episodic memory, ``gp``, ``exec``/``cmd`` ...).  ``--select``
 recomputes both lists from the checkouts with this rule and says where they
 differ from the lists below.
 
@@ -187,7 +187,7 @@ div size sum product mod min max set-count set-sum set-multiply set-min set-max 
 set-mean set-stdev sin cos atan2 sqrt abs int float round-off-heading round-off compute-heading
 compute-range compute-dice-probability rand-int rand-float concat interrupt succeeded failed
 """.split())
-_FLAGS_OK = frozenset({":o-support", ":i-support", ":default"})
+_FLAGS_OK = frozenset({":o-support", ":i-support", ":default", ":interrupt"})
 
 
 def scan(top: Path) -> tuple[set[str], set[str]]:

@@ -106,6 +106,12 @@ class Kernel:
         #: productions were added since the last commit (their matches come
         #: in the order they were added, as in Soar)
         self.productions_added = False
+        #: the productions flagged ``:interrupt``
+        self.interrupt_rules: set[str] = set()
+        #: the pending matches of ``:interrupt`` productions: while any is
+        #: pending at the end of a phase, the run stops (Soar's match-time
+        #: interrupt); the name of the last one
+        self.interrupt_matches: dict[FlatKey, str] = {}
         # the live listener lists of the events raised on hot paths
         self._on_fire = self.events.listeners(Event.FIRE)
         self._on_retract = self.events.listeners(Event.RETRACT)
@@ -128,6 +134,10 @@ class Kernel:
         if production.name in self.rules:
             self.matcher.remove_production(production.name)
         self.rules[production.name] = RuleInfo(production)
+        if "interrupt" in production.flags:
+            self.interrupt_rules.add(production.name)
+        else:
+            self.interrupt_rules.discard(production.name)
         self.matcher.add_production(production)
         self.matcher_dirty = True
         self.productions_added = True
@@ -214,9 +224,12 @@ class Kernel:
         its goal (in reverse order with ``newest_first``), a vanished one is
         unscheduled or its instantiation retracts."""
         pending_goal = self.pending_goal
+        interrupts = self.interrupt_rules
         for key in removed:
             goal = pending_goal.pop(key, None)
             if goal is not None:
+                if interrupts:
+                    self.interrupt_matches.pop(key, None)
                 if goal.pending_i.pop(key, None) is None:
                     goal.pending_o.pop(key, None)
                 continue
@@ -250,6 +263,8 @@ class Kernel:
             else:
                 goal.pending_i[key] = wmes
             pending_goal[key] = goal
+            if interrupts and key[0] in interrupts:
+                self.interrupt_matches[key] = key[0]
 
     def schedule_retraction(self, inst: Instantiation) -> None:
         """Retract ``inst`` in its goal's next elaboration cycle (at once

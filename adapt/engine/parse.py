@@ -106,12 +106,12 @@ class RuleFile:
 #: How deeply ``source`` may nest (Soar's limit).
 MAX_SOURCE_DEPTH = 100
 
-_FLAGS = {":o-support": "o-support", ":i-support": "i-support", ":default": "default"}
+_FLAGS = {":o-support": "o-support", ":i-support": "i-support", ":default": "default",
+          ":interrupt": "interrupt"}
 #: With learning off, a production Soar flags as a chunk is an ordinary production.
 _FLAGS_CHUNKING_OFF = dict(_FLAGS, **{":chunk": ""})
 _UNSUPPORTED_FLAGS = {
     ":chunk": "chunking is not implemented",
-    ":interrupt": "stopping the run when a rule fires is not implemented; call (interrupt)",
     ":template": "Soar-RL templates need reinforcement learning, which is not implemented",
 }
 _UNARY_PREFS = {
@@ -310,8 +310,8 @@ class _Parser:
             known = self.flags.get(flag.text)
             if known is None:
                 raise self.syntax(
-                    f"unknown production flag '{flag.text}' (expected :o-support, :i-support "
-                    "or :default)",
+                    f"unknown production flag '{flag.text}' (expected :o-support, :i-support, "
+                    ":default or :interrupt)",
                     flag,
                 )
             if known:
