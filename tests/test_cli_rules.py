@@ -138,7 +138,7 @@ def test_check_verbose_prints_the_join_order_following_source(
     assert out[1] == "  sp pair*done  (reordered)"
     # each holding is narrowed to its disk before the next one is joined
     assert [line.split(None, 1)[1] for line in out[2:]] == [
-        "(<s> ^type state)", "(<s> ^holds <h1>)", "(<h1> ^disk 1)", "(<h1> ^on <p>)",
-        "(<s> ^holds <h2>)", "(<h2> ^on <p>)", "(<h2> ^disk 2)"]
+        "(state <s> ^holds <h1>)", "(<h1> ^disk 1)", "(<h1> ^on <p>)",
+        "(state <s> ^holds <h2>)", "(<h2> ^on <p>)", "(<h2> ^disk 2)"]
     assert main(["rules", "check", str(top)]) == 0
     assert capsys.readouterr().out == f"{top}: 1 production ok\n"

@@ -20,6 +20,9 @@ Tests on one field of a WME
   ``<=`` hold and ``>`` and ``>=`` do not.
 * ``<=> x``: the same *type* of symbol (identifier, string, int, float).
 * ``<< a b >>``: equal to one of the constants.
+* a condition written in ``(state <s> ...)`` (:attr:`Condition.goal`): the
+  WME's identifier is a state of the goal stack (:func:`is_goal`), not just
+  something with ``^type state``.
 
 Scope of variables
 ------------------
@@ -47,7 +50,7 @@ Examples
 >>> from adapt.engine.parse import parse_rules
 >>> from adapt.engine.symbols import Identifier
 >>> p, = parse_rules("sp {r (state <s> ^a {<x> > <y>}) (<s> ^b <y>) --> (write hi)}").productions
->>> s1 = Identifier("S", 1)
+>>> s1 = Identifier("S", 1, goal=True)  # a state
 >>> wm = WmeIndex([WME(s1, "type", "state", False, 1), WME(s1, "a", 1, False, 2),
 ...                WME(s1, "b", 5, False, 3)])
 >>> list(conjunction_matches(p.conditions, wm))
@@ -78,7 +81,12 @@ from adapt.engine.production import (
     simple_tests,
     variables_in_test,
 )
-from adapt.engine.symbols import Float, Identifier, Symbol  # noqa: F401 (Float: the examples)
+from adapt.engine.symbols import (  # noqa: F401 (Float: the examples)
+    Float,
+    Identifier,
+    Symbol,
+    is_goal,
+)
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
@@ -246,7 +254,7 @@ class WmeIndex:
 
     Examples
     --------
-    >>> s1 = Identifier("S", 1)
+    >>> s1 = Identifier("S", 1, goal=True)  # a state
     >>> index = WmeIndex([WME(s1, "a", 1, False, 1), WME("x", "b", 2, False, 2)])
     >>> len(index.of(s1)), len(list(index))
     (1, 2)
@@ -340,6 +348,8 @@ def match_condition(cond: Condition, wme: WME, partial: Partial) -> Partial | No
     variable this condition binds are checked.  ``None`` when it does not match.
     """
     if wme.acceptable != cond.acceptable:
+        return None
+    if cond.goal and not is_goal(wme.id):
         return None
     b = dict(partial.bindings)
     ident = b.get(cond.id, _UNBOUND)

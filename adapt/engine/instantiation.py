@@ -128,8 +128,7 @@ class RuleInfo:
         # ^operator) is i-supported, whatever else the rule tests (Soar's
         # calculate_support_for_instantiation_preferences); other operator
         # preferences do not decide the support
-        states = {c.id for c in production.positive_conditions
-                  if (c.attr, c.value) == (EqualityTest("type"), EqualityTest("state"))}
+        states = {c.id for c in production.positive_conditions if c.goal}
         proposals = [a for a in makes if a.attr == "operator"
                      and a.preference is PreferenceKind.ACCEPTABLE]
         self.proposes = bool(proposals) and all(a.id in states for a in proposals)

@@ -117,6 +117,7 @@ class Kernel:
         self._on_retract = self.events.listeners(Event.RETRACT)
         self._on_wm = self.events.listeners(Event.WM_CHANGES)
         s1 = self.ids.new("S")
+        s1.goal = True
         self._reserve_module_ids(0)
         io, il, ol = self.ids.new("I"), self.ids.new("I"), self.ids.new("I")
         self.top = Goal(s1, 0, None)
@@ -530,6 +531,7 @@ class Kernel:
         if goal.lower is not None:
             self.remove_goal(goal.lower)
         ident = self.ids.new("S", goal.level + 1)
+        ident.goal = True
         self._reserve_module_ids(goal.level + 1)
         sub = Goal(ident, goal.level + 1, goal)
         sub.impasse, sub.attribute = impasse, attribute
@@ -578,6 +580,7 @@ class Kernel:
         if goal.lower is not None:
             self.remove_goal(goal.lower)
         self.events.emit(Event.REMOVE_GOAL, goal)
+        goal.id.goal = False
         level = goal.level
         pending_goal = self.pending_goal
         for key in goal.pending_i:

@@ -53,8 +53,8 @@ Examples
 >>> [str(p.conditions[i].attr.term) + " " + str(p.conditions[i].value.term)
 ...  for i in join_order(p.conditions, multi_attributes={"holds": 8})]
 ... # doctest: +NORMALIZE_WHITESPACE
-['type state', 'holds <h1>', 'disk <d1>', 'name 1', 'on <peg>', 'holds <h2>', 'on <peg>',
- 'disk <d2>', 'name 2']
+['holds <h1>', 'disk <d1>', 'name 1', 'on <peg>', 'holds <h2>', 'on <peg>', 'disk <d2>',
+ 'name 2']
 
 Joined as written, every ``^holds`` would be joined before any test on the
 holdings (adapt before it reordered: 11 holdings made 11^11 partial

@@ -37,6 +37,7 @@ __all__ = [
     "format_symbol",
     "symbol_sort_key",
     "level_of",
+    "is_goal",
     "IdentifierFactory",
 ]
 
@@ -52,15 +53,21 @@ class Identifier:
     promotes it).  It lives on the identifier, as in Soar, so it goes away
     with the identifier: nothing has to forget it when working memory drops
     the identifier.
+
+    ``goal`` is true while the identifier is a state of the goal stack (the
+    top state or a substate): what a condition written ``(state <s> ...)``
+    requires of ``<s>`` (Soar's ``isa_goal``).  The kernel sets it when it
+    creates a state and clears it when it removes one.
     """
 
-    __slots__ = ("letter", "number", "name", "level")
+    __slots__ = ("letter", "number", "name", "level", "goal")
 
-    def __init__(self, letter: str, number: int, level: int = 0) -> None:
+    def __init__(self, letter: str, number: int, level: int = 0, goal: bool = False) -> None:
         self.letter = letter
         self.number = number
         self.name = f"{letter}{number}"
         self.level = level
+        self.goal = goal
 
     def __repr__(self) -> str:
         return self.name
@@ -120,6 +127,18 @@ def format_symbol(value: Symbol) -> str:
     if type(value) is Float or type(value) is float:
         return "%f" % value
     return str(value)
+
+
+def is_goal(value: object) -> bool:
+    """Whether ``value`` is a state of the goal stack (:attr:`Identifier.goal`):
+    what ``(state <s> ...)`` tests.
+
+    Examples
+    --------
+    >>> is_goal(Identifier("S", 1, goal=True)), is_goal(Identifier("F", 1)), is_goal("S1")
+    (True, False, False)
+    """
+    return type(value) is Identifier and value.goal
 
 
 def level_of(value: object) -> int:

@@ -11,8 +11,10 @@ condition) are the memory's ``tests``, checked after the lookup.
 
 An alpha test is ``(relation, field, is_constant, operand)``: ``operand`` is a
 constant, or (``is_constant`` false) the index of another field of the same
-WME.  ``relation`` is one of ``= <> < > <= >= <=>`` or ``in`` (a disjunction,
-whose operand is a tuple of constants).
+WME.  ``relation`` is one of ``= <> < > <= >= <=>``, ``in`` (a disjunction,
+whose operand is a tuple of constants) or ``goal`` (:data:`GOAL_TEST`: the
+identifier is a state of the goal stack, Soar's goal test, checked when the
+WME enters the network as Soar checks it when the WME is joined).
 
 Examples
 --------
@@ -26,12 +28,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Callable, Final
 
 from adapt.engine.conditions import RELATIONS, relation_holds
+from adapt.engine.symbols import Identifier, is_goal
 from adapt.engine.wme import WME
 
 if TYPE_CHECKING:
     from adapt.engine.rete.join import TwoInputNode
 
-__all__ = ["ANY", "AlphaTest", "AlphaKey", "AlphaMemory", "holds", "passes", "compile_tests"]
+__all__ = ["ANY", "GOAL_TEST", "AlphaTest", "AlphaKey", "AlphaMemory", "holds", "passes",
+           "compile_tests"]
 
 
 class _Any:
@@ -47,11 +51,17 @@ ANY: Final[object] = _Any()
 AlphaTest = tuple[str, int, bool, object]
 AlphaKey = tuple[object, object, bool]
 
+#: The goal test of a condition written in ``(state <s> ...)``.
+GOAL_TEST: Final[AlphaTest] = ("goal", 0, True, None)
+
+
 def holds(relation: str, a: object, b: object) -> bool:
     """``a relation b``: the relations of :data:`adapt.engine.conditions.RELATIONS`,
     plus ``in`` (membership in a disjunction's tuple of constants)."""
     if relation == "in":
         return a in b  # type: ignore[operator]
+    if relation == "goal":
+        return is_goal(a)
     return relation_holds(relation, a, b)
 
 
@@ -83,6 +93,15 @@ def compile_tests(tests: tuple[AlphaTest, ...]) -> Callable[[WME], bool] | None:
     """
     if not tests:
         return None
+    if tests[0] == GOAL_TEST:
+        rest = compile_tests(tests[1:])
+        if rest is None:
+            def goal_test(wme: WME) -> bool:
+                ident = wme[0]
+                return type(ident) is Identifier and ident.goal
+
+            return goal_test
+        return lambda wme: is_goal(wme[0]) and rest(wme)
     if len(tests) == 1:
         relation, field, is_constant, operand = tests[0]
         predicate = RELATIONS.get(relation)
