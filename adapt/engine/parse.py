@@ -573,7 +573,8 @@ class _Parser:
         """First condition a state, every condition linked, relational variables bound."""
         head = conditions[0] if conditions else None
         if not isinstance(head, Condition) or not head.goal or (head.negated and not any(
-                _is_state_test(c) and c.id == head.id for c in conditions)):
+                isinstance(c, Condition) and _is_state_test(c) and c.id == head.id
+                for c in conditions)):
             at: _Located = arrow
             first = conditions[0].location if conditions else None
             if first is not None:
