@@ -234,10 +234,11 @@ def _join_orders(rules: Any) -> list[str]:
     """Each production's conditions in join order, numbered as written (1-based),
     with the ``multi-attributes`` hints in force when it is loaded."""
     from adapt.engine.conditions import evaluation_order
-    from adapt.engine.reorder import join_order
+    from adapt.engine.reorder import ConstantOrder, join_order
     from adapt.traceview.conditions import condition_text
 
     hints: dict[str, int] = {}
+    constants = ConstantOrder()
     settings = list(rules.settings)
     lines: list[str] = []
     k = 0
@@ -248,7 +249,8 @@ def _join_orders(rules: Any) -> list[str]:
                 hints[setting.name] = int(setting.value)
             k += 1
         conds = p.conditions
-        order = evaluation_order(conds, (), join_order(conds, (), hints))
+        constants.add_production(p)
+        order = evaluation_order(conds, (), join_order(conds, (), hints, constants))
         moved = "" if order == sorted(order) else "  (reordered)"
         lines.append(f"  sp {p.name}{moved}")
         lines.extend(f"    {n + 1:>3}  {condition_text(conds[n])}" for n in order)

@@ -19,7 +19,7 @@ Examples
 >>> report.halted, report.decisions, report.output, report.operators
 (True, 3, 'three', [[1, 0, 'count'], [2, 0, 'count'], [3, 0, 'count']])
 >>> print(agent.print_state(depth=1))
-(S1 ^count 3 ^io I1 ^superstate nil ^type state)
+(S1 ^count 3 ^epmem E1 ^io I1 ^reward-link R1 ^smem L1 ^superstate nil ^type state)
 """
 
 from __future__ import annotations

@@ -408,20 +408,21 @@ def evaluation_order(elements: Sequence[ConditionElement],
     ...  for i in evaluation_order(p.conditions)]
     ['Condition', 'Condition', 'Condition-']
     """
-    known = set(outer)
+    outer_set = set(outer)
     if positives is None:
         positives = [i for i, e in enumerate(elements) if _is_positive(e)]
-    bound_after: list[set[Variable]] = [set(known)]
-    for i in positives:
-        known |= condition_equality_variables(elements[i])  # type: ignore[arg-type]
-        bound_after.append(set(known))
-    scope = known - set(outer)
+    # the step after which each variable is bound (0: before the first)
+    step_of: dict[Variable, int] = {v: 0 for v in outer_set}
+    for step, i in enumerate(positives, start=1):
+        for v in condition_equality_variables(elements[i]):  # type: ignore[arg-type]
+            if v not in step_of:
+                step_of[v] = step
     slots: list[list[int]] = [[] for _ in range(len(positives) + 1)]
     for i, e in enumerate(elements):
         if _is_positive(e):
             continue
-        needed = all_variables(e) & scope
-        k = next(k for k, have in enumerate(bound_after) if needed <= have)
+        k = max((step_of[v] for v in all_variables(e) if v in step_of and v not in outer_set),
+                default=0)
         slots[k].append(i)
     order = list(slots[0])
     for k, i in enumerate(positives):

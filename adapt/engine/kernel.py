@@ -28,7 +28,7 @@ from typing import Callable, Final
 
 from adapt.engine.events import Event, EventBus
 from adapt.engine.functions import FunctionTable, RhsContext
-from adapt.engine.goals import Goal, item_wmes, substate_wmes, top_state_wmes
+from adapt.engine.goals import Goal, ModuleLinks, item_wmes, substate_wmes, top_state_wmes
 from adapt.engine.instantiation import (
     SRC_CONST,
     SRC_NEW,
@@ -116,16 +116,15 @@ class Kernel:
         self._on_fire = self.events.listeners(Event.FIRE)
         self._on_retract = self.events.listeners(Event.RETRACT)
         self._on_wm = self.events.listeners(Event.WM_CHANGES)
-        s1 = self.ids.new("S")
-        s1.goal = True
-        self._reserve_module_ids(0)
+        s1 = self.ids.state()
+        links = self._module_links(0)
         io, il, ol = self.ids.new("I"), self.ids.new("I"), self.ids.new("I")
         self.top = Goal(s1, 0, None)
         self.bottom = self.top
         self.goals[s1] = self.top
         self.input_link, self.output_link = il, ol
         self.wm.add_root(s1)
-        for t in top_state_wmes(s1, io, il, ol):
+        for t in top_state_wmes(s1, io, il, ol, links):
             self.wm.add(*t)
             self.top.arch.append((t[0], t[1], t[2], False))
 
@@ -150,19 +149,20 @@ class Kernel:
         Returns every WME added and removed (goal removals included).
         """
         wm = self.wm
+        preferences = self.preferences
+        if preferences.changes or preferences.marks or preferences.op_marks:
+            preferences.flush()
         if not wm.pending and not self.matcher_dirty:
             return [], []
         self.matcher_dirty = False
-        # Soar meets the matches that working-memory changes make newest first
-        # (it adds the newest WME first, and its Rete lists a node's children
-        # newest first); the matches of newly added productions oldest first
-        newest_first = not self.productions_added
         self.productions_added = False
         all_added: list[WME] | None = None
         all_removed: list[WME] | None = None
         take_changes = self.take_changes
-        forget = self.preferences.osup
+        forget = preferences.osup
         while True:
+            if preferences.changes:
+                preferences.flush()
             added, removed = wm.commit()
             if all_added is None:
                 all_added, all_removed = added, removed
@@ -191,7 +191,7 @@ class Kernel:
             if results.negated_index or results.ncc_justs:  # justifications' negations
                 results.check_negations(added, removed)
             added_matches, removed_matches = take_changes()
-            self._schedule(added_matches, removed_matches, newest_first)
+            self._schedule(added_matches, removed_matches)
             if doomed is None:
                 break
             live = [g for g in doomed if self.goals.get(g.id) is g]
@@ -220,10 +220,11 @@ class Kernel:
         return False
 
     def _schedule(self, added: dict[FlatKey, tuple[WME, ...]],
-                  removed: dict[FlatKey, tuple[WME, ...]], newest_first: bool = False) -> None:
+                  removed: dict[FlatKey, tuple[WME, ...]]) -> None:
         """File the matcher's changes (flat key -> wmes): a new match waits at
-        its goal (in reverse order with ``newest_first``), a vanished one is
-        unscheduled or its instantiation retracts."""
+        its goal (after those waiting already, in the order the matcher found
+        them: they fire the other way round), a vanished one is unscheduled or
+        its instantiation retracts."""
         pending_goal = self.pending_goal
         interrupts = self.interrupt_rules
         for key in removed:
@@ -243,8 +244,7 @@ class Kernel:
         rules = self.rules
         top = self.top
         only_top = top.lower is None
-        found = reversed(list(added.items())) if newest_first else added.items()
-        for key, wmes in found:
+        for key, wmes in added.items():
             if only_top:
                 goal = top
             else:
@@ -358,7 +358,9 @@ class Kernel:
         # (operator slots too), and is not asserted itself -- nor is it a result.
         if kind is _O:
             deselect: list[Goal] = []
-            for _, prefs in made:
+            # Soar collects them into a list that grows at its head: they are
+            # processed in the order the firings were made, each in action order
+            for _, prefs in reversed(made):
                 if any(p[0] is _REJECT and p[5] for p in prefs):
                     for p in prefs:
                         if p[0] is _REJECT and p[5]:
@@ -530,9 +532,8 @@ class Kernel:
         """Create a substate below ``goal`` (removing any existing one)."""
         if goal.lower is not None:
             self.remove_goal(goal.lower)
-        ident = self.ids.new("S", goal.level + 1)
-        ident.goal = True
-        self._reserve_module_ids(goal.level + 1)
+        ident = self.ids.state(goal.level + 1)
+        links = self._module_links(goal.level + 1)
         sub = Goal(ident, goal.level + 1, goal)
         sub.impasse, sub.attribute = impasse, attribute
         sub.items, sub.non_numeric = items, non_numeric
@@ -541,19 +542,17 @@ class Kernel:
         self.bottom = sub
         self.goals[ident] = sub
         self.wm.add_root(ident)
-        for t in substate_wmes(ident, goal.id, impasse, attribute, items, non_numeric):
+        for t in substate_wmes(ident, goal.id, impasse, attribute, items, non_numeric, links):
             self.wm.add(*t)
             sub.arch.append((t[0], t[1], t[2], False))
         return sub
 
-    def _reserve_module_ids(self, level: int) -> None:
-        """Use up the identifiers Soar gives each new state's ``^reward-link``,
-        ``^epmem`` and ``^smem`` structures (R, E, C, R, L, C, R, in that order),
-        which adapt does not build, so that every other identifier gets the
-        number it has in Soar."""
+    def _module_links(self, level: int) -> ModuleLinks:
+        """The identifiers of a new state's ``^reward-link``, ``^epmem`` and
+        ``^smem`` structures, made in Soar's order (R, E, C, R, L, C, R), so
+        that every identifier gets the number it has in Soar."""
         new = self.ids.new
-        for letter in "RECRLCR":
-            new(letter, level)
+        return ModuleLinks(*(new(letter, level) for letter in "RECRLCR"))
 
     def update_items(self, goal: Goal, items: tuple[Symbol, ...],
                      non_numeric: tuple[Symbol, ...]) -> None:

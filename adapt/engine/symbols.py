@@ -161,8 +161,8 @@ class IdentifierFactory:
     Examples
     --------
     >>> ids = IdentifierFactory()
-    >>> ids.new("S"), ids.new("I"), ids.new("s"), ids.new("<")
-    (S1, I1, S2, I2)
+    >>> ids.state(), ids.new("O"), ids.new("o"), ids.new("<"), ids.new("small"), ids.state()
+    (S1, O1, O2, I1, I2, S2)
     """
 
     __slots__ = ("_counters", "_letters")
@@ -175,11 +175,20 @@ class IdentifierFactory:
     def new(self, hint: str, level: int = 0) -> Identifier:
         """A fresh identifier at goal level ``level`` whose letter is the first
         letter of ``hint`` (upper-cased), or ``I`` when ``hint`` does not start
-        with a letter."""
+        with a letter -- or starts with S, which only states have (Soar's
+        ``prohibit_S``: a rule's ``<small>`` makes ``I4``, not ``S4``)."""
         letter = self._letters.get(hint)
         if letter is None:
             letter = hint[:1].upper() if hint[:1].isalpha() else "I"
+            if letter == "S":
+                letter = "I"
             self._letters[hint] = letter
         n = self._counters.get(letter, 0) + 1
         self._counters[letter] = n
         return Identifier(letter, n, level)
+
+    def state(self, level: int = 0) -> Identifier:
+        """A fresh state identifier (``S``, a goal: :attr:`Identifier.goal`)."""
+        n = self._counters.get("S", 0) + 1
+        self._counters["S"] = n
+        return Identifier("S", n, level, goal=True)

@@ -93,11 +93,13 @@ def test_a_negations_variables_decide_a_tie() -> None:
 
 
 def test_a_relational_test_alone_is_not_a_constant() -> None:
-    relational = _conditions("sp {r (state <s> ^a <x>) (<x> ^v > 2) (<x> ^w 3) --> (halt)}")
-    constant = _conditions("sp {r (state <s> ^a <x>) (<x> ^v 2) (<x> ^w 3) --> (halt)}")
-    assert join_order(relational) == [0, 2, 1]
-    assert join_order(constant) == [0, 1, 2]
-    assert join_order(relational) == [0, 2, 1]
+    relational = _conditions("sp {r (state <s> ^a <x>) (<x> ^w 3) (<x> ^v > 2) --> (halt)}")
+    constant = _conditions("sp {r (state <s> ^a <x>) (<x> ^w 3) (<x> ^v 2) --> (halt)}")
+    # ^v > 2 costs 8 (it binds nothing), ^w 3 costs 1; two constants tie at 1
+    # and Soar takes the last written
+    assert join_order(relational) == [0, 1, 2]
+    assert join_order(constant) == [0, 2, 1]
+    assert join_order(relational) == [0, 1, 2]
 
 
 def test_outer_variables_are_part_of_the_key() -> None:
@@ -106,3 +108,44 @@ def test_outer_variables_are_part_of_the_key() -> None:
     inner = conds[2:] + conds[:2]
     assert join_order(inner, [Variable("<y>")]) == _fresh(inner, [Variable("<y>")])
     assert join_order(inner) == _fresh(inner)
+
+
+def test_ties_go_to_the_latest_constant_then_the_last_written() -> None:
+    """Soar's canonical order: among tied conditions the one whose constant
+    attribute (then value) Soar's symbol table made last, then the last
+    written; Soar's own symbols (``name``) come before the rules' constants."""
+    first = _conditions("sp {t (state <s> ^x <o>) (<o> ^colour red ^shape box) --> (halt)}")
+    second = _conditions("sp {t (state <s> ^x <o>) (<o> ^shape box ^colour red) --> (halt)}")
+    # constants never seen: a tie, the last written first
+    assert _fresh(first) == [0, 2, 1] and _fresh(second) == [0, 2, 1]
+    constants = reorder.ConstantOrder()
+    constants.add("colour")
+    constants.add("shape")
+    assert join_order(first, constants=constants) == [0, 2, 1]
+    assert join_order(second, constants=constants) == [0, 1, 2]
+    # Soar's own symbol ^name comes before any constant of the rules
+    named = _conditions("sp {t (state <s> ^x <o>) (<o> ^colour red ^name go) --> (halt)}")
+    assert join_order(named, constants=constants) == [0, 1, 2]
+    # the same attribute: the value decides
+    values = _conditions("sp {t (state <s> ^x <o>) (<o> ^colour blue ^colour red) --> (halt)}")
+    constants.add("red")
+    constants.add("blue")
+    assert join_order(values, constants=constants) == [0, 1, 2]
+
+
+def test_a_negation_wins_a_tie_of_cost_one() -> None:
+    conds = _conditions("sp {t (state <s> ^x <o>) -(<o> ^done yes) (<o> ^size 3) --> (halt)}")
+    # the order of positives only: the negation goes right after ^x anyway
+    assert _fresh(conds) == [0, 2]
+
+
+@pytest.mark.parametrize("shape", ["^a{i} <v{i}>", "^a{i} {i}", "^a <v{i}>"])
+def test_two_thousand_conditions_on_one_identifier_are_ordered_without_lookahead(
+        shape: str) -> None:
+    """The lookahead is bounded (issue 21): 2,000 tied conditions on one
+    identifier take the tie rule; the order is complete and deterministic."""
+    text = " ".join(shape.format(i=i) for i in range(2000))
+    conds = _conditions(f"sp {{big (state <s> {text}) --> (halt)}}")
+    order = _fresh(conds)
+    assert sorted(order) == list(range(2000))
+    assert order == _fresh(conds)

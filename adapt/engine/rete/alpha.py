@@ -34,8 +34,8 @@ from adapt.engine.wme import WME
 if TYPE_CHECKING:
     from adapt.engine.rete.join import TwoInputNode
 
-__all__ = ["ANY", "GOAL_TEST", "AlphaTest", "AlphaKey", "AlphaMemory", "holds", "passes",
-           "compile_tests"]
+__all__ = ["ANY", "GOAL_TEST", "AlphaTest", "AlphaKey", "AlphaGroup", "AlphaMemory", "holds",
+           "passes", "compile_tests"]
 
 
 class _Any:
@@ -113,6 +113,36 @@ def compile_tests(tests: tuple[AlphaTest, ...]) -> Callable[[WME], bool] | None:
     return lambda wme: passes(tests, wme)
 
 
+class AlphaGroup:
+    """The alpha memories of one key ``(attribute, value, acceptable)``:
+    what Soar keeps as *one* alpha memory (its other tests are in the join
+    nodes), and so the order in which a new WME activates their nodes.
+
+    Attributes
+    ----------
+    key : tuple
+    memories : tuple of AlphaMemory
+        adapt's memories of this key (differing in their tests).
+    count : int
+        The WMEs with this key (Soar's alpha memory's size, whatever the tests).
+    linked : list
+        The successors of the memories that a new WME activates, in the order
+        Soar's Rete keeps them (its ``beta_nodes`` list with *right
+        unlinking*): a node whose left memory is empty is taken out (it has
+        nothing to join), and one that comes back goes just before its
+        nearest ancestor of the same key that is in the list, or at the end.
+        Only the order of the matches depends on it.
+    """
+
+    __slots__ = ("key", "memories", "count", "linked")
+
+    def __init__(self, key: AlphaKey) -> None:
+        self.key = key
+        self.memories: tuple[AlphaMemory, ...] = ()
+        self.count = 0
+        self.linked: list[TwoInputNode] = []
+
+
 class AlphaMemory:
     """The WMEs that pass one set of intra-WME tests.
 
@@ -127,13 +157,15 @@ class AlphaMemory:
     items : dict
         ``timetag -> WME`` in arrival order.
     successors : tuple
-        Join and negative nodes fed by this memory, oldest first (ancestors
-        before descendants).
+        Join and negative nodes fed by this memory (every one files each WME
+        in its right memory).
     negatives : tuple
         The negative nodes among them (to un-block after a removal).
+    group : AlphaGroup
+        The memories of the same key (Soar's one alpha memory).
     """
 
-    __slots__ = ("key", "tests", "check", "items", "successors", "negatives")
+    __slots__ = ("key", "tests", "check", "items", "successors", "negatives", "group")
 
     def __init__(self, key: AlphaKey, tests: tuple[AlphaTest, ...]) -> None:
         self.key = key
@@ -143,6 +175,7 @@ class AlphaMemory:
         self.items: dict[int, WME] = {}
         self.successors: tuple[TwoInputNode, ...] = ()
         self.negatives: tuple[TwoInputNode, ...] = ()
+        self.group = AlphaGroup(key)
 
     def add_successor(self, node: TwoInputNode) -> None:
         """Feed ``node`` (after the current successors)."""
@@ -154,6 +187,8 @@ class AlphaMemory:
         """Stop feeding ``node``."""
         self.successors = tuple([n for n in self.successors if n is not node])
         self.negatives = tuple([n for n in self.negatives if n is not node])
+        if node in self.group.linked:
+            self.group.linked.remove(node)
 
     def accepts(self, wme: WME) -> bool:
         """Whether ``wme`` belongs in this memory."""

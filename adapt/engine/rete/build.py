@@ -47,7 +47,7 @@ from adapt.engine.production import (
     Variable,
     simple_tests,
 )
-from adapt.engine.reorder import join_order
+from adapt.engine.reorder import ConstantOrder, join_order
 from adapt.engine.rete.alpha import ANY, GOAL_TEST, AlphaKey, AlphaTest
 from adapt.engine.rete.join import JoinTest
 
@@ -130,10 +130,12 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> Condition
 
 
 def order_elements(elements: Sequence[ConditionElement], outer: set[Variable],
-                   multi_attributes: Mapping[str, int] | None = None) -> list[int]:
+                   multi_attributes: Mapping[str, int] | None = None,
+                   constants: ConstantOrder | None = None) -> list[int]:
     """Indexes of ``elements`` in the order their nodes are built: the positive
     conditions as Soar's reorderer orders them (:func:`adapt.engine.reorder.join_order`,
     with the ``multi-attributes`` hints), each negation after the positive
     condition that binds the last of its variables; ``outer`` are the
     variables bound above."""
-    return evaluation_order(elements, outer, join_order(elements, outer, multi_attributes))
+    return evaluation_order(elements, outer,
+                            join_order(elements, outer, multi_attributes, constants))
