@@ -47,8 +47,8 @@ from typing import Sequence
 
 from adapt.engine.matcher import Match
 from adapt.engine.production import ConditionElement, ConjunctiveNegation, Production, Variable
-from adapt.engine.rete.alpha import ANY, AlphaGroup, AlphaKey, AlphaMemory, AlphaTest
 from adapt.engine.reorder import ConstantOrder
+from adapt.engine.rete.alpha import ANY, AlphaGroup, AlphaKey, AlphaMemory, AlphaTest
 from adapt.engine.rete.build import compile_condition, is_positive, order_elements
 from adapt.engine.rete.join import JoinNode, JoinTest, TwoInputNode
 from adapt.engine.rete.ncc import NccNode, NccPartner
