@@ -571,10 +571,11 @@ class _Parser:
 
     def check_conditions(self, conditions: list[ConditionElement], arrow: Token) -> set[Variable]:
         """First condition a state, every condition linked, relational variables bound."""
-        head = conditions[0] if conditions else None
-        if not isinstance(head, Condition) or not head.goal or (head.negated and not any(
-                isinstance(c, Condition) and _is_state_test(c) and c.id == head.id
-                for c in conditions)):
+        head: ConditionElement | None = conditions[0] if conditions else None
+        while isinstance(head, ConjunctiveNegation):  # (state <s> -^a.b c ...)
+            head = head.conditions[0] if head.conditions else None
+        if head is None or not any(isinstance(c, Condition) and _is_state_test(c)
+                                   and c.id == head.id for c in conditions):
             at: _Located = arrow
             first = conditions[0].location if conditions else None
             if first is not None:
