@@ -398,7 +398,8 @@ def evaluation_order(elements: Sequence[ConditionElement],
     gives their indexes: the Rete orders them by connectivity); each
     negation right after the positive condition that binds the last of the
     variables it shares with the conjunction's positive conditions
-    (``outer`` are bound already).
+    (``outer`` are bound already), several there the last written first
+    (as Soar's reorderer takes them).
 
     Examples
     --------
@@ -424,10 +425,12 @@ def evaluation_order(elements: Sequence[ConditionElement],
         k = max((step_of[v] for v in all_variables(e) if v in step_of and v not in outer_set),
                 default=0)
         slots[k].append(i)
-    order = list(slots[0])
+    # negations ready at the same step: the last written first, as Soar's
+    # reorderer takes them
+    order = slots[0][::-1]
     for k, i in enumerate(positives):
         order.append(i)
-        order.extend(slots[k + 1])
+        order.extend(slots[k + 1][::-1])
     return order
 
 

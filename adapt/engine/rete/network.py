@@ -55,7 +55,7 @@ from adapt.engine.rete.ncc import NccNode, NccPartner
 from adapt.engine.rete.negative import NegativeNode
 from adapt.engine.rete.pnode import ProductionNode
 from adapt.engine.rete.state import FlatKey, NetworkState
-from adapt.engine.rete.token import BetaNode, RootNode, delete_token, unlink
+from adapt.engine.rete.token import BetaNode, RootNode, Successor, delete_token, unlink
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
@@ -192,7 +192,8 @@ class Rete:
         tokens = state.tokens_by_wme.pop(timetag, None)
         if tokens is not None:
             if isinstance(tokens, dict):
-                for token in tokens:
+                # the newest token first, as Soar's tree-based removal goes
+                for token in reversed(tokens):
                     if not token.dead:
                         unlink(token)
                         delete_token(token)
@@ -200,7 +201,7 @@ class Rete:
                 unlink(tokens)
                 delete_token(tokens)
         for am in memories:
-            for negative in am.negatives:
+            for negative in reversed(am.negatives):
                 negative.unblock(wme)
 
     # -- match set ------------------------------------------------------------
@@ -389,13 +390,21 @@ class Rete:
         for token in bottom.emitted():
             partner.left_add(token)
         node = NccNode(self.state, parent, partner)
-        # Soar puts the CN node right after the top of its subnetwork
+        # Soar moves the top of the subnetwork (with the joins that share its
+        # memory node) to the head of the parent's children, the CN node
+        # right after it
         top: object = bottom
         while isinstance(top, BetaNode) and top.parent is not parent and top.parent is not None:
             top = top.parent
         children = parent.children
-        at = next((i + 1 for i, child in enumerate(children) if child is top), 0)
-        children.insert(at, node)
+        moved: list[Successor] = []
+        if isinstance(top, JoinNode):
+            group = top.group
+            moved = [c for c in children if isinstance(c, JoinNode) and c.group == group]
+        else:
+            moved = [c for c in children if c is top]
+        rest = [c for c in children if all(c is not m for m in moved)]
+        children[:] = moved + [node] + rest
         parent.shared[sig] = node
         for token in parent.emitted():
             node.left_add(token)
