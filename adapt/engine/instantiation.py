@@ -152,8 +152,15 @@ class RuleInfo:
                 _rhs_variables(action.call, seen)
         bound = production.binding_sites
         self.new_variables = tuple(v for v in seen if v not in bound)
-        #: the identifier letters of the new identifiers (``<o>`` -> ``o``)
-        self.new_hints = tuple(v.name[1:] for v in self.new_variables)
+        #: the identifier letters of the new identifiers (``<o>`` -> ``o``; a
+        #: dot path's hidden variable, as in Soar, the attribute's:
+        #: ``^arithmetic.facts <f>`` makes ``A1``)
+        path_hints: dict[Variable, str] = {}
+        for a in makes:
+            if isinstance(a.value, Variable) and a.value.name.startswith("<#") \
+                    and isinstance(a.attr, str):
+                path_hints.setdefault(a.value, a.attr)
+        self.new_hints = tuple(path_hints.get(v, v.name[1:]) for v in self.new_variables)
         #: the support every match gets, or None when it depends on the match
         self.static_support: Support | None
         if not self.has_make:
@@ -267,7 +274,7 @@ class Instantiation:
     """
 
     __slots__ = ("key", "rule", "goal", "support", "wmes", "i_wmes", "slot_prefs",
-                 "bindings", "retracted")
+                 "bindings", "retracted", "unmatched")
 
     def __init__(self, key: FlatKey | None, rule: RuleInfo | None, goal: Goal,
                  support: Support, wmes: tuple[WME, ...]) -> None:
@@ -280,6 +287,9 @@ class Instantiation:
         self.slot_prefs: list[tuple[Goal, SlotPreference]] = []
         self.bindings: dict[Variable, Symbol] | None = None
         self.retracted = False
+        #: an o-supported justification whose match is gone: its retraction
+        #: keeps everything (o-support) but is work of its goal, as in Soar
+        self.unmatched = False
 
     @property
     def name(self) -> str:

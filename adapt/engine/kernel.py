@@ -273,6 +273,13 @@ class Kernel:
         if inst.retracted:
             return
         goal = inst.goal
+        if inst.rule is None and inst.support is _O:
+            # an o-supported justification: its retraction removes nothing,
+            # but Soar still has it to retract at its goal (once)
+            if not inst.unmatched and self.goals.get(goal.id) is goal:
+                inst.unmatched = True
+                goal.retractions[id(inst)] = inst
+            return
         if self.goals.get(goal.id) is goal:
             goal.retractions[inst.key if inst.key is not None else id(inst)] = inst
         else:
@@ -318,6 +325,8 @@ class Kernel:
             goal.retractions = {}
             on_retract = self._on_retract
             for inst in retractions.values():
+                if inst.unmatched:
+                    continue  # an o-supported justification: nothing to retract
                 if on_retract:
                     self.events.emit(Event.RETRACT, inst)
                 self.retract(inst)
@@ -485,6 +494,9 @@ class Kernel:
         if goal.level > 0:
             results = self.results.split(inst, prefs)
             if results is not None:
+                # the results first, in the firing's order: Soar asserts the
+                # justification's preferences before the firing's own
+                self.results.make(inst, [p for p in prefs if p in results])
                 prefs = [p for p in prefs if p not in results]
         o_local = self.preferences.assert_preferences(inst, prefs, inst.support is _O,
                                                       o_rejects=False)
@@ -492,8 +504,6 @@ class Kernel:
             self.results.note_o_local(inst)  # once per firing: it backtraces the whole match
         if inst.i_wmes or inst.slot_prefs:
             goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
-        if results:
-            self.results.make(inst, list(results))
 
     def retract(self, inst: Instantiation) -> None:
         """Remove everything an instantiation supports with i-support."""
