@@ -247,6 +247,9 @@ def _join_orders(rules: Any) -> list[str]:
             setting = settings[k][1]
             if setting.kind == "multi-attributes" and setting.name is not None:
                 hints[setting.name] = int(setting.value)
+                constants.add(setting.name)
+            elif setting.kind == "symbols":
+                constants.add(str(setting.value))
             k += 1
         conds = p.conditions
         constants.add_production(p)

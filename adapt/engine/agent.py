@@ -339,6 +339,9 @@ class Agent:
         elif kind == "multi-attributes":
             assert isinstance(value, int) and setting.name is not None
             self.kernel.multi_attributes[setting.name] = value
+            self.kernel.matcher.constants.add(setting.name)
+        elif kind == "symbols":
+            self.kernel.matcher.constants.add(str(value))
         elif kind == "max-elaborations":
             assert isinstance(value, int)
             self.max_elaborations = value

@@ -106,8 +106,10 @@ class Setting:
     """An accepted command that sets something on the agent.
 
     ``kind`` is ``seed``, ``multi-attributes``, ``max-elaborations``,
-    ``max-goal-depth``, ``agent-writes`` or ``echo``; ``name`` is the
-    attribute of a ``multi-attributes`` hint.
+    ``max-goal-depth``, ``agent-writes``, ``echo`` or ``symbols`` (a word
+    Soar's symbol table gets from an ignored command: only the order of
+    constants sees it); ``name`` is the attribute of a ``multi-attributes``
+    hint.
     """
 
     kind: str
@@ -392,6 +394,10 @@ def interpret(command: Command, chunking: Chunking = "refuse") -> Meaning:
         if len(words) == 2 and words[1] in _OFF_WORDS:
             return None
         if chunking == "off":
+            if len(words) == 5 and words[1] == "singleton":
+                # ignored, but Soar makes the attribute's symbol here, which
+                # breaks the join order's last ties (reorder.ConstantOrder)
+                return Setting("symbols", value=words[3])
             return None
         what = ("turns chunking on" if len(words) == 2 and words[1] in
                 ("always", "on", "only", "except", "--on", "-e", "--enable", "enable")

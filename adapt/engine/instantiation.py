@@ -115,7 +115,8 @@ class RuleInfo:
     """
 
     __slots__ = ("production", "name", "has_make", "makes_operator_prefs", "declared",
-                 "new_variables", "elaborates_operator", "static_support", "operator_slots",
+                 "new_variables", "elaborates_operator", "op_elab_only", "static_support",
+                 "operator_slots",
                  "new_hints", "plan", "id_sites", "proposes", "proposal_sites")
 
     def __init__(self, production: Production) -> None:
@@ -139,6 +140,9 @@ class RuleInfo:
             and isinstance(c.value.term, Variable)}
         #: some action augments an operator the rule tests as selected
         self.elaborates_operator = any(a.id in operator_vars for a in makes)
+        #: every make action augments a tested operator (a pure operator
+        #: elaboration: its support depends on the production's other matches)
+        self.op_elab_only = bool(makes) and all(a.id in operator_vars for a in makes)
         flags = production.flags
         self.declared: Support | None = (
             Support.O if "o-support" in flags else Support.I if "i-support" in flags else None

@@ -106,6 +106,9 @@ class Kernel:
         #: productions were added since the last commit (their matches come
         #: in the order they were added, as in Soar)
         self.productions_added = False
+        #: the current matches of the productions that only elaborate an
+        #: operator (:attr:`RuleInfo.op_elab_only`), by production
+        self.op_elab_matches: dict[str, dict[FlatKey, tuple[WME, ...]]] = {}
         #: the productions flagged ``:interrupt``
         self.interrupt_rules: set[str] = set()
         #: the pending matches of ``:interrupt`` productions: while any is
@@ -227,7 +230,12 @@ class Kernel:
         its instantiation retracts."""
         pending_goal = self.pending_goal
         interrupts = self.interrupt_rules
+        op_elabs = self.op_elab_matches
         for key in removed:
+            if op_elabs:
+                current = op_elabs.get(key[0])
+                if current is not None:
+                    current.pop(key, None)
             goal = pending_goal.pop(key, None)
             if goal is not None:
                 if interrupts:
@@ -259,6 +267,8 @@ class Kernel:
             support = info.static_support
             if support is None:
                 support = info.support_of(wmes, goal.id, goals)
+            if info.op_elab_only and info.declared is None:
+                support = self._op_elab_support(key, wmes)
             if support is _O:
                 goal.pending_o[key] = wmes
             else:
@@ -266,6 +276,38 @@ class Kernel:
             pending_goal[key] = goal
             if interrupts and key[0] in interrupts:
                 self.interrupt_matches[key] = key[0]
+
+    def _op_elab_support(self, key: FlatKey, wmes: tuple[WME, ...]) -> Support:
+        """The support of a new match of a production that only elaborates the
+        operator it tests: i-support, unless another current match of the
+        production tests another selected operator -- then Soar's match-time
+        check (``p_node_left_addition``, which compares the new match's
+        operator with every match's) files it as an application: o-support."""
+        current = self.op_elab_matches.setdefault(key[0], {})
+        mine = self._selected_operator(wmes)
+        support = _I
+        for other in current.values():
+            theirs = self._selected_operator(other)
+            if theirs is not None and theirs is not mine:
+                support = _O
+                break
+        current[key] = wmes
+        return support
+
+    def _selected_operator(self, wmes: tuple[WME, ...]) -> Symbol | None:
+        """The selected operator a match tests on its lowest state."""
+        goals = self.goals
+        lowest: Goal | None = None
+        for w in wmes:
+            g = goals.get(w[0])
+            if g is not None and (lowest is None or g.level > lowest.level):
+                lowest = g
+        if lowest is None:
+            return None
+        for w in wmes:
+            if w[0] is lowest.id and w[1] == "operator" and not w[3]:
+                return w[2]
+        return None
 
     def schedule_retraction(self, inst: Instantiation) -> None:
         """Retract ``inst`` in its goal's next elaboration cycle (at once
