@@ -278,7 +278,7 @@ class Instantiation:
     """
 
     __slots__ = ("key", "rule", "goal", "support", "wmes", "i_wmes", "slot_prefs",
-                 "bindings", "retracted", "unmatched")
+                 "bindings", "retracted", "unmatched", "traces")
 
     def __init__(self, key: FlatKey | None, rule: RuleInfo | None, goal: Goal,
                  support: Support, wmes: tuple[WME, ...]) -> None:
@@ -294,6 +294,10 @@ class Instantiation:
         #: an o-supported justification whose match is gone: its retraction
         #: keeps everything (o-support) but is work of its goal, as in Soar
         self.unmatched = False
+        #: for a substate's firing, what supported each matched WME when it
+        #: fired (Soar's ``bt.trace``): backtracing follows these, not what
+        #: supports the WMEs now (they may have gone or changed since)
+        self.traces: tuple[Instantiation | None, ...] | None = None
 
     @property
     def name(self) -> str:

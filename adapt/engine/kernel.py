@@ -430,6 +430,8 @@ class Kernel:
     def _instantiate(self, key: FlatKey, wmes: tuple[WME, ...], rule: RuleInfo, goal: Goal,
                      support: Support) -> tuple[Instantiation, list[MadePreference]]:
         inst = Instantiation(key, rule, goal, support, wmes)
+        if goal.level > 0:
+            inst.traces = self._traces(wmes, goal.level)
         new: list[Identifier] | None = None
         if rule.new_hints:
             level = goal.level
@@ -490,6 +492,22 @@ class Kernel:
             else:
                 value_of(step[1], wmes, new)
         return inst, prefs
+
+    def _traces(self, wmes: tuple[WME, ...], level: int) -> tuple[Instantiation | None, ...]:
+        """What supports each of a substate match's WMEs of its own level or
+        deeper now (the newest holder), for backtracing later."""
+        isup = self.preferences.isup
+        osup = self.preferences.osup
+        out: list[Instantiation | None] = []
+        for w in wmes:
+            ident = w[0]
+            if type(ident) is not Identifier or ident.level < level:
+                out.append(None)
+                continue
+            key = (ident, w[1], w[2], w[3])
+            holders = isup.get(key)
+            out.append(holders[-1] if holders else osup.get(key))
+        return tuple(out)
 
     def _add_copies(self, level: int, prefs: list[MadePreference], o_support: bool) -> None:
         """Acceptable preferences for the WMEs ``deep-copy`` made, their new

@@ -376,10 +376,20 @@ class ResultMaker:
             current = stack.pop()
             if negated is not None:
                 _negations_of(current, negated)
-            for w in current.wmes:
+            traces = current.traces
+            for i, w in enumerate(current.wmes):
                 if level_of(w.id) < level:
                     grounds[w.timetag] = w
                     continue
+                if traces is not None:
+                    traced = traces[i]
+                    if traced is not None and w.attr != "item":
+                        if stop_at_o and traced.support is Support.O:
+                            continue
+                        if id(traced) not in seen:
+                            seen.add(id(traced))
+                            stack.append(traced)
+                        continue
                 key = w.key
                 if w.attr == "item" and w.id in k.goals:
                     sub = k.goals[w.id]
