@@ -13,6 +13,10 @@ are each written as a ``.soar`` file that both systems load unchanged:
   values orders the join on ``<v>`` first and follows it in linear time.  Targets: adapt >= 10 x faster than real
   Soar at N = 5,000, and adapt's time(20,000) / time(5,000) <= 5.
 * loading: N generated rules -- seconds to parse and build the matcher.
+* one long production: a single production with N conditions on one
+  identifier (``(state <s> ^a1 <v1> ^a2 <v2> ...)``) -- seconds to load.
+  Target: N = 2,000 loads in under a second (issue 21: the reorderer's
+  lookahead grew as N^3, 2 s at N = 200 and over 120 s at N = 800).
 * towers of hanoi and fifteen puzzle: agents of the shape of Soar's own
   (``hanoi_file``, ``fifteen_file``: written here, not copied): many
   ``^holds`` / ``^binding`` structures on the top state and a goal test naming
@@ -151,6 +155,12 @@ def rules_file(n: int) -> str:
    (<o> ^name op{i} ^arg <v>)}}
 """)
     return "\n".join(out)
+
+
+def long_rule_file(n: int) -> str:
+    """One production whose ``n`` conditions all test the state."""
+    tests = " ".join(f"^a{i} <v{i}>" for i in range(n))
+    return f"sp {{long (state <s> {tests})\n-->\n   (write |matched|)}}\n"
 
 
 def counter_file(limit: int) -> str:
@@ -599,6 +609,27 @@ def bench_load(tmp: Path, sizes: list[int], runs: int, timeout: float,
               f"{times[('soar', 20_000)] / times[('soar', 10_000)]:.2f}")
 
 
+def bench_long_rule(tmp: Path, sizes: list[int], runs: int, timeout: float,
+                    systems: tuple[str, ...] = SYSTEMS) -> None:
+    print(f"one production with N conditions on one identifier: seconds to load (median of {runs})")
+    times: dict[tuple[str, int], float] = {}
+    for n in sizes:
+        path = tmp / f"long-{n}.soar"
+        path.write_text(long_rule_file(n))
+        row = []
+        for system, (seconds, info) in interleaved(systems, path, -1, runs, timeout).items():
+            if seconds is None:
+                row.append(f"{system} {info.get('error')}")
+                continue
+            times[(system, n)] = seconds
+            row.append(f"{system} {fmt(seconds)}")
+        print(f"  N = {n:>6,}:  " + ",  ".join(row))
+    for system in ("adapt", "adapt-py"):
+        if (system, 2000) in times:
+            verdict = "meets" if times[(system, 2000)] < 1.0 else "MISSES"
+            print(f"  N = 2,000: {system} {times[(system, 2000)]:.2f} s (target < 1 s: {verdict})")
+
+
 def bench_join(tmp: Path, sizes: list[int], runs: int, timeout: float,
                systems: tuple[str, ...] = ("soar", "adapt")) -> None:
     print(f"value join: N objects of each of two kinds, one rule joining equal values "
@@ -752,8 +783,8 @@ def main() -> int:
     parser.add_argument("--runs", type=int, default=None, help="runs per figure (default 3)")
     parser.add_argument("--timeout", type=float, default=300.0,
                         help="limit per single run, seconds (default 300)")
-    parser.add_argument("--only", choices=("counter", "join", "load", "hanoi", "fifteen",
-                                           "trace"),
+    parser.add_argument("--only", choices=("counter", "join", "load", "long-rule", "hanoi",
+                                           "fifteen", "trace"),
                         default=None,
                         help="run one workload only")
     parser.add_argument("--sizes", default=None,
@@ -806,6 +837,9 @@ def main() -> int:
                        tuple(s for s in systems if s != "adapt-py"))
         if opts.only in (None, "load"):
             bench_load(Path(tmp), load_sizes, runs, opts.timeout, systems)
+        if opts.only in (None, "long-rule"):
+            bench_long_rule(Path(tmp), [200, 2_000] if opts.quick else [200, 400, 800, 2_000],
+                            runs, opts.timeout, systems)
         if opts.only in (None, "hanoi"):
             bench_hanoi(Path(tmp), 11, runs, opts.timeout, systems, not opts.no_check)
         if opts.only in (None, "fifteen"):

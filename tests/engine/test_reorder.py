@@ -149,3 +149,36 @@ def test_two_thousand_conditions_on_one_identifier_are_ordered_without_lookahead
     order = _fresh(conds)
     assert sorted(order) == list(range(2000))
     assert order == _fresh(conds)
+
+
+@pytest.mark.parametrize("shape", ["^a{i} <v{i}>", "^a{i} {i}", "^a <v{i}>",
+                                   "^a{i} <v{i}> ^b{i} <v{i}>"])
+def test_the_reorderers_work_grows_linearly_with_the_conditions(
+        shape: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 21: the lookahead grew as N^3 (a production of 800 conditions on
+    one identifier took over 120 s to load).  Costs are computed a bounded
+    number of times per condition, and lookahead steps stop at the budget."""
+    counts = {"cost": 0, "lookahead": 0}
+    cost, lookahead = reorder._cost, reorder._lookahead
+
+    def counted_cost(*args, **kwargs):  # type: ignore[no-untyped-def]
+        counts["cost"] += 1
+        return cost(*args, **kwargs)
+
+    def counted_lookahead(*args, **kwargs):  # type: ignore[no-untyped-def]
+        counts["lookahead"] += 1
+        return lookahead(*args, **kwargs)
+
+    monkeypatch.setattr(reorder, "_cost", counted_cost)
+    monkeypatch.setattr(reorder, "_lookahead", counted_lookahead)
+    work = {}
+    for n in (1000, 2000):
+        text = " ".join(shape.format(i=i) for i in range(n))
+        conds = _conditions(f"sp {{big (state <s> {text}) --> (halt)}}")
+        counts.update(cost=0, lookahead=0)
+        assert sorted(_fresh(conds)) == list(range(len(conds)))
+        work[n] = dict(counts)
+        assert counts["cost"] <= 5 * len(conds)
+        assert counts["lookahead"] <= reorder.LOOKAHEAD_BUDGET
+    assert work[2000]["cost"] <= 2.2 * work[1000]["cost"]
+    assert work[2000]["lookahead"] <= work[1000]["lookahead"] + 1
