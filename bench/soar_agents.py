@@ -20,7 +20,8 @@ files that are not agents but are sourced or loaded by hand into one
   ``:i-support``, ``:default``, ``:interrupt``) calling Soar 9.6's default RHS functions, and
   the agent-file commands adapt accepts (``adapt.engine.commands``: ``source``,
   ``pushd``, ``popd``, ``srand``, ``multi-attributes``, ``chunk never``,
-  ``watch``, ``echo``, ``max-elaborations``, ``max-goal-depth``, ``output``);
+  ``watch``, ``echo``, ``max-elaborations``, ``max-goal-depth``, ``output``,
+  ``soar wait-snc off``, ``wma -s activation off``);
 * ``CHUNKING``: the same plus chunking (``chunk always``, chunking settings,
   ``learn --on``, ``:chunk``), and every chunking test; they run with learning
   off in both systems (adapt: ``chunking="off"``; Soar: ``chunk never`` after
@@ -80,12 +81,14 @@ OWN: tuple[tuple[str, str], ...] = (
     ("Soar", "UnitTests/SoarTestAgents/FullTests/pref-semantics-test.soar"),
     ("Soar", "UnitTests/SoarTestAgents/FullTests/testGDSBug1011.soar"),
     ("Soar", "UnitTests/SoarTestAgents/FullTests/testLearn.soar"),
+    ("Soar", "UnitTests/SoarTestAgents/FullTests/testMatchTimeInterrupt.soar"),
     ("Soar", "UnitTests/SoarTestAgents/FullTests/testcopy.soar"),
     ("Soar", "UnitTests/SoarTestAgents/FullTests/testinterrupt.soar"),
     ("Soar", "UnitTests/SoarTestAgents/FullTests/teststatuscomplete.soar"),
     ("Soar", "PerformanceTests/TestAgents/FactorizationStressTest.soar"),
     ("Soar", "PerformanceTests/TestAgents/arithmetic.soar"),
     ("Soar", "PerformanceTests/TestAgents/fifteen.soar"),
+    ("Soar", "PerformanceTests/TestAgents/mac-planning.soar"),
     ("Soar", "PerformanceTests/TestAgents/wait.soar"),
     ("Soar", "PerformanceTests/TestAgents/water-jug-lookahead.soar"),
     ("Agents", "BW-Simple/BW-Simple.soar"),
@@ -110,7 +113,8 @@ CHUNKING: tuple[tuple[str, str], ...] = tuple(
         "FunctionalTests_testCountTest", "FullTests/testGDSBug1144",
         "FullTests/testNegatedConjunctiveChunkLoopBug510")]
     + [("Soar", f"PerformanceTests/TestAgents/{p}_learning.soar") for p in (
-        "FactorizationStressTest", "arithmetic", "fifteen", "wait", "water-jug-lookahead")]
+        "FactorizationStressTest", "arithmetic", "fifteen", "mac-planning", "wait",
+        "water-jug-lookahead")]
     + [("Soar", f"UnitTests/SoarTestAgents/Chunking/tests/{p}.soar") for p in (
         "ChunkingDemoTests_Demo_Arithmetic", "ChunkingDemoTests_Demo_Blocks_World_Hierarchical",
         "ChunkingDemoTests_Demo_Blocks_World_Hierarchical_Look_Ahead",
@@ -145,9 +149,11 @@ CHUNKING: tuple[tuple[str, str], ...] = tuple(
         "ChunkingTests_No_Topstate_Match", "ChunkingTests_Opaque_State_Barrier",
         "ChunkingTests_Operator_Selection_Knowledge",
         "ChunkingTests_Operator_Selection_Knowledge_Ghost_Operator",
+        "ChunkingTests_Operator_Selection_Knowledge_In_Propose",
         "ChunkingTests_Promoted_STI", "ChunkingTests_RHS_Math", "ChunkingTests_RHS_Math_Abs",
         "ChunkingTests_RHS_Math_Children_Force_Learn", "ChunkingTests_RHS_Math_Mixed",
         "ChunkingTests_RHS_Referent_Function", "ChunkingTests_RHS_Unbound_Multivalue",
+        "ChunkingTests_Rhs_Func_Literalization",
         "ChunkingTests_Reorderer_Bad_Conjunction", "ChunkingTests_Result_On_Operator",
         "ChunkingTests_Rete_Bug_Deep_vs_Deep", "ChunkingTests_Rete_Bug_Deep_vs_Top",
         "ChunkingTests_STI_Variablization", "ChunkingTests_STI_Variablization_Same_Type",
