@@ -47,7 +47,7 @@ from typing import TYPE_CHECKING, Final
 from adapt.engine.events import Event
 from adapt.engine.goals import Goal
 from adapt.engine.preferences import decide, should_keep
-from adapt.engine.symbols import Identifier, Symbol
+from adapt.engine.symbols import Symbol
 from adapt.engine.vocabulary import NO_CHANGE, ImpasseAttribute, ImpasseType, Phase, Support
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -283,7 +283,7 @@ def _decide_slot(agent: Agent, goal: Goal) -> bool:
             events.emit(_ON_DECISION, (goal, d))
         if d.outcome == "select":
             selected = d.selected
-            assert isinstance(selected, Identifier)
+            assert selected is not None
             k.select(goal, selected)
             agent.operators.append([agent.decisions, goal.level, k.operator_name(selected)])
             agent.operator_count += 1

@@ -134,7 +134,9 @@ class Goal:
         self.items: tuple[Symbol, ...] = ()
         self.non_numeric: tuple[Symbol, ...] = ()
         self.prefs: list[SlotPreference] = []
-        self.operator: Identifier | None = None
+        #: the selected operator: an identifier, or a constant (Soar selects
+        #: ``(<s> ^operator go +)`` as it selects an identifier)
+        self.operator: Symbol | None = None
         self.changed = False
         self.pending_i: dict[FlatKey, tuple[WME, ...]] = {}
         self.pending_o: dict[FlatKey, tuple[WME, ...]] = {}

@@ -581,7 +581,7 @@ class Kernel:
                 del instantiations[key]
 
     # -- decisions ---------------------------------------------------------------
-    def select(self, goal: Goal, operator: Identifier) -> None:
+    def select(self, goal: Goal, operator: Symbol) -> None:
         """Install ``operator`` as the goal's selected operator."""
         if goal.lower is not None:
             self.remove_goal(goal.lower)

@@ -46,7 +46,7 @@ from typing import TYPE_CHECKING, Final
 
 from adapt.engine.goals import SlotPreference
 from adapt.engine.memory import WmeKey, WorkingMemory
-from adapt.engine.preferences import Preference
+from adapt.engine.preferences import Preference, same_symbol
 from adapt.engine.production import PreferenceKind
 from adapt.engine.symbols import Identifier, Symbol, level_of
 
@@ -275,7 +275,8 @@ class PreferenceMemory:
             key = (ident, "operator", value, True)
             if self.isup.pop(key, None) is not None:
                 self._remove(key)
-            return [goal] if goal.operator is value else []
+            operator = goal.operator
+            return [goal] if operator is not None and same_symbol(operator, value) else []
         self.marks[(ident, attr)] = None
         wme_key = (ident, attr, value, False)
         had = self.osup.pop(wme_key, None) is not None
@@ -331,7 +332,8 @@ class PreferenceMemory:
                     if not supporters:
                         del isup[key]
                         self._remove(key)
-                if kind is _ACCEPTABLE and goal.operator is value:
+                operator = goal.operator
+                if kind is _ACCEPTABLE and operator is not None and same_symbol(operator, value):
                     deselect.append(goal)
         return deselect
 
