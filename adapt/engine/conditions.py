@@ -93,6 +93,7 @@ from adapt.errors import EngineError
 __all__ = [
     "Relation",
     "RELATIONS",
+    "REVERSED",
     "relation_holds",
     "soar_compare",
     "Bindings",
@@ -206,6 +207,16 @@ RELATIONS: Mapping[str, Callable[[object, object], bool]] = {
     ">": _greater,
     "<=": _less_equal,
     ">=": _greater_equal,
+}
+
+
+#: Each relation turned round (``a < b`` is ``b > a``).  A relational test
+#: whose variable is bound later is checked at the condition that binds it,
+#: turned round, as Soar's reorderer moves it there: with Soar's comparison of
+#: values of different types (:func:`soar_compare`) the two readings differ
+#: (``apple < 2`` holds, ``2 > apple`` does not).
+REVERSED: Mapping[str, str] = {
+    "=": "=", "<>": "<>", "<=>": "<=>", "<": ">", ">": "<", "<=": ">=", ">=": "<=",
 }
 
 
@@ -362,7 +373,8 @@ def match_condition(cond: Condition, wme: WME, partial: Partial) -> Partial | No
     waiting: list[PendingRelation] = []
     for p in partial.pending:
         if p.variable in b:
-            if not relation_holds(p.relation, p.value, b[p.variable]):
+            # checked at the binding condition, turned round (Soar's reorderer)
+            if not relation_holds(REVERSED[p.relation], b[p.variable], p.value):
                 return None
         else:
             waiting.append(p)

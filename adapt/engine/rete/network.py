@@ -45,6 +45,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
+from adapt.engine.conditions import REVERSED
 from adapt.engine.matcher import Match
 from adapt.engine.production import ConditionElement, ConjunctiveNegation, Production, Variable
 from adapt.engine.reorder import ConstantOrder
@@ -303,7 +304,8 @@ class Rete:
             tests = list(spec.tests)
             for var, field in spec.binds.items():
                 for relation, level, other in deferred.pop(var, ()):
-                    tests.append((relation, level, other, -1, field))
+                    # turned round, as Soar's reorderer moves the test here
+                    tests.append((REVERSED[relation], -1, field, level, other))
             for relation, field, var in spec.deferred:
                 deferred.setdefault(var, []).append((relation, depth, field))
             node = self._two_input(JoinNode, node, spec.alpha_key, spec.alpha_tests,
