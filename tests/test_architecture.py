@@ -88,7 +88,7 @@ def test_nothing_imports_the_cli() -> None:
 
 
 def test_geometry_errors_and_files_are_leaves() -> None:
-    for leaf, allowed in (("errors.py", set()), ("files.py", {"adapt.errors"}),
+    for leaf, allowed in (("errors.py", set()), ("files.py", {"adapt.errors"}), ("native.py", set()),
                           ("geometry.py", {"numpy", "adapt.errors"})):
         for name in imports_of(PACKAGE / leaf):
             top = name.split(".")[0]
@@ -122,17 +122,18 @@ def test_vision_does_not_draw_figures() -> None:
 ALLOWED = {
     # the mirror (the imagination kept in step, and the appearance it learns): no vision, no rules
     "mirror": ("adapt.mirror", "adapt.imagination", "adapt.geometry", "adapt.errors",
-               "adapt.files"),
+               "adapt.files", "adapt.native"),
     "kalman.py": (),
     "seeds.py": (),
     "frames.py": ("adapt.errors", "adapt.files"),
-    "scenario": ("adapt.scenario", "adapt.imagination", "adapt.geometry", "adapt.errors"),
+    "scenario": ("adapt.scenario", "adapt.imagination", "adapt.geometry", "adapt.errors",
+                 "adapt.files"),
     "schemas": ("adapt.schemas", "adapt.engine", "adapt.vision", "adapt.imagination",
                 "adapt.mirror", "adapt.geometry", "adapt.errors", "adapt.kalman",
                 "adapt.frames", "adapt.scenario"),
     # reality: never the engine or vision (it is what perception looks at, not a perceiver)
     "reality": ("adapt.reality", "adapt.imagination", "adapt.scenario", "adapt.geometry",
-                "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds"),
+                "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds", "adapt.native"),
     # sweep: runs the runner; checks a grid with the scenario reader, the schema registry's
     # check_settings and the rule parser before running it
     "sweep": ("adapt.sweep", "adapt.runner", "adapt.scenario", "adapt.schemas",

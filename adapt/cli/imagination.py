@@ -22,6 +22,7 @@ import json
 from pathlib import Path
 from typing import Any, Iterable
 
+from adapt.cli.values import seed_number
 from adapt.errors import AdaptError, ImaginationError
 from adapt.files import Output, atomic_path, check_outputs, write_output
 
@@ -43,7 +44,7 @@ def register(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None
                    help="simulated time to render (default 0)")
     p.add_argument("--labels", metavar="LABELS.png",
                    help="also write the label image (16-bit PNG of object ids)")
-    p.add_argument("--seed", type=int, default=None, metavar="N",
+    p.add_argument("--seed", type=seed_number, default=None, metavar="N",
                    help="random seed (default: the scenario's seed)")
     p.set_defaults(func=_render)
 
@@ -60,26 +61,12 @@ def register(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None
     q.add_argument("--samples", type=int, default=None, metavar="N",
                    help="number of evenly spaced trajectory samples (default: 10 per second + 1)")
     q.add_argument("--body", default=None, metavar="NAME", help="ball to follow (default: the first)")
-    q.add_argument("--seed", type=int, default=None, metavar="N",
+    q.add_argument("--seed", type=seed_number, default=None, metavar="N",
                    help="random seed (default: the scenario's seed)")
     q.set_defaults(func=_imagine)
 
 
-def _inputs(sc: Any) -> list[tuple[str, Path]]:
-    """The files a scenario reads: the YAML and its texture files."""
-    found: list[tuple[str, Path]] = []
-    if sc.path is not None:
-        found.append(("the scenario", Path(sc.path)))
-    scene = sc.scene
-    refs = [scene.floor.texture] + [w.texture for w in scene.walls]
-    refs += [o.texture for o in scene.obstacles] + [b.texture for b in scene.balls]
-    for ref in refs:
-        if ref is not None and not ref.startswith("builtin:"):
-            found.append(("a texture of the scenario", Path(ref)))
-    return found
-
-
-def _check_outputs(outputs: Iterable[tuple[str, Path]], inputs: Iterable[tuple[str, Path]]) -> None:
+def _check_outputs(outputs: Iterable[tuple[str, Path]], inputs: Any) -> None:
     """Refuse, before any work, outputs that would collide, replace an input, or
     cannot be written (:func:`adapt.files.check_outputs`)."""
     check_outputs([Output(option, path) for option, path in outputs], inputs)
@@ -145,7 +132,7 @@ def _render(args: argparse.Namespace) -> int:
     if args.labels:
         _check_image_path(Path(args.labels), "--labels", sixteen_bit=True)
         outputs.append(("--labels", Path(args.labels)))
-    _check_outputs(outputs, _inputs(sc))
+    _check_outputs(outputs, sc.inputs())
     world = _world(sc, None, sc.seed if args.seed is None else args.seed)
     world.steps_for(args.t, "--t")  # refuses, before any work, a time too far ahead
     world.run_until(args.t)
@@ -179,7 +166,7 @@ def _imagine(args: argparse.Namespace) -> int:
     video = Path(args.video) if args.video else None
     if video is not None:
         _check_video(video, args.fps, args.horizon)
-        _check_outputs([("--video", video)], _inputs(sc))
+        _check_outputs([("--video", video)], sc.inputs())
     seed = sc.seed if args.seed is None else args.seed
     world = _world(sc, args.dt, seed)
     steps = world.steps_for(args.horizon, "--horizon")

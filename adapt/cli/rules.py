@@ -6,8 +6,9 @@ one-line summary -- or, with ``--json``, one JSON object with the run report's
 keys.  Ctrl-C stops the run and still prints the summary (or the report) of
 what ran.  Each way a run can end has its exit status (:func:`run_status`,
 ``docs/cli.md``).  ``--trace PATH`` is checked before the rules are loaded (a
-``.jsonl`` file name that is not one of the rule files; missing folders are
-made) and written as the run goes.
+``.jsonl`` file name that is not one of the rule files), again once they are
+(nor a file they ``source``), and written as the run goes (missing folders are
+made).
 
 ``adapt rules check FILE...`` parses every file (an agent's top file: its
 ``source`` lines are followed) and prints its first positioned error or its
@@ -21,6 +22,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Sequence
 from typing import Any
 
 from adapt.cli.exits import Exit
@@ -121,13 +123,14 @@ class _Echo:
             self.open_line = False
 
 
-def _check_trace(args: argparse.Namespace) -> Any:
-    """Refuse, before any rule is loaded, a ``--trace`` that cannot be written or
-    is a rule file; return it as an :class:`adapt.files.Output`."""
+def _check_trace(args: argparse.Namespace, read: Sequence[str] = ()) -> Any:
+    """Refuse a ``--trace`` that cannot be written, is a rule file or a file the rules
+    ``source`` (``read``: every file loaded); return it as an :class:`adapt.files.Output`."""
     from adapt.files import Output, check_outputs
 
     out = Output("--trace", args.trace, TRACE_SUFFIXES)
-    check_outputs([out], [("a rule file of the run", f) for f in args.files])
+    check_outputs([out], [("a rule file of the run", f) for f in args.files]
+                  + [("a file sourced by the rule files", f) for f in read])
     return out
 
 
@@ -152,10 +155,10 @@ def run_command(args: argparse.Namespace) -> int:
                   "state no-change impasses", file=sys.stderr)
         for warning in agent.warnings:
             print(_warning_line(warning), file=sys.stderr)
-        if trace is not None:  # the rules loaded: now make the trace's folder
+        if trace is not None:  # the rules loaded: check the files they sourced, make the folder
             from adapt.files import make_folder
 
-            make_folder(trace)
+            make_folder(_check_trace(args, agent.files))
         try:
             agent.run(args.max_decisions)
         except KeyboardInterrupt:

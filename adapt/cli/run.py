@@ -22,6 +22,7 @@ from typing import Any
 
 from adapt.cli.exits import Exit
 from adapt.cli.progress import ProgressLine
+from adapt.cli.values import folder_name, seed_number
 from adapt.errors import AdaptError
 
 __all__ = ["register"]
@@ -34,9 +35,10 @@ def register(sub: Any) -> None:
                        "and write its report, trace, MMD video and figures.")
     p.add_argument("scenario", metavar="SCENARIO.yaml")
     _overrides(p)
-    p.add_argument("--out", metavar="DIR", help="output folder (default runs/<scenario name>)")
-    p.add_argument("--seed", type=int, default=None, metavar="N",
-                   help="random seed (default: the scenario's)")
+    p.add_argument("--out", metavar="DIR", type=folder_name,
+                   help="output folder (default runs/<scenario name>)")
+    p.add_argument("--seed", type=seed_number, default=None, metavar="N",
+                   help="random seed, an integer >= 0 (default: the scenario's)")
     p.add_argument("--max-frames", type=int, default=None, metavar="N",
                    help="stop after N frames (default: the scenario's run section)")
     p.add_argument("--trace-level", type=int, default=None, choices=range(1, 6), metavar="1..5",

@@ -42,11 +42,11 @@ import math
 import sys
 import time
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Iterable, Sequence
 
 from adapt.cli.exits import Exit
 from adapt.errors import AdaptError, ImageError, VisionError
-from adapt.files import Output, check_outputs, write_atomic
+from adapt.files import Input, Inputs, Output, check_outputs, write_atomic
 
 __all__ = ["register"]
 
@@ -88,11 +88,14 @@ def register(sub: Any) -> None:
     s.set_defaults(func=_run_sync)
 
 
-def _refuse_overwriting(inputs: Sequence[tuple[str, str]], outputs: Sequence[Path]) -> None:
-    """Raise before anything is written if an output is an input or cannot be written
-    (:func:`adapt.files.check_outputs`; the folder is created later)."""
+def _refuse_overwriting(inputs: Sequence[tuple[str, str]], outputs: Sequence[Path],
+                        more: Iterable[Input] = ()) -> None:
+    """Raise before anything is written if an output is an input (``more``: a scenario's
+    own) or cannot be written (:func:`adapt.files.check_outputs`; the folder is created
+    later)."""
     check_outputs([Output("--out", p, (p.suffix,)) for p in outputs],
-                  [(f"the input {path!r} ({what})", path) for what, path in inputs])
+                  Inputs([*(Input(f"the input {path!r} ({what})", Path(path))
+                            for what, path in inputs), *more]))
 
 
 def _out_dir(path: str | None) -> Path | None:
@@ -272,12 +275,12 @@ def _run_sync(args: argparse.Namespace) -> int:
         raise VisionError(f"--max-iter must be at most 1000, got {args.max_iter}")
     if args.tolerance is not None and not (math.isfinite(args.tolerance) and args.tolerance > 0):
         raise VisionError(f"--tolerance must be a positive number of pixels, got {args.tolerance}")
-    if args.out is not None:
-        outs = [Path(args.out) / f"step_{i:02d}.png" for i in range(args.max_iter)]
-        _refuse_overwriting([("real", args.real), ("scenario", args.scenario)],
-                           outs + [Path(args.out) / "sync.json"])
-    set_threads(DEFAULT_THREADS)
     scenario = load_scenario(args.scenario)
+    if args.out is not None:  # nothing the scenario names either (its textures)
+        outs = [Path(args.out) / f"step_{i:02d}.png" for i in range(args.max_iter)]
+        _refuse_overwriting([("real", args.real)], outs + [Path(args.out) / "sync.json"],
+                            scenario.inputs())
+    set_threads(DEFAULT_THREADS)
     real = check_image(read_image(args.real), "real", source=args.real)
     cam = scenario.camera
     if real.shape[:2] != (cam.height, cam.width):

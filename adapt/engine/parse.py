@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import stat
 from dataclasses import dataclass
 from typing import Union
 
@@ -107,6 +108,9 @@ class RuleFile:
 
 #: How deeply ``source`` may nest (Soar's limit).
 MAX_SOURCE_DEPTH = 100
+
+#: The largest rule file read, in bytes (64 MiB: a large agent is a few MB); no more is read.
+MAX_FILE_BYTES = 64 * 1024 * 1024
 
 _FLAGS = {":o-support": "o-support", ":i-support": "i-support", ":default": "default",
           ":interrupt": "interrupt"}
@@ -878,13 +882,20 @@ def read_text_file(name: str) -> str:
     Raises
     ------
     RuleError
-        When the file cannot be read or is not UTF-8 text.
+        When the file cannot be read, is a device, is larger than
+        :data:`MAX_FILE_BYTES` (no more than that is read) or is not UTF-8 text.
     """
     try:
+        mode = os.stat(name).st_mode
+        if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):  # /dev/zero would never end
+            raise RuleError("not a rule file but a device; expected a text file", file=name)
         with open(name, "rb") as handle:
-            data = handle.read()
+            data = handle.read(MAX_FILE_BYTES + 1)
     except OSError as exc:
         raise RuleError(f"cannot read rule file: {exc.strerror or exc}", file=name) from None
+    if len(data) > MAX_FILE_BYTES:
+        raise RuleError(f"the file is larger than {MAX_FILE_BYTES // (1024 * 1024)} MiB; "
+                        "expected a rule file", file=name)
     try:
         text = data.decode("utf-8-sig")  # a byte-order mark (as some editors write) is not text
     except UnicodeDecodeError as exc:

@@ -30,9 +30,10 @@ from __future__ import annotations
 import json
 import math
 import os
-import tempfile
 from pathlib import Path
 from typing import Any
+
+from adapt.files import temporary_file
 
 __all__ = ["ReportWriter", "REPORT_KEYS", "FRAME_KEYS", "to_json"]
 
@@ -59,10 +60,8 @@ class ReportWriter:
     def __init__(self, path: str | os.PathLike[str], head: dict[str, Any]) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=self.path.parent, prefix=f".{self.path.name}.",
-                                   suffix=".tmp")
-        self._tmp = Path(tmp)
-        self._out = os.fdopen(fd, "w", encoding="utf-8")
+        self._tmp = temporary_file(self.path)
+        self._out = open(self._tmp, "w", encoding="utf-8")  # noqa: SIM115 (closed by close())
         text = json.dumps(to_json(head))
         self._out.write(text[:-1] + (', ' if head else '') + '"frames": [')
         self._first = True
@@ -83,9 +82,6 @@ class ReportWriter:
         self.closed = True
         self._out.write('\n],\n"summary": ' + json.dumps(to_json(summary), indent=1) + "}\n")
         self._out.close()
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(self._tmp, 0o666 & ~mask)
         os.replace(self._tmp, self.path)
         return self.path
 

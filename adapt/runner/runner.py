@@ -30,25 +30,27 @@ such.
 
 from __future__ import annotations
 
+import enum
 import math
 import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterator
+from typing import Any, Callable
 
 import numpy as np
 
 from adapt.engine import Agent
 from adapt.engine.trace import TraceWriter
 from adapt.errors import AppearanceError, RuleError, RunError
-from adapt.files import Output, check_outputs, same_file
+from adapt.files import FolderLock, Output, check_outputs, lock_folder, temporary_file
 from adapt.frames import Frame, FrameSource, VideoSink
 from adapt.geometry import Camera
 from adapt.mirror import Mirror
 from adapt.runner.baseline import Baseline
 from adapt.runner.evaluation import Evaluation
 from adapt.runner.figures import Comparison, Comparisons, Paths, Snapshot, Snapshots
+from adapt.runner.inputs import run_inputs
 from adapt.runner.panels import CAPTION, side_by_side
 from adapt.runner.report import ReportWriter
 from adapt.runner.twin import UncorrectedTwin
@@ -56,13 +58,30 @@ from adapt.scenario import Mount, OutputSettings, Scenario
 from adapt.schemas import REGISTRY, Registry, SchemaEvent, SchemaNetwork
 from adapt.seeds import Streams
 
-__all__ = ["Runner", "RunResult", "Progress", "STAGES", "AGENT_HISTORY"]
+__all__ = ["Runner", "RunResult", "Progress", "Stop", "STAGES", "AGENT_HISTORY", "OUTPUT_FOLDERS"]
 
 #: The stages timed per frame, in loop order.
 STAGES = ("reality", "perception", "decisions", "action", "physics", "outputs")
 
 #: Operator selections, impasses and writes the agent keeps in memory.
 AGENT_HISTORY = 1000
+
+#: The folders a run fills inside its output folder.
+OUTPUT_FOLDERS = ("figures", "appearance")
+
+
+class Stop(enum.Enum):
+    """Why a scenario run stopped: its summary's ``stopped`` and its trace footer's
+    ``stop_reason`` (``docs/runner.md``)."""
+
+    #: It ran every frame it was to run (``run.duration``, ``--max-frames``, the video's end).
+    END_OF_FRAMES = "end-of-frames"
+    #: A rule ran ``(halt)``.
+    HALT = "halt"
+    #: Ctrl-C.
+    INTERRUPTED = "interrupted"
+    #: An error ended it (the footer's ``error`` says which).
+    ERROR = "error"
 
 
 @dataclass(frozen=True, slots=True)
@@ -120,6 +139,8 @@ class Runner:
         self.seed = scenario.seed if seed is None else seed
         if self.seed is None:
             self.seed = 0
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise RunError(f"the seed must be an integer >= 0, got {self.seed!r}")
         self.streams = Streams(self.seed)
         self.outputs = outputs or scenario.outputs
         self.out = None if out is None else Path(out)
@@ -129,50 +150,57 @@ class Runner:
             raise RunError(f"max_frames must be at least 1, got {max_frames}")
         self.on_progress = on_progress
         self.on_write = on_write
-        self._check_outputs()
-        if source is None:
-            from adapt.reality import open_reality
-
-            source = open_reality(scenario, streams=self.streams)
-        self.source = source
-        w, h = source.size
-        cam = scenario.camera
-        if (w, h) != (cam.width, cam.height):
-            raise RunError(f"the reality's frames are {w}x{h} but the scenario's camera is "
-                           f"{cam.width}x{cam.height} ({scenario.where('camera.width').location}); "
-                           "make them the same size")
-        self.fps = float(source.fps)
-        self.mirror = Mirror(scenario.scene, cam, seed=self.seed,
-                             camera_follows_robot=self._mount() if scenario.mount.kind is Mount.ROBOT
-                             else None)
-        if scenario.appearance is not None:
-            try:
-                self.mirror.load_appearance(scenario.appearance)
-            except AppearanceError as exc:
-                raise scenario.where("world.appearance").error(str(exc)) from None
-        self.network = SchemaNetwork(
-            self.mirror, registry=registry, settings=scenario.schemas,
-            models={m.name: m for m in scenario.objects}, goals=scenario.goals,
-            actuator=getattr(source, "robot", None), predict=scenario.predict,
-            rng=self.streams.generator("ensemble"), frame_interval=1.0 / self.fps,
-            reality=scenario.reality.kind.value)
-        self.truth = getattr(source, "truth", None)
-        self.evaluation = Evaluation(scenario, self.truth, self.fps)
-        self.twin = UncorrectedTwin(scenario.scene, seed=self.seed)
-        self.baselines: dict[str, Baseline] = {}
-        self.events: dict[str, int] = {}
-        self.writes: list[str] = []
-        self.stage_s = {s: 0.0 for s in STAGES}
-        self.mmd_ms: list[float] = []
-        self.frames_done = 0
-        self.snapshots = Snapshots()
-        self.comparisons = Comparisons()
-        self.series = Paths()
-        self._last_path_kept = -math.inf
         self._trace: TraceWriter | None = None
         self._trace_tmp: Path | None = None
-        self.agent = self._agent()
-        self.network.listeners.append(self._on_event)
+        self._lock: FolderLock | None = None
+        self._check_outputs()
+        if self.out is not None:  # one run per folder; what a killed run left goes
+            self._lock = lock_folder(self.out, "--out", OUTPUT_FOLDERS)
+        try:
+            if source is None:
+                from adapt.reality import open_reality
+
+                source = open_reality(scenario, streams=self.streams)
+            self.source = source
+            w, h = source.size
+            cam = scenario.camera
+            if (w, h) != (cam.width, cam.height):
+                raise RunError(f"the reality's frames are {w}x{h} but the scenario's camera is "
+                               f"{cam.width}x{cam.height} ({scenario.where('camera.width').location}); "
+                               "make them the same size")
+            self.fps = float(source.fps)
+            self.mirror = Mirror(scenario.scene, cam, seed=self.seed,
+                                 camera_follows_robot=self._mount() if scenario.mount.kind is Mount.ROBOT
+                                 else None)
+            if scenario.appearance is not None:
+                try:
+                    self.mirror.load_appearance(scenario.appearance)
+                except AppearanceError as exc:
+                    raise scenario.where("world.appearance").error(str(exc)) from None
+            self.network = SchemaNetwork(
+                self.mirror, registry=registry, settings=scenario.schemas,
+                models={m.name: m for m in scenario.objects}, goals=scenario.goals,
+                actuator=getattr(source, "robot", None), predict=scenario.predict,
+                rng=self.streams.generator("ensemble"), frame_interval=1.0 / self.fps,
+                reality=scenario.reality.kind.value)
+            self.truth = getattr(source, "truth", None)
+            self.evaluation = Evaluation(scenario, self.truth, self.fps)
+            self.twin = UncorrectedTwin(scenario.scene, seed=self.seed)
+            self.baselines: dict[str, Baseline] = {}
+            self.events: dict[str, int] = {}
+            self.writes: list[str] = []
+            self.stage_s = {s: 0.0 for s in STAGES}
+            self.mmd_ms: list[float] = []
+            self.frames_done = 0
+            self.snapshots = Snapshots()
+            self.comparisons = Comparisons()
+            self.series = Paths()
+            self._last_path_kept = -math.inf
+            self.agent = self._agent()
+            self.network.listeners.append(self._on_event)
+        except BaseException:
+            self.close()
+            raise
 
     # -- set-up ----------------------------------------------------------------------------
 
@@ -205,41 +233,30 @@ class Runner:
         return paths
 
     def _check_outputs(self) -> None:
-        """Refuse, before any work, an output folder that cannot be written or an output that
-        would replace an input (:func:`adapt.files.check_outputs` for the files; a folder
-        output may not hold an input either)."""
+        """Refuse, before any work, an output folder that cannot be written or an output --
+        a file, or any file of ``figures/`` and ``appearance/`` -- that would replace
+        anything the run reads (:func:`adapt.files.check_outputs`,
+        :func:`adapt.runner.inputs.run_inputs`)."""
         if self.out is None:
             return
         if self.out.exists() and not self.out.is_dir():
             raise RunError(f"--out {str(self.out)!r} is a file; expected a folder")
-        inputs = [(f"an input of the run ({p})", p) for p in self._inputs()]
-        folders = ("figures", "appearance")
-        paths = self._paths()
         suffixes = {"report": (".json",), "trace": (".jsonl",), "video": (".mp4",)}
-        check_outputs([Output(f"the {name} output", path, suffixes[name])
-                       for name, path in paths.items() if name not in folders], inputs)
-        for name in folders:
-            path = paths.get(name)
-            if path is None:
-                continue
-            for what, p in inputs:
-                if same_file(p, path) or Path(p).resolve().is_relative_to(path.resolve()):
-                    raise RunError(f"the {name} output {str(path)!r} would replace {what}; "
-                                   "choose another --out folder")
+        check_outputs([Output(f"the {name} output", path, suffixes.get(name, ()),
+                              folder=name in OUTPUT_FOLDERS, remedy="choose another --out folder")
+                       for name, path in self._paths().items()], run_inputs(self.scenario))
 
-    def _inputs(self) -> Iterator[Path]:
-        sc = self.scenario
-        if sc.path is not None:
-            yield Path(sc.path)
-        for r in sc.rules:
-            yield r.path
-        reality = sc.reality
-        for attr in ("path", "ground_truth"):
-            p = getattr(reality, attr, None)
-            if isinstance(p, Path):
-                yield p
-        if sc.appearance is not None:
-            yield sc.appearance
+    def close(self) -> None:
+        """Release the output folder; drop the trace of a run that never ran.  :meth:`run`
+        calls it when it ends."""
+        if self._trace is not None:
+            self._trace.close()
+            self._trace = None
+            if self._trace_tmp is not None:
+                self._trace_tmp.unlink(missing_ok=True)
+        if self._lock is not None:
+            self._lock.release()
+            self._lock = None
 
     def _agent(self) -> Agent:
         trace = None
@@ -247,7 +264,7 @@ class Runner:
         if "trace" in paths:
             target = paths["trace"]
             target.parent.mkdir(parents=True, exist_ok=True)
-            self._trace_tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
+            self._trace_tmp = temporary_file(target)
             trace = TraceWriter(self._trace_tmp, level=self.outputs.trace_level,
                                 files=[str(r.path) for r in self.scenario.rules], seed=self.seed)
             self._trace = trace
@@ -292,7 +309,14 @@ class Runner:
     # -- the loop ------------------------------------------------------------------------------
 
     def run(self) -> RunResult:
-        """Run the loop to the end (or the interrupt); write and return the outputs."""
+        """Run the loop to the end (or the interrupt); write and return the outputs; release
+        the output folder."""
+        try:
+            return self._loop()
+        finally:
+            self.close()
+
+    def _loop(self) -> RunResult:
         paths = self._paths()
         report = None
         if "report" in paths:
@@ -585,6 +609,14 @@ class Runner:
 
     # -- the end -----------------------------------------------------------------------------------
 
+    def stop(self, interrupted: bool, error: str | None) -> Stop:
+        """Why the run stopped."""
+        if error is not None:
+            return Stop.ERROR
+        if interrupted:
+            return Stop.INTERRUPTED
+        return Stop.HALT if self.agent.halted else Stop.END_OF_FRAMES
+
     def summary(self, wall: float, interrupted: bool, error: str | None) -> dict[str, Any]:
         """The run's summary (``report.json``'s ``summary``)."""
         n = max(self.frames_done, 1)
@@ -596,6 +628,7 @@ class Runner:
             "frames_per_s": round(self.frames_done / wall, 2) if wall > 0 else None,
             "interrupted": interrupted,
             "error": error,
+            "stopped": self.stop(interrupted, error).value,
             "decisions": self.agent.decisions,
             "halted": self.agent.halted,
             "schemas": self.network.names,
@@ -640,11 +673,12 @@ class Runner:
             video.close()
             written["video"] = video.path
         if self._trace is not None:
-            if interrupted:
-                self.agent.stop_reason = "interrupted"
             # the summary before the footer: readers take the footer as the trace's last record
             self._trace.event("summary", {"d": self.agent.decisions, **summary})
-            self.agent.write_footer(wall, error)
+            # the footer says why the run stopped, not why the agent's last slice of
+            # decisions did (always "max-decisions", the frame's decisions done)
+            self._trace.footer({**self.agent.report().to_dict(),
+                                "stop_reason": summary["stopped"]}, wall, error)
             self._trace.close()
             assert self._trace_tmp is not None
             os.replace(self._trace_tmp, paths["trace"])

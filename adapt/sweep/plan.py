@@ -47,7 +47,9 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from adapt.errors import LocatedError, RuleError, ScenarioError, SweepSpecError
+from adapt.files import Input, Inputs
 from adapt.scenario import Scenario, load_scenario
+from adapt.scenario.inputs import scenario_files
 from adapt.sweep.grid import Axis, Item, parse_axis, parse_seeds
 from adapt.sweep.task import RunSpec
 
@@ -75,6 +77,10 @@ class Plan:
         Seed by seed, each seed over every cell.
     max_frames : int or None
     fingerprint : str
+    inputs : tuple of Input
+        Everything the runs read, over every cell: the scenario's files
+        (:meth:`adapt.scenario.Scenario.inputs`) and the files its rules
+        ``source``; no output of the sweep may replace one.
     """
 
     scenario: Path
@@ -84,6 +90,7 @@ class Plan:
     runs: tuple[RunSpec, ...]
     max_frames: int | None
     fingerprint: str
+    inputs: tuple[Input, ...] = ()
 
     def describe(self) -> dict[str, Any]:
         """The grid as ``sweep.json`` records it."""
@@ -158,7 +165,7 @@ def make_plan(scenario: str | os.PathLike[str], *, seeds: str | None = None,
     overrides: list[tuple[str, ...]] = [
         tuple(f"{a.path}={i.text}" for a, i in zip(axes, combo))
         for combo in itertools.product(*(a.items for a in axes))]
-    _check_cells(path, axes, overrides, cells)
+    inputs = _check_cells(path, axes, overrides, cells)
     fp = fingerprint(base, text, max_frames)
     absolute = str(path.resolve())
     runs: list[RunSpec] = []
@@ -169,7 +176,8 @@ def make_plan(scenario: str | os.PathLike[str], *, seeds: str | None = None,
             if keep_outputs and out is not None:
                 run_out = str(Path(out).resolve() / "runs" / key)
             runs.append(RunSpec(key, absolute, ovs, cell, seed, max_frames, run_out, fp))
-    return Plan(path.resolve(), seed_list, axes, tuple(cells), tuple(runs), max_frames, fp)
+    return Plan(path.resolve(), seed_list, axes, tuple(cells), tuple(runs), max_frames, fp,
+                tuple(inputs))
 
 
 def _axes(sets: Sequence[str]) -> tuple[Axis, ...]:
@@ -189,9 +197,12 @@ def _axes(sets: Sequence[str]) -> tuple[Axis, ...]:
 
 
 def _check_cells(path: Path, axes: Sequence[Axis], overrides: Sequence[tuple[str, ...]],
-                 cells: Sequence[Cell]) -> None:
+                 cells: Sequence[Cell]) -> Inputs:
+    """Read every cell's scenario and parse each distinct rule file once; return what the
+    runs read over every cell."""
     from adapt.engine.functions import default_functions
     from adapt.engine.parse import load_rule_file
+    from adapt.runner.inputs import sourced_inputs
     from adapt.schemas import check_settings
 
     origin: dict[str, tuple[Axis, Item]] = {}
@@ -200,23 +211,26 @@ def _check_cells(path: Path, axes: Sequence[Axis], overrides: Sequence[tuple[str
             origin[f"{axis.path}={item.text}"] = (axis, item)
     rules_seen: set[Path] = set()
     table = default_functions()
+    inputs = Inputs()
     for ovs, cell in zip(overrides, cells):
         try:
             sc = load_scenario(path, overrides=list(ovs))
             check_settings(sc.schemas)
         except ScenarioError as exc:
             raise _relocate(exc, origin, cell) from None
+        inputs.extend(scenario_files(sc))
         for rf in sc.rules:
             if rf.path in rules_seen:
                 continue
             rules_seen.add(rf.path)
             try:
-                load_rule_file(rf.path, functions=table)
+                inputs.extend(sourced_inputs(rf, load_rule_file(rf.path, functions=table).files))
             except RuleError as exc:
                 raise type(exc)(f"{exc.message} (a rule file of the scenario, "
                                 f"{rf.source.location}: {rf.source.path})", file=exc.file,
                                 line=exc.line, col=exc.col,
                                 source_line=exc.source_line) from None
+    return inputs
 
 
 def _relocate(exc: LocatedError, origin: dict[str, tuple[Axis, Item]],

@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 
 from adapt.errors import ImageError, VisionError
 from adapt.files import write_atomic
+from adapt.native import native_messages
 
 __all__ = [
     "check_image",
@@ -250,9 +251,11 @@ def read_image(path: str | os.PathLike[str]) -> NDArray[np.uint8]:
         data = np.fromfile(p, dtype=np.uint8)
     except OSError as exc:
         raise ImageError(f"{path}: cannot read ({exc.strerror or exc})") from exc
-    image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
+    with native_messages() as said:  # libpng's own complaint goes into the message
+        image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
     if image is None:
-        raise ImageError(f"{path}: not an image OpenCV can decode (PNG, JPEG, ...)")
+        raise ImageError(f"{path}: not an image OpenCV can decode (PNG, JPEG, ...)"
+                         f"{said.detail()}")
     if image.ndim == 3 and image.shape[2] == 4:
         image = cv2.cvtColor(image, cv2.COLOR_BGRA2BGR)
     return image  # type: ignore[return-value]

@@ -108,7 +108,8 @@ def test_an_interrupted_run_leaves_complete_outputs(tmp_path: Path) -> None:
     footer = [json.loads(x) for x in lines if '"kind":"footer"' in x]
     assert len(footer) == 1 and footer[0]["stop_reason"] == "interrupted"
     assert (tmp_path / "mmd.mp4").stat().st_size > 0
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["mmd.mp4", "report.json", "trace.jsonl"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".adapt.lock", "mmd.mp4", "report.json",
+                                                         "trace.jsonl"]  # no temporary file left
 
 
 def test_a_failed_run_leaves_a_valid_report_and_raises(tmp_path: Path) -> None:
@@ -145,16 +146,53 @@ def test_outputs_never_replace_inputs(tmp_path: Path) -> None:
     sc = room()
     (tmp_path / "report.json").write_text("{}")
     sc = replace(sc, path=tmp_path / "report.json")
-    with pytest.raises(OutputError, match="is an input of the run .*never replaces an input"):
+    with pytest.raises(OutputError, match="report output .* is the scenario; an output never "
+                                          "replaces an input"):
         Runner(sc, source=source(sc, 3), out=tmp_path)
     assert (tmp_path / "report.json").read_text() == "{}"
     rules = tmp_path / "figures" / "mine.soar"
     rules.parent.mkdir()
     rules.write_text((Path(sc.rules[0].path)).read_text())
     inside = replace(room(), rules=(replace(sc.rules[0], path=rules),))
-    with pytest.raises(RunError, match="the figures output .* would replace an input"):
+    with pytest.raises(OutputError, match="the figures output .* would hold the scenario's "
+                                          r"rules\[0\] \(a rule file\)"):
         Runner(inside, source=source(inside, 3), out=tmp_path)
     f = tmp_path / "file"
     f.write_text("x")
     with pytest.raises(RunError, match="is a file"):
         Runner(room(), source=source(room(), 3), out=f)
+
+
+def _footer(out: Path) -> dict:
+    lines = (out / "trace.jsonl").read_text().splitlines()
+    return json.loads(lines[-1])
+
+
+def test_the_trace_says_why_the_run_stopped(tmp_path: Path, capsys) -> None:
+    """Issue 21: a run that ended normally said "stopped: max-decisions" (its last slice's)."""
+    from adapt.cli import main
+    from adapt.traceview.html import build_payload
+    from adapt.traceview.reader import Trace
+
+    sc = room()
+    res = Runner(sc, source=source(sc, 5), out=tmp_path / "done", outputs=QUIET).run()
+    assert res.summary["stopped"] == "end-of-frames"
+    footer = _footer(tmp_path / "done")
+    assert footer["kind"] == "footer" and footer["stop_reason"] == "end-of-frames"
+    assert main(["trace", "stats", str(tmp_path / "done" / "trace.jsonl")]) == 0
+    assert "(stopped: end-of-frames)" in capsys.readouterr().out
+    payload = build_payload(Trace(tmp_path / "done" / "trace.jsonl"))
+    assert payload["footer"]["stop_reason"] == "end-of-frames"
+
+    with pytest.raises(RuntimeError, match="cable"):
+        Runner(sc, source=source(sc, 30, fail_at=4), out=tmp_path / "failed", outputs=QUIET).run()
+    footer = _footer(tmp_path / "failed")
+    assert footer["stop_reason"] == "error" and "cable" in footer["error"]
+    assert main(["trace", "stats", str(tmp_path / "failed" / "trace.jsonl")]) == 0
+    assert "(stopped: error: RuntimeError: " in capsys.readouterr().out
+
+    halting = tmp_path / "halt.soar"
+    halting.write_text("sp {halt (state <s> ^superstate nil) --> (halt)}\n")
+    sc = replace(sc, rules=(replace(sc.rules[0], path=halting),))
+    res = Runner(sc, source=source(sc, 5), out=tmp_path / "halted", outputs=QUIET).run()
+    assert res.summary["stopped"] == "halt" and _footer(tmp_path / "halted")["stop_reason"] == "halt"
