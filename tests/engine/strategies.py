@@ -334,11 +334,13 @@ EXAMPLES: list[tuple[str, list[Production], list[tuple[Any, ...]], set[MatchKey]
      [prod("p", cond("<s>", "a", "<o>", plus=True)), prod("q", cond("<s>", "a", "<o>"))],
      [(S1, "a", A1, True), (S1, "a", A2, False)],
      {("p", (1,)), ("q", (2,))}),
-    ("relation against a variable bound earlier",
+    # Soar joins ^b first (of two tied conditions the last written) and checks
+    # the relation at ^a turned round: 2 < z holds (another type is less)
+    ("relation against a variable written earlier, joined later",
      [prod("p", cond("<s>", "a", "<x>"), cond("<s>", "b", rel(">", "<x>")))],
      [(S1, "a", 2, False), (S1, "b", 3, False), (S1, "b", 2, False),
       (S1, "b", Float(2.5), False), (S1, "b", "z", False)],
-     {("p", (1, 2)), ("p", (1, 4))}),
+     {("p", (1, 2)), ("p", (1, 4)), ("p", (1, 5))}),
     ("relation against a variable bound later",
      [prod("p", cond("<s>", "b", rel(">", "<x>")), cond("<s>", "a", "<x>"))],
      [(S1, "a", 2, False), (S1, "b", 3, False), (S1, "b", 2, False),

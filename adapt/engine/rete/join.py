@@ -76,7 +76,8 @@ class TwoInputNode(BetaNode):
 
     __slots__ = (
         "alpha", "token_fields", "wme_fields", "tests", "left", "right",
-        "_n", "_level", "_field", "_wfield", "r_linked", "l_linked", "group", "same_am",
+        "_n", "_level", "_field", "_wfield", "_level2", "_field2", "_wfield2",
+        "r_linked", "l_linked", "group", "same_am",
     )
 
     def __init__(
@@ -98,6 +99,9 @@ class TwoInputNode(BetaNode):
         self._n = len(wme_fields)
         self._level, self._field = token_fields[0] if token_fields else (0, 0)
         self._wfield = wme_fields[0] if wme_fields else 0
+        # the second field of a two-field key (the commonest longer key)
+        self._level2, self._field2 = token_fields[1] if len(token_fields) > 1 else (0, 0)
+        self._wfield2 = wme_fields[1] if len(wme_fields) > 1 else 0
         #: in the alpha memory's ``linked`` list (Soar: not right-unlinked)
         self.r_linked = False
         #: joins what it gets from the left (Soar: not left-unlinked)
@@ -174,6 +178,8 @@ class TwoInputNode(BetaNode):
             return wmes[self._level][self._field]
         if n == 0:
             return None
+        if n == 2:
+            return (wmes[self._level][self._field], wmes[self._level2][self._field2])
         return tuple([wmes[level][field] for level, field in self.token_fields])
 
     def right_key(self, wme: WME) -> Hashable:
@@ -183,6 +189,8 @@ class TwoInputNode(BetaNode):
             return wme[self._wfield]
         if n == 0:
             return None
+        if n == 2:
+            return (wme[self._wfield], wme[self._wfield2])
         return tuple([wme[field] for field in self.wme_fields])
 
     def check(self, wmes: tuple[WME, ...], wme: WME) -> bool:
@@ -215,7 +223,8 @@ class TwoInputNode(BetaNode):
         elif n == 0:
             key = None
         else:
-            key = tuple([wmes[level][field] for level, field in self.token_fields])
+            key = ((wmes[self._level][self._field], wmes[self._level2][self._field2])
+                if n == 2 else tuple([wmes[level][field] for level, field in self.token_fields]))
         left = self.left
         bucket = left[key]
         if bucket is token:
@@ -237,7 +246,8 @@ class TwoInputNode(BetaNode):
         elif n == 0:
             key = None
         else:
-            key = tuple([wme[field] for field in self.wme_fields])
+            key = ((wme[self._wfield], wme[self._wfield2]) if n == 2
+                else tuple([wme[field] for field in self.wme_fields]))
         right = self.right
         bucket = right.get(key)
         if bucket is None:
@@ -256,7 +266,8 @@ class TwoInputNode(BetaNode):
         elif n == 0:
             key = None
         else:
-            key = tuple([wme[field] for field in self.wme_fields])
+            key = ((wme[self._wfield], wme[self._wfield2]) if n == 2
+                else tuple([wme[field] for field in self.wme_fields]))
         right = self.right
         bucket = right[key]
         if isinstance(bucket, dict):
@@ -322,7 +333,8 @@ class JoinNode(TwoInputNode):
         elif n == 0:
             key = None
         else:
-            key = tuple([wmes[level][field] for level, field in self.token_fields])
+            key = ((wmes[self._level][self._field], wmes[self._level2][self._field2])
+                if n == 2 else tuple([wmes[level][field] for level, field in self.token_fields]))
         left = self.left
         bucket = left.get(key)
         if bucket is None:
@@ -388,7 +400,8 @@ class JoinNode(TwoInputNode):
         elif n == 0:
             key = None
         else:
-            key = tuple([wme[field] for field in self.wme_fields])
+            key = ((wme[self._wfield], wme[self._wfield2]) if n == 2
+                else tuple([wme[field] for field in self.wme_fields]))
         timetag = wme[4]
         found = self.left.get(key)
         if found is None:
