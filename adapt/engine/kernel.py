@@ -366,7 +366,8 @@ class Kernel:
         if retractions:
             goal.retractions = {}
             on_retract = self._on_retract
-            for inst in retractions.values():
+            # the last scheduled first: Soar's retraction lists grow at the head
+            for inst in reversed(retractions.values()):
                 if inst.unmatched:
                     continue  # an o-supported justification: nothing to retract
                 if on_retract:
