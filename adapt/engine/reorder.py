@@ -12,7 +12,8 @@ estimates:
   attribute) is a bound variable: adapt's joins hash every bound field, not
   only the identifier as Soar's do, so such a condition is a join too,
   estimated at 8 times the cost it would have with a bound identifier and an
-  unbound value (Soar gives it ``MAX_COST``).  So it comes after the joins
+  unbound value, plus one so that a tie goes to a condition Soar could
+  choose (Soar gives it ``MAX_COST``).  So it comes after the joins
   through bound identifiers that Soar would choose, unless a
   ``multi-attributes`` hint says those have many values:
   ``multi-attributes b 1000`` lets ``(<x> ^v <v>) (<y> ^w <v>) (<s> ^b <y>)``
@@ -317,12 +318,13 @@ def _cost(e: _Element, bound: set[Variable], roots: frozenset[Variable],
     if not _covered(e.ident, bound, roots):
         # adapt's joins hash every bound field: a bound value (or attribute)
         # connects the condition as a bound identifier would, the identifier
-        # counting as an unbound value
+        # counting as an unbound value -- one more, so that a tie goes to a
+        # condition Soar could choose (Soar gives this one MAX_COST)
         value = e.value
         if isinstance(value, Variable) and value in bound:
-            return cost * BRANCHING * BRANCHING
+            return cost * BRANCHING * BRANCHING + 1
         if isinstance(attr, Variable) and attr in bound:
-            return BRANCHING * BRANCHING * BRANCHING
+            return BRANCHING * BRANCHING * BRANCHING + 1
         return MAX_COST
     if not _covered(e.value, bound, roots):
         cost *= BRANCHING
