@@ -24,8 +24,8 @@ def _bench() -> ModuleType:
 
 def _joins(rete: Rete) -> list[JoinNode]:
     found: list[JoinNode] = []
-    for memories in rete._alpha.values():
-        for memory in memories:
+    for group in rete._alpha.values():
+        for memory in group.memories:
             found.extend(n for n in memory.successors if type(n) is JoinNode)
     return found
 
@@ -36,7 +36,7 @@ def test_the_inlined_keys_index_and_registry_agree_with_the_helpers() -> None:
     for p in productions:
         rete.add_production(p)
     # WMEs in, half of them before the production's tokens exist on each side, so both
-    # activations (left_add and right_add) make tokens
+    # activations (left_add and right_join) make tokens
     for w in wmes:
         rete.add_wme(w)
     added, _ = rete.take_changes()
