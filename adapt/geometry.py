@@ -344,6 +344,18 @@ class Camera:
             position=np.asarray(position, dtype=float),
         )
 
+    def angle_to(self, other: "Camera") -> float:
+        """The angle, in degrees, of the rotation between this camera's orientation and
+        ``other``'s (the norm of ``log(R_other R^T)``).
+
+        Examples
+        --------
+        >>> a = Camera(500, 500, 320, 240, 640, 480, np.eye(3), np.zeros(3))
+        >>> round(a.angle_to(a.with_rotation(rotation_exp([0.0, 0.0, np.radians(2.0)]))), 9)
+        2.0
+        """
+        return float(np.degrees(np.linalg.norm(rotation_log(other.rotation @ self.rotation.T))))
+
     def to_camera(self, points: ArrayLike) -> FloatArray:
         """World points ``(N, 3)`` in camera coordinates ``R (X - C)``."""
         x = np.asarray(points, dtype=float).reshape(-1, 3)

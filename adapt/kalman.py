@@ -70,11 +70,6 @@ class ConstantVelocityKF:
         """Filtered ``(vx, vy)``."""
         return (float(self.x[2]), float(self.x[3]))
 
-    @property
-    def position_sigma(self) -> float:
-        """RMS standard deviation of the position estimate, metres."""
-        return math.sqrt(max(0.0, (self.P[0, 0] + self.P[1, 1]) / 2.0))
-
     def _predict(self, dt: float) -> None:
         if dt <= 0:
             return

@@ -13,6 +13,10 @@ are each written as a ``.soar`` file that both systems load unchanged:
   values orders the join on ``<v>`` first and follows it in linear time.  Targets: adapt >= 10 x faster than real
   Soar at N = 5,000, and adapt's time(20,000) / time(5,000) <= 5.
 * loading: N generated rules -- seconds to parse and build the matcher.
+* one long production: a single production with N conditions on one
+  identifier (``(state <s> ^a1 <v1> ^a2 <v2> ...)``) -- seconds to load.
+  Target: N = 2,000 loads in under a second (issue 21: the reorderer's
+  lookahead grew as N^3, 2 s at N = 200 and over 120 s at N = 800).
 * towers of hanoi and fifteen puzzle: agents of the shape of Soar's own
   (``hanoi_file``, ``fifteen_file``: written here, not copied): many
   ``^holds`` / ``^binding`` structures on the top state and a goal test naming
@@ -20,6 +24,16 @@ are each written as a ``.soar`` file that both systems load unchanged:
   makes tractable -- firings per second and Soar's rate / adapt's.  Before
   timing, each runs once in both engines with a write per move and the two
   runs are compared decision by decision (``tests/engine/soar_harness.py``).
+
+* trace cost: adapt untraced against adapt writing a trace at level 1
+  (decision records only) and level 5 (everything, with every decision's
+  candidates and their preferences), on the counter and on a growing agent
+  (``growing_file``: each decision a state no-change substate adds two
+  numeric-indifferent preferences for new operators to the top state's
+  slot, as in Soar's ``Chunk_RL_Proposal`` test agent; after 2,000 decisions
+  the slot holds about 2,000 preferences) -- seconds and traced / untraced.
+  Target: level 1 costs at most 1.5 x untraced.  ``--trace-agent FILE`` times
+  another agent (loaded with ``chunking="off"``) instead of the growing one.
 
 Each child may use at most 8 GB of address space (real Soar's value join
 needs N^2 partial matches and runs out of memory at N = 20,000).  Every
@@ -96,6 +110,36 @@ sp {join*equal-values
 """
 
 
+GROWING = """\
+sp {grow*init
+   (state <s> ^superstate nil)
+-->
+   (<s> ^worth 0.5)}
+
+sp {grow*propose*valued
+   (state <s> ^superstate <top>)
+   (<top> ^superstate nil ^worth <w>)
+-->
+   (<top> ^operator <o> = <w>)
+   (<o> ^name grow)}
+
+sp {grow*propose*flat
+   (state <s> ^superstate <top>)
+   (<top> ^superstate nil ^worth <w>)
+-->
+   (<top> ^operator <o> = 0.0)
+   (<o> ^name grow)}
+"""
+
+
+def growing_file() -> str:
+    """An agent whose top operator slot grows by two preferences a decision:
+    no operator is ever acceptable, so each decision is a state no-change
+    whose substate proposes (``=`` only) two more operators to the top state,
+    which changes the slot and makes the next no-change."""
+    return GROWING
+
+
 def rules_file(n: int) -> str:
     """``n`` generated rules of a realistic shape: a proposal each, testing the top
     state, a linked object with a relational test and a negated condition
@@ -111,6 +155,12 @@ def rules_file(n: int) -> str:
    (<o> ^name op{i} ^arg <v>)}}
 """)
     return "\n".join(out)
+
+
+def long_rule_file(n: int) -> str:
+    """One production whose ``n`` conditions all test the state."""
+    tests = " ".join(f"^a{i} <v{i}>" for i in range(n))
+    return f"sp {{long (state <s> {tests})\n-->\n   (write |matched|)}}\n"
 
 
 def counter_file(limit: int) -> str:
@@ -385,19 +435,25 @@ def child_adapt(path: str, max_decisions: int) -> dict[str, object]:
 
     gc_env = os.environ.get("ADAPT_BENCH_GC", "")  # set by --gc-threshold
     gc_threshold = DEFAULT_GC_THRESHOLD if not gc_env else int(gc_env) or None
-    agent = Agent(seed=1, matcher="rete", gc_threshold=gc_threshold)
-    if max_decisions < 0:  # loading alone: parse, build the Rete
-        start = time.perf_counter()
-        rules = agent.load_file(path)
-        return {"seconds": time.perf_counter() - start, "rules": len(rules.productions),
-                "engine": engine_build()}
-    agent.load_file(path)
-    start, cpu = time.perf_counter(), time.process_time()
-    report = agent.run(max_decisions=max_decisions).to_dict()
-    seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
+    level = int(os.environ.get("ADAPT_BENCH_TRACE", "0"))  # set by measure() for adapt-t<level>
+    with tempfile.TemporaryDirectory() as tmp:
+        trace = Path(tmp) / "trace.jsonl"
+        traced = {"trace": str(trace), "trace_level": level} if level else {}
+        agent = Agent(seed=1, matcher="rete", gc_threshold=gc_threshold, **traced)
+        if max_decisions < 0:  # loading alone: parse, build the Rete
+            start = time.perf_counter()
+            rules = agent.load_file(path)
+            return {"seconds": time.perf_counter() - start, "rules": len(rules.productions),
+                    "engine": engine_build()}
+        agent.load_file(path, chunking="off")
+        start, cpu = time.perf_counter(), time.process_time()
+        report = agent.run(max_decisions=max_decisions).to_dict()
+        seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
+        agent.close()
+        size = trace.stat().st_size if level else 0
     return {"seconds": seconds, "cpu": cpu, "decisions": report["decisions"],
             "halted": report["halted"], "firings": report["production_firings"],
-            "engine": engine_build()}
+            "engine": engine_build(), "trace_bytes": size}
 
 
 def child_soar(path: str, max_decisions: int) -> dict[str, object]:
@@ -445,7 +501,11 @@ def measure(system: str, path: Path, max_decisions: int, timeout: float) -> dict
             str(max_decisions)]
     env = dict(os.environ)
     env.pop("ADAPT_PURE_PYTHON", None)
-    if system == "adapt-py":
+    env.pop("ADAPT_BENCH_TRACE", None)
+    base, _, level = system.partition("-t")  # adapt-t1: adapt writing a trace at level 1
+    if level:
+        env["ADAPT_BENCH_TRACE"] = level
+    if base == "adapt-py":
         env["ADAPT_PURE_PYTHON"] = "1"
     try:
         proc = subprocess.run(argv, capture_output=True, timeout=timeout,
@@ -547,6 +607,27 @@ def bench_load(tmp: Path, sizes: list[int], runs: int, timeout: float,
     if ("soar", 10_000) in times and ("soar", 20_000) in times:
         print(f"  soar time(20,000) / time(10,000) = "
               f"{times[('soar', 20_000)] / times[('soar', 10_000)]:.2f}")
+
+
+def bench_long_rule(tmp: Path, sizes: list[int], runs: int, timeout: float,
+                    systems: tuple[str, ...] = SYSTEMS) -> None:
+    print(f"one production with N conditions on one identifier: seconds to load (median of {runs})")
+    times: dict[tuple[str, int], float] = {}
+    for n in sizes:
+        path = tmp / f"long-{n}.soar"
+        path.write_text(long_rule_file(n))
+        row = []
+        for system, (seconds, info) in interleaved(systems, path, -1, runs, timeout).items():
+            if seconds is None:
+                row.append(f"{system} {info.get('error')}")
+                continue
+            times[(system, n)] = seconds
+            row.append(f"{system} {fmt(seconds)}")
+        print(f"  N = {n:>6,}:  " + ",  ".join(row))
+    for system in ("adapt", "adapt-py"):
+        if (system, 2000) in times:
+            verdict = "meets" if times[(system, 2000)] < 1.0 else "MISSES"
+            print(f"  N = 2,000: {system} {times[(system, 2000)]:.2f} s (target < 1 s: {verdict})")
 
 
 def bench_join(tmp: Path, sizes: list[int], runs: int, timeout: float,
@@ -655,6 +736,42 @@ def bench_fifteen(tmp: Path, decisions: int, runs: int, timeout: float,
                 systems, check)
 
 
+def bench_trace(tmp: Path, limit: int, decisions: int, runs: int, timeout: float,
+                systems: tuple[str, ...] = SYSTEMS, agent: Path | None = None) -> None:
+    """Seconds of adapt untraced, traced at level 1 and at level 5, and the
+    traced / untraced ratios, on the counter and on the growing agent (or
+    ``agent``)."""
+    bases = [s for s in systems if s in ("adapt", "adapt-py")]
+    print(f"trace cost: untraced vs a trace at level 1 and level 5 (median of {runs})")
+    counter = tmp / "trace-counter.soar"
+    counter.write_text(counter_file(limit))
+    growing = agent if agent is not None else tmp / "growing.soar"
+    if agent is None:
+        growing.write_text(growing_file())
+    workloads = [(f"counter to {limit:,}", counter, limit + 10),
+                 (f"{growing.name}, {decisions:,} decisions", growing, decisions)]
+    for base in bases:
+        for title, path, bound in workloads:
+            variants = (base, f"{base}-t1", f"{base}-t5")
+            results = interleaved(variants, path, bound, runs, timeout)
+            untraced = results[base][0]
+            print(f"  {base}, {title}:")
+            for variant in variants:
+                seconds, info = results[variant]
+                if seconds is None:
+                    print(f"    {variant:<12} {info.get('error')}")
+                    continue
+                ratio = f"  {seconds / untraced:5.2f}x untraced" if untraced else ""
+                size = int(info.get("trace_bytes", 0))  # type: ignore[call-overload]
+                written = f", trace {size / 1e6:,.1f} MB" if size else ""
+                print(f"    {variant:<12} {fmt(seconds)}{ratio}  ({int(info['decisions']):,} "  # type: ignore[call-overload]
+                      f"decisions{written})")
+            level1 = results[f"{base}-t1"][0]
+            if untraced and level1:
+                verdict = "meets" if level1 / untraced <= 1.5 else "MISSES"
+                print(f"    level 1 / untraced = {level1 / untraced:.2f} (target <= 1.5: {verdict})")
+
+
 def main() -> int:
     if len(sys.argv) == 5 and sys.argv[1] == "--child":
         runner = child_soar if sys.argv[2] == "soar" else child_adapt  # adapt, adapt-py
@@ -666,7 +783,8 @@ def main() -> int:
     parser.add_argument("--runs", type=int, default=None, help="runs per figure (default 3)")
     parser.add_argument("--timeout", type=float, default=300.0,
                         help="limit per single run, seconds (default 300)")
-    parser.add_argument("--only", choices=("counter", "join", "load", "hanoi", "fifteen"),
+    parser.add_argument("--only", choices=("counter", "join", "load", "long-rule", "hanoi",
+                                           "fifteen", "trace"),
                         default=None,
                         help="run one workload only")
     parser.add_argument("--sizes", default=None,
@@ -686,6 +804,9 @@ def main() -> int:
     parser.add_argument("--adapt-root", type=Path, default=None,
                         help="run the adapt of another checkout (one whose compiled engine "
                              "is built, or a 'before' figure); default this checkout")
+    parser.add_argument("--trace-agent", type=Path, default=None,
+                        help="the trace-cost workload times this .soar file (e.g. Soar's "
+                             "ChunkingTests_Chunk_RL_Proposal.soar) instead of the growing agent")
     opts = parser.parse_args()
     if opts.adapt_root is not None:
         os.environ["ADAPT_BENCH_ROOT"] = str(opts.adapt_root.resolve())
@@ -716,11 +837,18 @@ def main() -> int:
                        tuple(s for s in systems if s != "adapt-py"))
         if opts.only in (None, "load"):
             bench_load(Path(tmp), load_sizes, runs, opts.timeout, systems)
+        if opts.only in (None, "long-rule"):
+            bench_long_rule(Path(tmp), [200, 2_000] if opts.quick else [200, 400, 800, 2_000],
+                            runs, opts.timeout, systems)
         if opts.only in (None, "hanoi"):
             bench_hanoi(Path(tmp), 11, runs, opts.timeout, systems, not opts.no_check)
         if opts.only in (None, "fifteen"):
             bench_fifteen(Path(tmp), 1_000 if opts.quick else 5_000, runs, opts.timeout,
                           systems, not opts.no_check)
+        if opts.only in (None, "trace"):
+            bench_trace(Path(tmp), 5_000 if opts.quick else 20_000, 500 if opts.quick else 2_000,
+                        runs, opts.timeout, systems,
+                        None if opts.trace_agent is None else opts.trace_agent.resolve())
     return 0
 
 

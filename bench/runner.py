@@ -64,7 +64,7 @@ def loop(path: Path, frames: int, skip: int) -> dict[str, float]:
     sc = load_scenario(path)
     runner = Runner(sc, out=None, max_frames=frames, outputs=QUIET)
     marks: list[dict[str, float]] = []
-    runner.on_progress = lambda p: marks.append(dict(runner.stage_s))
+    runner.on_progress = lambda p: marks.append(dict(runner.stats.stage_s))
     runner.run()
     a, b = marks[skip - 1], marks[-1]
     n = len(marks) - skip

@@ -1,7 +1,9 @@
 """Import direction between the layers, checked on the source with ``ast``.
 
 The engine imports only the standard library (and ``adapt.errors``); vision and
-imagination know nothing of rules; nothing below the CLI imports the CLI.
+imagination know nothing of rules; nothing below the CLI imports the CLI; schemas
+meet each other only through percepts on their ports; the runner knows no
+concrete schema type; only the scenario reader reads YAML; the CLI stays thin.
 """
 
 from __future__ import annotations
@@ -88,7 +90,7 @@ def test_nothing_imports_the_cli() -> None:
 
 
 def test_geometry_errors_and_files_are_leaves() -> None:
-    for leaf, allowed in (("errors.py", set()), ("files.py", {"adapt.errors"}),
+    for leaf, allowed in (("errors.py", set()), ("files.py", {"adapt.errors"}), ("native.py", set()),
                           ("geometry.py", {"numpy", "adapt.errors"})):
         for name in imports_of(PACKAGE / leaf):
             top = name.split(".")[0]
@@ -122,21 +124,20 @@ def test_vision_does_not_draw_figures() -> None:
 ALLOWED = {
     # the mirror (the imagination kept in step, and the appearance it learns): no vision, no rules
     "mirror": ("adapt.mirror", "adapt.imagination", "adapt.geometry", "adapt.errors",
-               "adapt.files"),
+               "adapt.files", "adapt.native"),
     "kalman.py": (),
     "seeds.py": (),
     "frames.py": ("adapt.errors", "adapt.files"),
-    "scenario": ("adapt.scenario", "adapt.imagination", "adapt.geometry", "adapt.errors"),
+    "scenario": ("adapt.scenario", "adapt.imagination", "adapt.geometry", "adapt.errors",
+                 "adapt.files"),
     "schemas": ("adapt.schemas", "adapt.engine", "adapt.vision", "adapt.imagination",
                 "adapt.mirror", "adapt.geometry", "adapt.errors", "adapt.kalman",
                 "adapt.frames", "adapt.scenario"),
     # reality: never the engine or vision (it is what perception looks at, not a perceiver)
     "reality": ("adapt.reality", "adapt.imagination", "adapt.scenario", "adapt.geometry",
-                "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds"),
-    # sweep: runs the runner; checks a grid with the scenario reader, the schema registry's
-    # check_settings and the rule parser before running it
-    "sweep": ("adapt.sweep", "adapt.runner", "adapt.scenario", "adapt.schemas",
-              "adapt.engine.parse", "adapt.engine.functions", "adapt.errors", "adapt.files"),
+                "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds", "adapt.native"),
+    # sweep: runs the runner, and checks a grid's cells with the runner's scenario check
+    "sweep": ("adapt.sweep", "adapt.runner", "adapt.scenario", "adapt.errors", "adapt.files"),
 }
 
 
@@ -209,3 +210,186 @@ def test_relative_imports_are_resolved() -> None:
     assert found == {"adapt.schemas.links", "adapt.schemas.base", "adapt.engine"}
     init = PACKAGE / "schemas" / "__init__.py"
     assert imports_of(init, "from .network import X\n") == {"adapt.schemas.network"}
+
+
+# -- the integration floor -------------------------------------------------------------------
+
+
+def _schema_classes() -> dict[str, set[str]]:
+    """Module name -> the schema classes it defines (subclasses of Schema, directly or not)."""
+    bases: dict[str, tuple[str, list[str]]] = {}
+    for path in modules_in("schemas"):
+        module = ".".join(_module_of(path))
+        for node in ast.parse(path.read_text(encoding="utf-8")).body:
+            if isinstance(node, ast.ClassDef):
+                names = [b.id if isinstance(b, ast.Name) else getattr(b, "attr", "") for b in node.bases]
+                bases[node.name] = (module, names)
+    found: dict[str, set[str]] = {}
+
+    def is_schema(name: str, seen: frozenset[str] = frozenset()) -> bool:
+        if name == "Schema":
+            return True
+        if name not in bases or name in seen:
+            return False
+        return any(is_schema(b, seen | {name}) for b in bases[name][1])
+
+    for name, (module, _) in bases.items():
+        if name != "Schema" and is_schema(name):
+            found.setdefault(module, set()).add(name)
+    return found
+
+
+SCHEMA_CLASSES = _schema_classes()
+
+
+def test_the_schema_types_are_found() -> None:
+    names = set().union(*SCHEMA_CLASSES.values())
+    assert {"SceneBackground", "ForegroundObject", "Drive", "Intercept"} <= names
+
+
+@pytest.mark.parametrize("module", sorted(SCHEMA_CLASSES))
+def test_no_schema_module_uses_another_schema_class(module: str) -> None:
+    # schemas meet through percepts on their ports (adapt/schemas/percepts.py), never through
+    # another schema's members: a schema module imports no other schema module, except the
+    # class it derives from (the intercept schema drives like the drive schema)
+    path = PACKAGE.parent / (module.replace(".", "/") + ".py")
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    derived = {b.id for node in ast.walk(tree) if isinstance(node, ast.ClassDef)
+               for b in node.bases if isinstance(b, ast.Name)}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module in SCHEMA_CLASSES \
+                and node.module != module:
+            for alias in node.names:
+                assert alias.name in SCHEMA_CLASSES[node.module] and alias.name in derived, (
+                    f"{module} imports {alias.name} from {node.module}: read its percepts instead")
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                assert alias.name not in SCHEMA_CLASSES or alias.name == module, (
+                    f"{module} imports {alias.name}")
+
+
+#: What a schema may use of the network: its view of the mirror and the run, the percepts, and
+#: what every schema tells it (boxes, claims, monitored objects).  Nothing that reaches another
+#: schema (``ordered``, ``graph``, ``network[name]``, iteration).
+SCHEMA_NETWORK_API = {"mirror", "models", "goals", "predict", "rng", "frame_interval", "reality",
+                      "frame_index", "time", "decision", "actuator", "publish", "percepts",
+                      "percept", "claims", "monitor_of", "note", "monitored_boxes"}
+#: What the runner may use of the network besides: driving it, and reading what it publishes.
+RUNNER_NETWORK_API = SCHEMA_NETWORK_API | {
+    "published", "names", "listeners", "changed", "subscene", "seconds", "perceive", "act",
+    "write_input", "on_output"}
+
+
+def _network_uses(path: Path) -> list[tuple[int, str]]:
+    """``(line, attribute)`` of every use of a ``network``'s members (``x.network.y``,
+    ``network.y``), and ``(line, "[]")`` for a subscript or iteration of a network."""
+    found: list[tuple[int, str]] = []
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+
+    def is_network(node: ast.expr) -> bool:
+        return (isinstance(node, ast.Attribute) and node.attr == "network") or (
+            isinstance(node, ast.Name) and node.id == "network")
+
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and is_network(node.value):
+            found.append((node.lineno, node.attr))
+        elif isinstance(node, ast.Subscript) and is_network(node.value):
+            found.append((node.lineno, "[]"))
+        elif isinstance(node, (ast.For, ast.comprehension)) and is_network(node.iter):
+            found.append((getattr(node, "lineno", 0), "[]"))
+    return found
+
+
+@pytest.mark.parametrize("module", sorted(SCHEMA_CLASSES))
+def test_a_schema_reaches_no_other_schema_through_the_network(module: str) -> None:
+    path = PACKAGE.parent / (module.replace(".", "/") + ".py")
+    for line, attr in _network_uses(path):
+        assert attr in SCHEMA_NETWORK_API, (
+            f"{module}:{line} uses network.{attr}: a schema reads others' percepts on its ports")
+
+
+@pytest.mark.parametrize("path", modules_in("runner"), ids=lambda p: p.name)
+def test_the_runner_reads_the_network_through_its_api(path: Path) -> None:
+    for line, attr in _network_uses(path):
+        assert attr in RUNNER_NETWORK_API, (
+            f"runner/{path.name}:{line} uses network.{attr}: read the published percepts")
+
+
+def test_the_network_knows_no_schema_type() -> None:
+    # the network joins schemas by their declared ports; only the registry lists the built-ins
+    for path in modules_in("schemas"):
+        if path.name == "registry.py" or ".".join(_module_of(path)) in SCHEMA_CLASSES:
+            continue
+        for name in imports_of(path):
+            assert name not in SCHEMA_CLASSES, f"schemas/{path.name} imports {name}"
+
+
+@pytest.mark.parametrize("path", modules_in("runner"), ids=lambda p: p.name)
+def test_the_runner_imports_no_concrete_schema_class(path: Path) -> None:
+    # the runner reads percepts (adapt.schemas.percepts) and the network's API, never a type
+    for name in imports_of(path):
+        assert name not in SCHEMA_CLASSES, f"runner/{path.name} imports {name}"
+    text = path.read_text(encoding="utf-8")
+    for classes in SCHEMA_CLASSES.values():
+        for cls in classes:
+            assert f"isinstance(s, {cls})" not in text and f", {cls})" not in text, (
+                f"runner/{path.name} looks for {cls}")
+
+
+def test_only_the_scenario_reader_imports_yaml() -> None:
+    for path in PACKAGE.rglob("*.py"):
+        if path.relative_to(PACKAGE).parts[0] == "scenario":
+            continue
+        for name in imports_of(path):
+            assert name.split(".")[0] != "yaml", f"{path.relative_to(PACKAGE)} imports {name}"
+
+
+#: The calls a command's argument declarations are made of (not counted as a body's lines).
+_DECLARATIONS = ("add_argument", "add_parser", "set_defaults", "add_mutually_exclusive_group",
+                 "add_argument_group", "add_subparsers")
+
+
+def _declaration(stmt: ast.stmt) -> bool:
+    if isinstance(stmt, ast.Assign):
+        value: ast.expr = stmt.value
+    elif isinstance(stmt, ast.Expr):
+        value = stmt.value
+    else:
+        return False
+    return (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute)
+            and value.func.attr in _DECLARATIONS)
+
+
+def body_lines(fn: ast.FunctionDef) -> int:
+    """Source lines of a function's body: its docstring and argument declarations apart."""
+    body = list(fn.body)
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) \
+            and isinstance(body[0].value.value, str):
+        body = body[1:]
+    lines: set[int] = set()
+    for stmt in body:
+        if not _declaration(stmt):
+            lines.update(range(stmt.lineno, (stmt.end_lineno or stmt.lineno) + 1))
+    return len(lines)
+
+
+@pytest.mark.parametrize("path", modules_in("cli"), ids=lambda p: p.name)
+def test_no_cli_function_is_over_40_lines(path: Path) -> None:
+    # the CLI parses, calls and renders: logic that makes a handler long belongs in a layer
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            assert body_lines(node) <= 40, (  # type: ignore[arg-type]
+                f"cli/{path.name}: {node.name} has {body_lines(node)} lines")  # type: ignore[arg-type]
+
+
+def test_the_line_count_leaves_out_docstrings_and_declarations() -> None:
+    fn = ast.parse('''
+def f(p):
+    """Doc."""
+    p.add_argument("--x",
+                   help="x")
+    q = p.add_parser("y")
+    return q
+''').body[0]
+    assert body_lines(fn) == 1  # type: ignore[arg-type]

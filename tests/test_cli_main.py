@@ -112,3 +112,34 @@ def test_version_says_which_engine_runs(capsys) -> None:  # type: ignore[no-unty
         main(["--version"])
     assert done.value.code == 0
     assert capsys.readouterr().out == f"adapt {__version__}, engine: {engine_build()}\n"
+
+
+BOUNCING = ROOT / "scenarios" / "bouncing-ball.yaml"
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["run", str(BOUNCING), "--seed", "-1"], ("--seed", "an integer >= 0", "'-1'")),
+    (["render", str(BOUNCING), "--out", "x.png", "--seed", "-1"], ("--seed", "an integer >= 0")),
+    (["imagine", str(BOUNCING), "--horizon", "1", "--seed", "-1"], ("--seed",)),
+    (["run", str(BOUNCING), "--out", ""], ("--out", "expected a folder name")),
+    (["sweep", str(BOUNCING), "--out", " "], ("--out", "expected a folder name")),
+], ids=["run-seed", "render-seed", "imagine-seed", "run-out", "sweep-out"])
+def test_values_refused_before_any_work(argv: list[str], words: tuple[str, ...], tmp_path: Path,
+                                        monkeypatch: pytest.MonkeyPatch, capsys) -> None:
+    """Issue 21: ``--seed -1`` was an internal error (status 70), ``--out ''`` the default."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == Exit.USAGE
+    err = capsys.readouterr().err
+    assert all(w in err for w in words) and "internal error" not in err, err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_runner_refuses_a_negative_seed() -> None:
+    from adapt.errors import RunError
+    from adapt.runner import Runner
+    from adapt.scenario import load_scenario
+
+    with pytest.raises(RunError, match="the seed must be an integer >= 0, got -1"):
+        Runner(load_scenario(BOUNCING), seed=-1)

@@ -117,3 +117,48 @@ def test_check_outputs_refuses_one_file_twice_and_an_input(tmp_path: Path) -> No
 
 def test_same_file() -> None:
     assert same_file("a/../b", "b") and not same_file("a", "b")
+
+
+def test_a_folder_output_may_hold_no_input_and_no_output_goes_inside_an_input_folder(
+        tmp_path: Path) -> None:
+    from adapt.files import Inputs
+
+    texture = tmp_path / "out" / "figures" / "mine.png"
+    texture.parent.mkdir(parents=True)
+    texture.write_bytes(b"png")
+    inputs = Inputs([("the scenario's world.floor.texture", texture)])
+    figures = Output("the figures output", tmp_path / "out" / "figures", folder=True)
+    with pytest.raises(OutputError, match=r"would hold the scenario's world.floor.texture"):
+        check_outputs([figures], inputs)
+    check_outputs([Output("the figures output", tmp_path / "elsewhere", folder=True)], inputs)
+    look = tmp_path / "look"
+    look.mkdir()
+    inputs.add("the learned appearance", look, folder=True)
+    with pytest.raises(OutputError, match="is inside the learned appearance"):
+        check_outputs([Output("--out", look / "deeper" / "report.json")], inputs)
+    with pytest.raises(OutputError, match="is the learned appearance"):
+        check_outputs([Output("the appearance output", look, folder=True)], inputs)
+    os.link(texture, tmp_path / "hard.png")
+    with pytest.raises(OutputError, match="is the scenario's world.floor.texture"):
+        check_outputs([Output("--out", tmp_path / "hard.png")], inputs)
+
+
+def test_a_scenario_lists_every_file_it_names(tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    from adapt.scenario import load_scenario
+
+    scenario = load_scenario(ROOT / "scenarios" / "video-sequence.yaml")
+    named = {i.what.split(" (")[0]: i for i in scenario.inputs()}
+    frames = sorted((ROOT / "scenarios" / "video" / "frames").glob("*.jpg"))
+    assert sum(i.what.startswith("a frame of") for i in scenario.inputs()) == len(frames)
+    assert named["the scenario's reality.ground_truth"].path.name == "truth.csv"
+    room = load_scenario(ROOT / "scenarios" / "room.yaml")
+    texture = tmp_path / "t.png"
+    texture.write_bytes(b"x")
+    floor = replace(room.scene.floor, texture=str(texture))
+    changed = replace(room, scene=replace(room.scene, floor=floor), appearance=tmp_path)
+    whats = [i.what for i in changed.inputs()]
+    assert "the scenario's world.floor.texture" in whats
+    assert "the scenario's world.appearance (a learned appearance)" in whats
+    assert [i.folder for i in changed.inputs() if "appearance" in i.what] == [True]

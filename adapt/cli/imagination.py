@@ -22,8 +22,9 @@ import json
 from pathlib import Path
 from typing import Any, Iterable
 
+from adapt.cli.values import seed_number
 from adapt.errors import AdaptError, ImaginationError
-from adapt.files import Output, atomic_path, check_outputs, write_output
+from adapt.files import Output, check_outputs, write_output
 
 #: Most frames ``imagine --video`` writes (20 minutes at 30 frames/s).
 MAX_VIDEO_FRAMES = 36_000
@@ -43,7 +44,7 @@ def register(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None
                    help="simulated time to render (default 0)")
     p.add_argument("--labels", metavar="LABELS.png",
                    help="also write the label image (16-bit PNG of object ids)")
-    p.add_argument("--seed", type=int, default=None, metavar="N",
+    p.add_argument("--seed", type=seed_number, default=None, metavar="N",
                    help="random seed (default: the scenario's seed)")
     p.set_defaults(func=_render)
 
@@ -60,34 +61,15 @@ def register(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None
     q.add_argument("--samples", type=int, default=None, metavar="N",
                    help="number of evenly spaced trajectory samples (default: 10 per second + 1)")
     q.add_argument("--body", default=None, metavar="NAME", help="ball to follow (default: the first)")
-    q.add_argument("--seed", type=int, default=None, metavar="N",
+    q.add_argument("--seed", type=seed_number, default=None, metavar="N",
                    help="random seed (default: the scenario's seed)")
     q.set_defaults(func=_imagine)
 
 
-def _inputs(sc: Any) -> list[tuple[str, Path]]:
-    """The files a scenario reads: the YAML and its texture files."""
-    found: list[tuple[str, Path]] = []
-    if sc.path is not None:
-        found.append(("the scenario", Path(sc.path)))
-    scene = sc.scene
-    refs = [scene.floor.texture] + [w.texture for w in scene.walls]
-    refs += [o.texture for o in scene.obstacles] + [b.texture for b in scene.balls]
-    for ref in refs:
-        if ref is not None and not ref.startswith("builtin:"):
-            found.append(("a texture of the scenario", Path(ref)))
-    return found
-
-
-def _check_outputs(outputs: Iterable[tuple[str, Path]], inputs: Iterable[tuple[str, Path]]) -> None:
+def _check_outputs(outputs: Iterable[tuple[str, Path]], inputs: Any) -> None:
     """Refuse, before any work, outputs that would collide, replace an input, or
     cannot be written (:func:`adapt.files.check_outputs`)."""
     check_outputs([Output(option, path) for option, path in outputs], inputs)
-
-
-def _write(path: Path, data: bytes, option: str) -> None:
-    """Write atomically, creating missing folders; errors name the output, never a temporary file."""
-    write_output(Output(option, path), data)
 
 
 def _check_image_path(path: Path, option: str, sixteen_bit: bool = False) -> None:
@@ -105,16 +87,6 @@ def _check_image_path(path: Path, option: str, sixteen_bit: bool = False) -> Non
     if not ext or not cv2.haveImageWriter(f"x{ext}"):
         raise AdaptError(f"{option} {str(path)!r}: cannot write images of type "
                          f"{ext or '(no extension)'!r}; expected .png, .jpg, .bmp or .tif")
-
-
-def _encode(path: Path, image: Any) -> bytes:
-    import cv2
-
-    ext = path.suffix.lower() or ".png"
-    ok, buf = cv2.imencode(ext, image)
-    if not ok:
-        raise AdaptError(f"cannot encode an image as {ext!r} for {str(path)!r}")
-    return bytes(buf)
 
 
 def _world(sc: Any, dt: float | None, seed: int | None, option: str = "--dt") -> Any:
@@ -136,6 +108,7 @@ def _render(args: argparse.Namespace) -> int:
 
     from adapt.imagination import Renderer
     from adapt.scenario import load_scenario
+    from adapt.vision.images import encode_image
 
     sc = load_scenario(args.scenario)
     if not (math.isfinite(args.t) and args.t >= 0):
@@ -145,110 +118,102 @@ def _render(args: argparse.Namespace) -> int:
     if args.labels:
         _check_image_path(Path(args.labels), "--labels", sixteen_bit=True)
         outputs.append(("--labels", Path(args.labels)))
-    _check_outputs(outputs, _inputs(sc))
+    _check_outputs(outputs, sc.inputs())
     world = _world(sc, None, sc.seed if args.seed is None else args.seed)
     world.steps_for(args.t, "--t")  # refuses, before any work, a time too far ahead
     world.run_until(args.t)
     out = Renderer(sc.scene, sc.camera).render(world.snapshot(), balls=world.balls)
-    target = Path(args.out)
-    encoded = [(target, _encode(target, out.image), "--out")]
+    encoded = [(Output("--out", Path(args.out)), encode_image(args.out, out.image))]
     if args.labels:
-        lpath = Path(args.labels)
-        encoded.append((lpath, _encode(lpath, out.labels.astype(np.uint16)), "--labels"))
-    for path, data, option in encoded:
-        _write(path, data, option)
-    print(f"wrote {target} ({sc.camera.width}x{sc.camera.height}, t={world.time:.4f} s)")
+        encoded.append((Output("--labels", Path(args.labels)),
+                        encode_image(args.labels, out.labels.astype(np.uint16))))
+    for output, data in encoded:
+        write_output(output, data)
+    print(f"wrote {args.out} ({sc.camera.width}x{sc.camera.height}, t={world.time:.4f} s)")
     return 0
 
 
 def _imagine(args: argparse.Namespace) -> int:
-    import math
-
-    import numpy as np
-
-    from adapt.imagination import MAX_SAMPLES, intercept, intercept_reach, rollout
+    from adapt.imagination.outlook import look_ahead
     from adapt.scenario import load_scenario
 
     sc = load_scenario(args.scenario)
+    _check_imagine_args(args)
+    video = Path(args.video) if args.video else None
+    if video is not None:
+        _check_video(video, args.fps, args.horizon)
+        _check_outputs([("--video", video)], sc.inputs())
+    seed = sc.seed if args.seed is None else args.seed
+    world = _world(sc, args.dt, seed)
+    outlook = look_ahead(world, args.horizon, samples=args.samples, body=args.body,
+                         what="--horizon")
+    result = _outlook_json(args, outlook, seed)
+    if video is not None:
+        result["video"] = _write_video(video, sc, world, args.horizon, args.fps)
+    if args.json:
+        print(json.dumps(result))
+        return 0
+    for line in _outlook_lines(args, outlook, result):
+        print(line)
+    return 0
+
+
+def _check_imagine_args(args: argparse.Namespace) -> None:
+    import math
+
+    from adapt.imagination import MAX_SAMPLES
+
     if not (math.isfinite(args.horizon) and args.horizon > 0):
         raise ImaginationError(f"--horizon must be a positive number of seconds, got {args.horizon}")
     if args.dt is not None and not args.dt > 0:
         raise ImaginationError(f"--dt must be a positive number of seconds, got {args.dt}")
     if args.samples is not None and not 1 <= args.samples <= MAX_SAMPLES:
         raise ImaginationError(f"--samples must be from 1 to {MAX_SAMPLES:,}, got {args.samples}")
-    video = Path(args.video) if args.video else None
-    if video is not None:
-        _check_video(video, args.fps, args.horizon)
-        _check_outputs([("--video", video)], _inputs(sc))
-    seed = sc.seed if args.seed is None else args.seed
-    world = _world(sc, args.dt, seed)
-    steps = world.steps_for(args.horizon, "--horizon")
-    n = args.samples if args.samples is not None else min(int(round(args.horizon * 10)) + 1,
-                                                          MAX_SAMPLES)
-    times = list(np.linspace(0.0, args.horizon, n)) if n > 1 else [args.horizon]
-    path = rollout(world, args.horizon, times=times, body=args.body)
-    hit = None
-    robot = sc.scene.robot
-    if robot is not None:
-        # Every step, or as many evenly spaced samples as a rollout keeps.
-        fine = min(steps + 1, MAX_SAMPLES)
-        dense = rollout(world, args.horizon, body=path.body,
-                        times=None if fine == steps + 1 else list(np.linspace(0.0, args.horizon, fine)))
-        hit = intercept(dense, robot.position, robot.max_speed, robot.max_accel,
-                        reach=intercept_reach(sc.scene.ball(path.body), robot))
-    result: dict[str, Any] = {
-        "scenario": str(args.scenario),
-        "body": path.body,
-        "dt": world.dt,
-        "seed": seed,
+
+
+def _outlook_json(args: argparse.Namespace, outlook: Any, seed: int | None) -> dict[str, Any]:
+    path, hit = outlook.path, outlook.meeting
+    return {
+        "scenario": str(args.scenario), "body": path.body, "dt": outlook.dt, "seed": seed,
         "horizon": args.horizon,
-        "contacts": [
-            {"t": c.time, "position": list(c.position), "surface": c.surface, "ball": c.ball,
-             "speed": c.speed}
-            for c in path.contacts
-        ],
-        "trajectory": [
-            {"t": float(t), "position": p.tolist(), "velocity": v.tolist()}
-            for t, p, v in zip(path.times, path.positions, path.velocities)
-        ],
+        "contacts": [{"t": c.time, "position": list(c.position), "surface": c.surface,
+                      "ball": c.ball, "speed": c.speed} for c in path.contacts],
+        "trajectory": [{"t": float(t), "position": p.tolist(), "velocity": v.tolist()}
+                       for t, p, v in zip(path.times, path.positions, path.velocities)],
         "intercept": None if hit is None else {
             "t": hit.time, "position": list(hit.position), "travel": hit.travel,
-            "robot": robot.name if robot else None,
-        },
+            "robot": outlook.robot},
     }
-    if video is not None:
-        result["video"] = _write_video(video, sc, world, args.horizon, args.fps)
-    if args.json:
-        print(json.dumps(result))
-        return 0
-    print(f"{path.body}: {len(path.contacts)} contact(s) within {args.horizon:g} s "
-          f"(dt = {world.dt:.6g} s)")
+
+
+def _outlook_lines(args: argparse.Namespace, outlook: Any, result: dict[str, Any]) -> list[str]:
+    path, hit, robot = outlook.path, outlook.meeting, outlook.robot
+    lines = [f"{path.body}: {len(path.contacts)} contact(s) within {args.horizon:g} s "
+             f"(dt = {outlook.dt:.6g} s)"]
     for c in result["contacts"]:
         x, y = c["position"]
-        print(f"  t={c['t']:7.3f} s  hit {c['surface']:<12} at ({x:+.3f}, {y:+.3f}) m"
-              f"  speed {c['speed']:.3f} m/s")
-    print("predicted positions:")
+        lines.append(f"  t={c['t']:7.3f} s  hit {c['surface']:<12} at ({x:+.3f}, {y:+.3f}) m"
+                     f"  speed {c['speed']:.3f} m/s")
+    lines.append("predicted positions:")
     for s in result["trajectory"]:
         (x, y), (vx, vy) = s["position"], s["velocity"]
-        print(f"  t={s['t']:7.3f} s  ({x:+.3f}, {y:+.3f}) m  v=({vx:+.3f}, {vy:+.3f}) m/s")
-    if robot is not None:
-        if hit is None:
-            print(f"intercept: {robot.name} cannot reach {path.body} within {args.horizon:g} s")
-        else:
-            print(f"intercept: {robot.name} meets {path.body} at t={hit.time:.3f} s at "
-                  f"({hit.position[0]:+.3f}, {hit.position[1]:+.3f}) m after {hit.travel:.3f} m")
-    if video is not None:
-        print(f"wrote {args.video} ({result['video']['frames']} frames)")
-    return 0
-
-
-_CODECS = {".mp4": "mp4v", ".avi": "MJPG"}
+        lines.append(f"  t={s['t']:7.3f} s  ({x:+.3f}, {y:+.3f}) m  v=({vx:+.3f}, {vy:+.3f}) m/s")
+    if robot is not None and hit is None:
+        lines.append(f"intercept: {robot} cannot reach {path.body} within {args.horizon:g} s")
+    elif robot is not None:
+        lines.append(f"intercept: {robot} meets {path.body} at t={hit.time:.3f} s at "
+                     f"({hit.position[0]:+.3f}, {hit.position[1]:+.3f}) m after {hit.travel:.3f} m")
+    if "video" in result:
+        lines.append(f"wrote {args.video} ({result['video']['frames']} frames)")
+    return lines
 
 
 def _check_video(path: Path, fps: float, horizon: float) -> None:
     import math
 
-    if path.suffix.lower() not in _CODECS:
+    from adapt.frames import VIDEO_CODECS
+
+    if path.suffix.lower() not in VIDEO_CODECS:
         raise AdaptError(f"--video {str(path)!r}: expected a .mp4 or .avi file name")
     if not (math.isfinite(fps) and 0 < fps <= MAX_FPS):
         raise AdaptError(f"--fps must be a positive number up to {MAX_FPS:g}, got {fps}")
@@ -259,26 +224,15 @@ def _check_video(path: Path, fps: float, horizon: float) -> None:
 
 
 def _write_video(path: Path, sc: Any, world: Any, horizon: float, fps: float) -> dict[str, Any]:
-    import cv2
+    from adapt.frames import VideoSink
+    from adapt.imagination.outlook import frames_ahead
 
-    from adapt.imagination import Renderer
-
-    ext = path.suffix.lower()
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with atomic_path(path, suffix=ext) as tmp:
-            writer = cv2.VideoWriter(tmp, cv2.VideoWriter_fourcc(*_CODECS[ext]), fps,  # type: ignore[attr-defined]
-                                     (sc.camera.width, sc.camera.height))
-            if not writer.isOpened():
-                raise AdaptError(f"--video {str(path)!r}: OpenCV cannot write {ext} video here")
-            renderer = Renderer(sc.scene, sc.camera)
-            fork = world.fork()
-            frames = int(horizon * fps) + 1
-            t0 = fork.time
-            for k in range(frames):
-                fork.run_until(t0 + k / fps)
-                writer.write(renderer.render(fork.snapshot(), balls=fork.balls).image)
-            writer.release()
+        with VideoSink(path, fps, (sc.camera.width, sc.camera.height)) as sink:
+            for image in frames_ahead(world, sc.camera, horizon, fps):
+                sink.write(image)
     except OSError as exc:
         raise AdaptError(f"--video {str(path)!r}: cannot write it ({exc.strerror or exc})") from None
-    return {"path": str(path), "frames": frames, "fps": fps}
+    except AdaptError as exc:
+        raise AdaptError(f"--video {str(path)!r}: {exc}") from None
+    return {"path": str(path), "frames": sink.frames, "fps": fps}

@@ -6,8 +6,9 @@ one-line summary -- or, with ``--json``, one JSON object with the run report's
 keys.  Ctrl-C stops the run and still prints the summary (or the report) of
 what ran.  Each way a run can end has its exit status (:func:`run_status`,
 ``docs/cli.md``).  ``--trace PATH`` is checked before the rules are loaded (a
-``.jsonl`` file name that is not one of the rule files; missing folders are
-made) and written as the run goes.
+``.jsonl`` file name that is not one of the rule files), again once they are
+(nor a file they ``source``), and written as the run goes (missing folders are
+made).
 
 ``adapt rules check FILE...`` parses every file (an agent's top file: its
 ``source`` lines are followed) and prints its first positioned error or its
@@ -21,6 +22,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Sequence
 from typing import Any
 
 from adapt.cli.exits import Exit
@@ -121,13 +123,14 @@ class _Echo:
             self.open_line = False
 
 
-def _check_trace(args: argparse.Namespace) -> Any:
-    """Refuse, before any rule is loaded, a ``--trace`` that cannot be written or
-    is a rule file; return it as an :class:`adapt.files.Output`."""
+def _check_trace(args: argparse.Namespace, read: Sequence[str] = ()) -> Any:
+    """Refuse a ``--trace`` that cannot be written, is a rule file or a file the rules
+    ``source`` (``read``: every file loaded); return it as an :class:`adapt.files.Output`."""
     from adapt.files import Output, check_outputs
 
     out = Output("--trace", args.trace, TRACE_SUFFIXES)
-    check_outputs([out], [("a rule file of the run", f) for f in args.files])
+    check_outputs([out], [("a rule file of the run", f) for f in args.files]
+                  + [("a file sourced by the rule files", f) for f in read])
     return out
 
 
@@ -143,25 +146,8 @@ def run_command(args: argparse.Namespace) -> int:
     echo = _Echo()
     if not args.json:
         agent.on_write(echo)
-    ctrl_c = False
-    failure: EngineError | None = None
     try:
-        loaded = sum(len(agent.load_file(path).productions) for path in args.files)
-        if loaded == 0:
-            print("warning: the rule files hold no productions; the run will only make "
-                  "state no-change impasses", file=sys.stderr)
-        for warning in agent.warnings:
-            print(_warning_line(warning), file=sys.stderr)
-        if trace is not None:  # the rules loaded: now make the trace's folder
-            from adapt.files import make_folder
-
-            make_folder(trace)
-        try:
-            agent.run(args.max_decisions)
-        except KeyboardInterrupt:
-            ctrl_c = True
-        except EngineError as exc:  # a rule's action failed at run time
-            failure = exc
+        ctrl_c, failure = _load_and_run(args, agent, trace)
     finally:
         agent.close()
     report = agent.report()
@@ -175,6 +161,29 @@ def run_command(args: argparse.Namespace) -> int:
     if failure is not None:
         print(f"adapt: error: {failure}", file=sys.stderr)
     return int(status)
+
+
+def _load_and_run(args: argparse.Namespace, agent: Any, trace: Any
+                  ) -> tuple[bool, EngineError | None]:
+    """Load the files (warnings to standard error), then run: (interrupted, a rule's
+    failure at run time)."""
+    loaded = sum(len(agent.load_file(path).productions) for path in args.files)
+    if loaded == 0:
+        print("warning: the rule files hold no productions; the run will only make "
+              "state no-change impasses", file=sys.stderr)
+    for warning in agent.warnings:
+        print(_warning_line(warning), file=sys.stderr)
+    if trace is not None:  # the rules loaded: check the files they sourced, make the folder
+        from adapt.files import make_folder
+
+        make_folder(_check_trace(args, agent.files))
+    try:
+        agent.run(args.max_decisions)
+    except KeyboardInterrupt:
+        return True, None
+    except EngineError as exc:  # a rule's action failed at run time
+        return False, exc
+    return False, None
 
 
 def _print_outcome(args: argparse.Namespace, report: Any, echo: _Echo, ctrl_c: bool,
@@ -231,25 +240,13 @@ def check_command(args: argparse.Namespace) -> int:
 
 
 def _join_orders(rules: Any) -> list[str]:
-    """Each production's conditions in join order, numbered as written (1-based),
-    with the ``multi-attributes`` hints in force when it is loaded."""
-    from adapt.engine.conditions import evaluation_order
-    from adapt.engine.reorder import join_order
+    """Each production's conditions in join order, numbered as written (1-based)."""
+    from adapt.engine.joins import join_orders
     from adapt.traceview.conditions import condition_text
 
-    hints: dict[str, int] = {}
-    settings = list(rules.settings)
     lines: list[str] = []
-    k = 0
-    for i, p in enumerate(rules.productions):
-        while k < len(settings) and settings[k][0] <= i:
-            setting = settings[k][1]
-            if setting.kind == "multi-attributes" and setting.name is not None:
-                hints[setting.name] = int(setting.value)
-            k += 1
-        conds = p.conditions
-        order = evaluation_order(conds, (), join_order(conds, (), hints))
+    for p, order in join_orders(rules):
         moved = "" if order == sorted(order) else "  (reordered)"
         lines.append(f"  sp {p.name}{moved}")
-        lines.extend(f"    {n + 1:>3}  {condition_text(conds[n])}" for n in order)
+        lines.extend(f"    {n + 1:>3}  {condition_text(p.conditions[n])}" for n in order)
     return lines

@@ -22,6 +22,7 @@ from typing import Any
 
 from adapt.cli.exits import Exit
 from adapt.cli.progress import ProgressLine
+from adapt.cli.values import folder_name, seed_number
 from adapt.errors import AdaptError
 
 __all__ = ["register"]
@@ -34,9 +35,10 @@ def register(sub: Any) -> None:
                        "and write its report, trace, MMD video and figures.")
     p.add_argument("scenario", metavar="SCENARIO.yaml")
     _overrides(p)
-    p.add_argument("--out", metavar="DIR", help="output folder (default runs/<scenario name>)")
-    p.add_argument("--seed", type=int, default=None, metavar="N",
-                   help="random seed (default: the scenario's)")
+    p.add_argument("--out", metavar="DIR", type=folder_name,
+                   help="output folder (default runs/<scenario name>)")
+    p.add_argument("--seed", type=seed_number, default=None, metavar="N",
+                   help="random seed, an integer >= 0 (default: the scenario's)")
     p.add_argument("--max-frames", type=int, default=None, metavar="N",
                    help="stop after N frames (default: the scenario's run section)")
     p.add_argument("--trace-level", type=int, default=None, choices=range(1, 6), metavar="1..5",
@@ -71,15 +73,10 @@ class _ProgressLine(ProgressLine):
         self.show(text)
 
 
-def _run(args: argparse.Namespace) -> int:
+def _outputs(args: argparse.Namespace, sc: Any) -> Any:
+    """The scenario's outputs with the command line's changes."""
     from dataclasses import replace
 
-    from adapt.runner import Runner
-    from adapt.scenario import load_scenario
-
-    sc = load_scenario(args.scenario, overrides=args.overrides)
-    if args.max_frames is not None and args.max_frames < 1:
-        raise AdaptError(f"--max-frames must be at least 1, got {args.max_frames}")
     outputs = sc.outputs
     if args.trace_level is not None:
         outputs = replace(outputs, trace_level=args.trace_level)
@@ -87,24 +84,41 @@ def _run(args: argparse.Namespace) -> int:
         outputs = replace(outputs, video=False)
     if args.no_figures:
         outputs = replace(outputs, figures=False)
-    out = Path(args.out) if args.out else Path("runs") / Path(args.scenario).stem
-    bar = _ProgressLine(sys.stderr) if sys.stderr.isatty() and not args.quiet else None
+    return outputs
 
-    closed = []  # type: ignore[var-annotated]
 
-    def on_write(text: str) -> None:
-        if args.quiet or args.json or closed:
+class _Writes:
+    """The rules' ``(write ...)`` text on standard output, as it happens (the progress line
+    cleared first; a closed pipe stops the echo, not the run)."""
+
+    def __init__(self, bar: _ProgressLine | None, show: bool) -> None:
+        self.bar = bar
+        self.show = show
+
+    def __call__(self, text: str) -> None:
+        if not self.show:
             return
-        if bar is not None:
-            bar.clear()
+        if self.bar is not None:
+            self.bar.clear()
         try:
             sys.stdout.write(text)
             sys.stdout.flush()
         except BrokenPipeError:  # the reader went away (| head): the run goes on
-            closed.append(True)
+            self.show = False
 
-    runner = Runner(sc, out=out, seed=args.seed, max_frames=args.max_frames, outputs=outputs,
-                    on_progress=bar, on_write=on_write)
+
+def _run(args: argparse.Namespace) -> int:
+    from adapt.runner import Runner
+    from adapt.scenario import load_scenario
+
+    sc = load_scenario(args.scenario, overrides=args.overrides)
+    if args.max_frames is not None and args.max_frames < 1:
+        raise AdaptError(f"--max-frames must be at least 1, got {args.max_frames}")
+    out = Path(args.out) if args.out else Path("runs") / Path(args.scenario).stem
+    bar = _ProgressLine(sys.stderr) if sys.stderr.isatty() and not args.quiet else None
+    runner = Runner(sc, out=out, seed=args.seed, max_frames=args.max_frames,
+                    outputs=_outputs(args, sc), on_progress=bar,
+                    on_write=_Writes(bar, not (args.quiet or args.json)))
     try:
         result = runner.run()
     finally:
@@ -113,80 +127,97 @@ def _run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(result.summary))
     else:
-        _print_summary(result, sc)
+        for line in summary_lines(result.summary):
+            print(line)
+        for path in result.outputs.values():
+            print(f"wrote {path}")
     return int(Exit.INTERRUPTED) if result.interrupted else int(Exit.OK)
 
 
-def _print_summary(result: Any, sc: Any) -> None:
-    s = result.summary
+def summary_lines(s: dict[str, Any]) -> list[str]:
+    """The short summary a run ends with, from its summary (``report.json``'s)."""
     state = "interrupted after" if s["interrupted"] else "ran"
-    print(f"{state} {s['frames']} frames ({s['simulated_s']:.2f} s of reality) in "
-          f"{s['wall_s']:.1f} s: {s['frames_per_s']} frames/s")
     ev = s["events"]
-    print(f"schemas: {', '.join(s['schemas']) or 'none'} "
-          f"({ev.get('instantiated', 0)} instantiated top-down, {ev.get('spawned', 0)} spawned "
-          f"bottom-up, {ev.get('rejected', 0)} commands rejected)")
-    if s.get("camera_position_error_m") or s.get("camera_rotation_error_deg"):
-        pos = s["camera_position_error_m"]
-        rot = s["camera_rotation_error_deg"]
-        if pos and rot:
-            print(f"camera vs truth at the end: {100 * pos['last']:.2f} cm, {rot['last']:.3f} deg")
+    lines = [f"{state} {s['frames']} frames ({s['simulated_s']:.2f} s of reality) in "
+             f"{s['wall_s']:.1f} s: {s['frames_per_s']} frames/s",
+             f"schemas: {', '.join(s['schemas']) or 'none'} "
+             f"({ev.get('instantiated', 0)} instantiated top-down, {ev.get('spawned', 0)} spawned "
+             f"bottom-up, {ev.get('rejected', 0)} commands rejected)"]
+    pos, rot = s.get("camera_position_error_m"), s.get("camera_rotation_error_deg")
+    if pos and rot:
+        lines.append(f"camera vs truth at the end: {100 * pos['last']:.2f} cm, "
+                     f"{rot['last']:.3f} deg")
+    return lines + _tracking_lines(s) + _intercept_lines(s) + _prediction_lines(s)
+
+
+def _tracking_lines(s: dict[str, Any]) -> list[str]:
+    lines = []
     for name, e in (s.get("tracking_error_m") or {}).items():
         if e:
-            print(f"{name}: observed vs truth median {100 * e['median']:.1f} cm (p90 "
-                  f"{100 * e['p90']:.1f} cm)")
+            lines.append(f"{name}: observed vs truth median {100 * e['median']:.1f} cm (p90 "
+                         f"{100 * e['p90']:.1f} cm)")
     for name, e in (s.get("imagination_error_m") or {}).items():
         u = (s.get("uncorrected_error_m") or {}).get(name)
         if e:
-            print(f"{name}: imagined vs truth median {100 * e['median']:.1f} cm (p90 "
-                  f"{100 * e['p90']:.1f} cm)"
-                  + (f"; uncorrected {100 * u['median']:.1f} cm" if u else ""))
+            lines.append(f"{name}: imagined vs truth median {100 * e['median']:.1f} cm (p90 "
+                         f"{100 * e['p90']:.1f} cm)"
+                         + (f"; uncorrected {100 * u['median']:.1f} cm" if u else ""))
+    return lines
+
+
+def _intercept_lines(s: dict[str, Any]) -> list[str]:
     icpt = s.get("intercept")
-    if icpt:
-        base = s.get("baseline") or {}
-        reach = "" if icpt.get("reachable") is not False else " (out of reach of this robot)"
-        mine = (f"caught {icpt['object']} at t={icpt['t']:.2f} s" if icpt["caught"]
-                else f"did not catch {icpt['object']}{reach}")
-        theirs = (f"at t={base['t']:.2f} s" if base.get("caught") else "did not")
-        print(f"intercept: {mine}; the Kalman baseline's robot {theirs}"
-              + (" catch it" if not base.get("caught") else ""))
+    if not icpt:
+        return []
+    base = s.get("baseline") or {}
+    reach = "" if icpt.get("reachable") is not False else " (out of reach of this robot)"
+    mine = (f"caught {icpt['object']} at t={icpt['t']:.2f} s" if icpt["caught"]
+            else f"did not catch {icpt['object']}{reach}")
+    theirs = (f"at t={base['t']:.2f} s" if base.get("caught") else "did not")
+    return [f"intercept: {mine}; the Kalman baseline's robot {theirs}"
+            + (" catch it" if not base.get("caught") else "")]
+
+
+def _prediction_lines(s: dict[str, Any]) -> list[str]:
+    lines = []
     for horizon, by in sorted((s.get("prediction_error_m") or {}).items()):
         m, b = by.get("mirror") or {}, by.get("baseline") or {}
         for kind, label in (("bounce", "with a bounce"), ("no_bounce", "without")):
             mm, bm = m.get(f"{kind}_median"), b.get(f"{kind}_median")
             if mm is not None:
                 beside = "" if bm is None else f", Kalman baseline {100 * bm:.1f} cm"
-                print(f"prediction {horizon} s ahead, {label}: mirror {100 * mm:.1f} cm"
-                      f"{beside} (median of {m.get(kind + '_n')})")
+                lines.append(f"prediction {horizon} s ahead, {label}: mirror {100 * mm:.1f} cm"
+                             f"{beside} (median of {m.get(kind + '_n')})")
     conf = s.get("confidence")
     if conf and conf.get("within_reach") is not None:
-        print(f"confident predictions ({conf['threshold']} at {conf['horizon']:g} s): "
-              f"{100 * conf['within_reach']:.0f}% of {conf['confident']} within the catch reach")
-    for path in result.outputs.values():
-        print(f"wrote {path}")
+        lines.append(f"confident predictions ({conf['threshold']} at {conf['horizon']:g} s): "
+                     f"{100 * conf['within_reach']:.0f}% of {conf['confident']} within the "
+                     "catch reach")
+    return lines
 
 
 def _check(args: argparse.Namespace) -> int:
-    from adapt.engine.functions import default_functions
-    from adapt.engine.parse import load_rule_file
-    from adapt.errors import RuleError
+    from adapt.runner import check_scenario, run_length
     from adapt.scenario import load_scenario
-    from adapt.schemas import check_settings
 
     sc = load_scenario(args.scenario, overrides=args.overrides)
-    check_settings(sc.schemas)
-    table = default_functions()
-    rules = []
-    for rf in sc.rules:
-        try:
-            loaded = load_rule_file(rf.path, functions=table)
-        except RuleError as exc:
-            raise type(exc)(f"{exc.message} (a rule file of the scenario, {rf.source.location}: "
-                            f"{rf.source.path})", file=exc.file, line=exc.line, col=exc.col,
-                            source_line=exc.source_line) from None
-        rules.append((str(rf.path), len(loaded.productions), list(loaded.warnings)))
-    found = {
-        "scenario": args.scenario,
+    found = check_scenario(sc)
+    length = run_length(sc)
+    if args.json:
+        print(json.dumps(_check_json(args.scenario, found, length)))
+        return 0
+    for rule in found.rules:
+        for w in rule.warnings:
+            print(f"warning: {w}", file=sys.stderr)
+    for line in _check_lines(args.scenario, found, length):
+        print(line)
+    return 0
+
+
+def _check_json(name: str, found: Any, length: Any) -> dict[str, Any]:
+    sc = found.scenario
+    return {
+        "scenario": name,
         "camera": {"width": sc.camera.width, "height": sc.camera.height,
                    "mount": sc.mount.kind.value},
         "world": {"walls": len(sc.scene.walls), "obstacles": len(sc.scene.obstacles),
@@ -194,29 +225,29 @@ def _check(args: argparse.Namespace) -> int:
                   "robot": sc.scene.robot is not None},
         "reality": sc.reality.kind.value,
         "goals": [g.name for g in sc.goals],
-        "rules": [{"file": f, "productions": n, "warnings": w} for f, n, w in rules],
+        "rules": [{"file": str(r.path), "productions": r.productions,
+                   "warnings": list(r.warnings)} for r in found.rules],
         "schemas": [s.type for s in sc.schemas],
-        "run": {"fps": sc.run.fps, "frames": sc.run.frames,
+        "run": {"fps": length.fps, "frames": length.frames,
                 "decisions_per_frame": sc.run.decisions_per_frame},
         "seed": sc.seed,
     }
-    if args.json:
-        print(json.dumps(found))
-        return 0
-    for _, _, warnings in rules:
-        for w in warnings:
-            print(f"warning: {w}", file=sys.stderr)
-    objects = ", ".join(f"{o['name']} ({o['create']})" for o in found["world"]["objects"])
-    print(f"{args.scenario}: ok")
-    print(f"  camera {sc.camera.width}x{sc.camera.height}, {sc.mount.kind.value}; world: "
-          f"{len(sc.scene.walls)} walls, {len(sc.scene.obstacles)} obstacles, objects: "
-          f"{objects or 'none'}{', a robot' if sc.scene.robot else ''}")
-    print(f"  reality: {sc.reality.kind.value}; {sc.run.frames} frames at {sc.run.fps:g} frames/s, "
-          f"{sc.run.decisions_per_frame} decisions per frame; seed {sc.seed}")
-    print(f"  goals: {', '.join(found['goals']) or 'none'}; schema settings: "
-          f"{', '.join(found['schemas']) or 'none'}")
-    for f, n, _ in rules:
-        print(f"  rules: {f}: {n} production{'' if n == 1 else 's'}")
-    if not rules:
-        print("  rules: none (the run will instantiate no schemas)")
-    return 0
+
+
+def _check_lines(name: str, found: Any, length: Any) -> list[str]:
+    sc = found.scenario
+    objects = ", ".join(f"{m.name} ({m.create.value})" for m in sc.objects)
+    lines = [f"{name}: ok",
+             f"  camera {sc.camera.width}x{sc.camera.height}, {sc.mount.kind.value}; world: "
+             f"{len(sc.scene.walls)} walls, {len(sc.scene.obstacles)} obstacles, objects: "
+             f"{objects or 'none'}{', a robot' if sc.scene.robot else ''}",
+             f"  reality: {sc.reality.kind.value}; {length.frames} frames at {length.fps:g} "
+             f"frames/s, {sc.run.decisions_per_frame} decisions per frame; seed {sc.seed}",
+             f"  goals: {', '.join(g.name for g in sc.goals) or 'none'}; schema settings: "
+             f"{', '.join(s.type for s in sc.schemas) or 'none'}"]
+    for r in found.rules:
+        lines.append(f"  rules: {r.path}: {r.productions} "
+                     f"production{'' if r.productions == 1 else 's'}")
+    if not found.rules:
+        lines.append("  rules: none (the run will instantiate no schemas)")
+    return lines

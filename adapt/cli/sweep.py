@@ -18,6 +18,7 @@ from typing import Any
 
 from adapt.cli.exits import Exit
 from adapt.cli.progress import ProgressLine
+from adapt.cli.values import folder_name
 
 __all__ = ["register"]
 
@@ -48,7 +49,8 @@ def register(sub: Any) -> None:
     where.add_argument("--scheduler", default=None, metavar="ADDRESS",
                        help="a running Dask scheduler (tcp://host:8786) or its scheduler file "
                        "(.json) instead of the embedded cluster")
-    p.add_argument("--out", metavar="DIR", help="output folder (default sweeps/<scenario name>)")
+    p.add_argument("--out", metavar="DIR", type=folder_name,
+                   help="output folder (default sweeps/<scenario name>)")
     p.add_argument("--max-frames", type=int, default=None, metavar="N",
                    help="stop each run after N frames (default: the scenario's run section)")
     p.add_argument("--keep-outputs", action="store_true",

@@ -42,11 +42,11 @@ import math
 import sys
 import time
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Iterable, Sequence
 
 from adapt.cli.exits import Exit
 from adapt.errors import AdaptError, ImageError, VisionError
-from adapt.files import Output, check_outputs, write_atomic
+from adapt.files import Input, Inputs, Output, check_outputs, write_atomic
 
 __all__ = ["register"]
 
@@ -88,11 +88,14 @@ def register(sub: Any) -> None:
     s.set_defaults(func=_run_sync)
 
 
-def _refuse_overwriting(inputs: Sequence[tuple[str, str]], outputs: Sequence[Path]) -> None:
-    """Raise before anything is written if an output is an input or cannot be written
-    (:func:`adapt.files.check_outputs`; the folder is created later)."""
+def _refuse_overwriting(inputs: Sequence[tuple[str, str]], outputs: Sequence[Path],
+                        more: Iterable[Input] = ()) -> None:
+    """Raise before anything is written if an output is an input (``more``: a scenario's
+    own) or cannot be written (:func:`adapt.files.check_outputs`; the folder is created
+    later)."""
     check_outputs([Output("--out", p, (p.suffix,)) for p in outputs],
-                  [(f"the input {path!r} ({what})", path) for what, path in inputs])
+                  Inputs([*(Input(f"the input {path!r} ({what})", Path(path))
+                            for what, path in inputs), *more]))
 
 
 def _out_dir(path: str | None) -> Path | None:
@@ -209,52 +212,23 @@ def _strip(path: Path, real: Any, step: Any) -> Path:
     return write_strip(path, [row], title=title)
 
 
-def _camera_keys(camera: Any, scenario: Any) -> dict[str, Any]:
-    """The scenario's ``camera`` keys of ``camera`` (and its world rotation).
-
-    The ``look_at`` is put at the distance of the scenario's own, so the two
-    are easy to compare (any point on the viewing axis gives the same camera);
-    for a camera on the robot, ``position`` and ``look_at`` are given in the
-    robot's frame at its starting pose, as the scenario writes them."""
-    import numpy as np
-
-    from adapt.geometry import look_at_parameters
-
-    mount = scenario.mount
-    distance = float(np.linalg.norm(np.subtract(mount.look_at, mount.position)))
-    target, roll = look_at_parameters(camera.rotation, camera.position, distance if distance > 0 else 1.0)
-    position = np.asarray(camera.position, float)
-    robot = scenario.scene.robot
-    on_robot = getattr(mount.kind, "value", "fixed") == "robot" and robot is not None
-    if on_robot:  # world -> robot frame (the inverse of CameraMount.world_pose)
-        a = math.radians(robot.heading_deg)
-        rot = np.array([[math.cos(a), -math.sin(a), 0.0], [math.sin(a), math.cos(a), 0.0], [0.0, 0.0, 1.0]])
-        offset = np.array([robot.position[0], robot.position[1], 0.0])
-        position, target = rot.T @ (position - offset), rot.T @ (target - offset)
-    keys: dict[str, Any] = {
-        "fx": float(camera.fx), "fy": float(camera.fy), "cx": float(camera.cx), "cy": float(camera.cy),
-        "width": int(camera.width), "height": int(camera.height),
-        "position": [round(float(v), 6) + 0.0 for v in position],  # + 0.0: no "-0.0"
-        "look_at": [round(float(v), 6) + 0.0 for v in target],
-        "roll_deg": round(roll, 5) + 0.0,
-    }
-    if on_robot:
-        keys["mount"] = "robot"
-    keys["rotation"] = np.round(camera.rotation, 8).tolist()
-    return keys
+def _check_sync_args(args: argparse.Namespace) -> None:
+    if not 0.0 < args.gain <= 1.0:
+        raise VisionError(f"--gain must be in (0, 1], got {args.gain}")
+    if args.max_iter < 1:
+        raise VisionError(f"--max-iter must be at least 1, got {args.max_iter}")
+    if args.max_iter > 1000:
+        raise VisionError(f"--max-iter must be at most 1000, got {args.max_iter}")
+    if args.tolerance is not None and not (math.isfinite(args.tolerance) and args.tolerance > 0):
+        raise VisionError(f"--tolerance must be a positive number of pixels, got {args.tolerance}")
 
 
-def _camera_yaml(keys: dict[str, Any], converged: bool) -> str:
-    note = ("synchronised with the real image" if converged
-            else "after the last correction (not converged)")
-    lines = [f"camera:                     # {note}: paste over the scenario's camera"]
-    for k in ("fx", "fy", "cx", "cy", "width", "height", "position", "look_at", "roll_deg", "mount"):
-        if k not in keys:
-            continue
-        v = keys[k]
-        text = "[" + ", ".join(repr(x) for x in v) + "]" if isinstance(v, list) else repr(v)
-        lines.append(f"  {k}: {text}")
-    return "\n".join(lines)
+def _step_line(step: Any) -> str:
+    if math.isnan(step.pixel_error):
+        return f"step {step.iteration}: no alignment: {step.result.alignment.reason}"
+    return (f"step {step.iteration}: pixel error {step.pixel_error:.3f} px, "
+            f"{step.n_inliers} inliers ({step.result.matches.method}), "
+            f"correction {step.correction_deg:.3f} deg")
 
 
 def _run_sync(args: argparse.Namespace) -> int:
@@ -264,20 +238,13 @@ def _run_sync(args: argparse.Namespace) -> int:
     from adapt.vision.sync import synchronise
     from adapt.vision.threads import DEFAULT_THREADS, set_threads
 
-    if not 0.0 < args.gain <= 1.0:
-        raise VisionError(f"--gain must be in (0, 1], got {args.gain}")
-    if args.max_iter < 1:
-        raise VisionError(f"--max-iter must be at least 1, got {args.max_iter}")
-    if args.max_iter > 1000:
-        raise VisionError(f"--max-iter must be at most 1000, got {args.max_iter}")
-    if args.tolerance is not None and not (math.isfinite(args.tolerance) and args.tolerance > 0):
-        raise VisionError(f"--tolerance must be a positive number of pixels, got {args.tolerance}")
-    if args.out is not None:
-        outs = [Path(args.out) / f"step_{i:02d}.png" for i in range(args.max_iter)]
-        _refuse_overwriting([("real", args.real), ("scenario", args.scenario)],
-                           outs + [Path(args.out) / "sync.json"])
-    set_threads(DEFAULT_THREADS)
+    _check_sync_args(args)
     scenario = load_scenario(args.scenario)
+    if args.out is not None:  # nothing the scenario names either (its textures)
+        outs = [Path(args.out) / f"step_{i:02d}.png" for i in range(args.max_iter)]
+        _refuse_overwriting([("real", args.real)], outs + [Path(args.out) / "sync.json"],
+                            scenario.inputs())
+    set_threads(DEFAULT_THREADS)
     real = check_image(read_image(args.real), "real", source=args.real)
     cam = scenario.camera
     if real.shape[:2] != (cam.height, cam.width):
@@ -286,56 +253,51 @@ def _run_sync(args: argparse.Namespace) -> int:
             f"camera renders {cam.width}x{cam.height}: use an image of the camera's size"
         )
     out = _out_dir(args.out)
-    renderer = Renderer(scenario.scene, cam)
     progress = sys.stderr if args.json else sys.stdout
 
-    def render(camera: Any) -> Any:
-        return renderer.with_camera(camera).render().image
-
     def on_step(step: Any) -> None:
-        if math.isnan(step.pixel_error):
-            line = f"step {step.iteration}: no alignment: {step.result.alignment.reason}"
-        else:
-            line = (f"step {step.iteration}: pixel error {step.pixel_error:.3f} px, "
-                    f"{step.n_inliers} inliers ({step.result.matches.method}), "
-                    f"correction {step.correction_deg:.3f} deg")
-        print(line, file=progress, flush=True)
+        print(_step_line(step), file=progress, flush=True)
         if out is not None:
             path = _strip(out / f"step_{step.iteration:02d}.png", real, step)
             print(f"wrote {path}", file=progress, flush=True)
 
-    result = synchronise(
-        real, cam, render, gain=args.gain, tolerance=args.tolerance, max_iterations=args.max_iter,
-        full_pose=args.full_pose, on_step=on_step,
-    )
-    try:
-        keys = _camera_keys(result.camera, scenario)
-    except AdaptError:  # a camera looking straight up or down has no look_at / roll
-        import numpy as np
-
-        keys = {"rotation": np.round(result.camera.rotation, 8).tolist(),
-                "position": np.round(result.camera.position, 8).tolist()}
-    data = {
-        "iterations": [s.as_dict() for s in result.steps],
-        "converged": result.converged,
-        "outcome": result.outcome,
-        "reason": result.reason,
-        "camera": keys,
-    }
+    result = synchronise(real, cam, Renderer(scenario.scene, cam).view, gain=args.gain,
+                         tolerance=args.tolerance, max_iterations=args.max_iter,
+                         full_pose=args.full_pose, on_step=on_step)
+    data = _sync_json(result, scenario)
     if out is not None:
         _write_json(out / "sync.json", data)
         print(f"wrote {out / 'sync.json'}", file=progress, flush=True)
     if args.json:
         print(json.dumps(data))
     else:
-        print(("converged: " if result.converged else "not converged: ") + result.reason)
-        moved = result.converged or len(result.steps) > 1 or result.outcome == "iteration limit"
-        if "look_at" in keys and moved:
-            print(_camera_yaml(keys, result.converged))
-        elif moved:
-            print(f"camera rotation {keys['rotation']}, position {keys['position']}")
-    if result.outcome == "converged":
-        return int(Exit.OK)
-    if result.outcome == "no alignment":
-        return int(Exit.NO_ALIGNMENT)
-    return int(Exit.NOT_CONVERGED)
+        _print_sync(result, data["camera"])
+    return int({"converged": Exit.OK, "no alignment": Exit.NO_ALIGNMENT}.get(
+        result.outcome, Exit.NOT_CONVERGED))
+
+
+def _sync_json(result: Any, scenario: Any) -> dict[str, Any]:
+    import numpy as np
+
+    from adapt.scenario.camera import camera_keys
+
+    try:
+        keys = camera_keys(result.camera, scenario)
+    except AdaptError:  # a camera looking straight up or down has no look_at / roll
+        keys = {"rotation": np.round(result.camera.rotation, 8).tolist(),
+                "position": np.round(result.camera.position, 8).tolist()}
+    return {"iterations": [s.as_dict() for s in result.steps], "converged": result.converged,
+            "outcome": result.outcome, "reason": result.reason, "camera": keys}
+
+
+def _print_sync(result: Any, keys: dict[str, Any]) -> None:
+    from adapt.scenario.camera import camera_yaml
+
+    print(("converged: " if result.converged else "not converged: ") + result.reason)
+    moved = result.converged or len(result.steps) > 1 or result.outcome == "iteration limit"
+    if "look_at" in keys and moved:
+        note = ("synchronised with the real image" if result.converged
+                else "after the last correction (not converged)")
+        print(camera_yaml(keys, note))
+    elif moved:
+        print(f"camera rotation {keys['rotation']}, position {keys['position']}")

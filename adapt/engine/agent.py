@@ -19,7 +19,7 @@ Examples
 >>> report.halted, report.decisions, report.output, report.operators
 (True, 3, 'three', [[1, 0, 'count'], [2, 0, 'count'], [3, 0, 'count']])
 >>> print(agent.print_state(depth=1))
-(S1 ^count 3 ^io I1 ^superstate nil ^type state)
+(S1 ^count 3 ^epmem E1 ^io I1 ^reward-link R1 ^smem L1 ^superstate nil ^type state)
 """
 
 from __future__ import annotations
@@ -339,6 +339,9 @@ class Agent:
         elif kind == "multi-attributes":
             assert isinstance(value, int) and setting.name is not None
             self.kernel.multi_attributes[setting.name] = value
+            self.kernel.matcher.constants.add(setting.name)
+        elif kind == "symbols":
+            self.kernel.matcher.constants.add(str(value))
         elif kind == "max-elaborations":
             assert isinstance(value, int)
             self.max_elaborations = value

@@ -28,6 +28,9 @@ level or category)                     prints, not what the agent does
 ``max-goal-depth N`` (``soar ...``)    ``max_goal_depth``
 ``output agent-writes on|off``         whether ``(write ...)`` output is kept
 ``output warnings on|off``             accepted and ignored (printing only)
+``soar wait-snc off`` (``waitsnc       accepted: Soar's default, the only behaviour
+--off``), ``wma -s activation off``    adapt has (state no-change impasses are made;
+                                       no working-memory activation)
 =====================================  ==============================================
 
 Everything else is refused with a positioned
@@ -103,8 +106,10 @@ class Setting:
     """An accepted command that sets something on the agent.
 
     ``kind`` is ``seed``, ``multi-attributes``, ``max-elaborations``,
-    ``max-goal-depth``, ``agent-writes`` or ``echo``; ``name`` is the
-    attribute of a ``multi-attributes`` hint.
+    ``max-goal-depth``, ``agent-writes``, ``echo`` or ``symbols`` (a word
+    Soar's symbol table gets from an ignored command: only the order of
+    constants sees it); ``name`` is the attribute of a ``multi-attributes``
+    hint.
     """
 
     kind: str
@@ -319,6 +324,18 @@ def _on_off(words: tuple[str, ...], k: int) -> bool:
     raise Refusal(f"'{' '.join(words[:k])}' takes 'on' or 'off'", min(k, len(words) - 1))
 
 
+def _is_default_off(canonical: tuple[str, ...]) -> bool:
+    """``soar wait-snc off`` and ``wma -s activation off``: settings that turn
+    off what adapt never does (Soar's defaults)."""
+    if canonical[:2] in (("soar", "wait-snc"), ("soar", "waitsnc")):
+        return canonical[2:] in (("off",), ("--off",), ("-d",), ("--disable",))
+    if canonical[0] == "waitsnc":
+        return canonical[1:] in (("--off",), ("-d",), ("--disable",))
+    if canonical[0] == "wma":
+        return canonical[1:] in (("-s", "activation", "off"), ("--set", "activation", "off"))
+    return False
+
+
 def interpret(command: Command, chunking: Chunking = "refuse") -> Meaning:
     """What adapt does with one (non-``sp``) command of an agent file.
 
@@ -371,10 +388,16 @@ def interpret(command: Command, chunking: Chunking = "refuse") -> Meaning:
     if name == "output" and len(words) >= 2 and words[1] in ("agent-writes", "warnings"):
         on = _on_off(words, 2)
         return Setting("agent-writes", value=on) if words[1] == "agent-writes" else None
+    if _is_default_off(canonical):
+        return None
     if name in _CHUNK_COMMANDS:
         if len(words) == 2 and words[1] in _OFF_WORDS:
             return None
         if chunking == "off":
+            if len(words) == 5 and words[1] == "singleton":
+                # ignored, but Soar makes the attribute's symbol here, which
+                # breaks the join order's last ties (reorder.ConstantOrder)
+                return Setting("symbols", value=words[3])
             return None
         what = ("turns chunking on" if len(words) == 2 and words[1] in
                 ("always", "on", "only", "except", "--on", "-e", "--enable", "enable")

@@ -20,6 +20,9 @@ Tests on one field of a WME
   ``<=`` hold and ``>`` and ``>=`` do not.
 * ``<=> x``: the same *type* of symbol (identifier, string, int, float).
 * ``<< a b >>``: equal to one of the constants.
+* a condition written in ``(state <s> ...)`` (:attr:`Condition.goal`): the
+  WME's identifier is a state of the goal stack (:func:`is_goal`), not just
+  something with ``^type state``.
 
 Scope of variables
 ------------------
@@ -47,7 +50,7 @@ Examples
 >>> from adapt.engine.parse import parse_rules
 >>> from adapt.engine.symbols import Identifier
 >>> p, = parse_rules("sp {r (state <s> ^a {<x> > <y>}) (<s> ^b <y>) --> (write hi)}").productions
->>> s1 = Identifier("S", 1)
+>>> s1 = Identifier("S", 1, goal=True)  # a state
 >>> wm = WmeIndex([WME(s1, "type", "state", False, 1), WME(s1, "a", 1, False, 2),
 ...                WME(s1, "b", 5, False, 3)])
 >>> list(conjunction_matches(p.conditions, wm))
@@ -78,13 +81,19 @@ from adapt.engine.production import (
     simple_tests,
     variables_in_test,
 )
-from adapt.engine.symbols import Float, Identifier, Symbol  # noqa: F401 (Float: the examples)
+from adapt.engine.symbols import (  # noqa: F401 (Float: the examples)
+    Float,
+    Identifier,
+    Symbol,
+    is_goal,
+)
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
 __all__ = [
     "Relation",
     "RELATIONS",
+    "REVERSED",
     "relation_holds",
     "soar_compare",
     "Bindings",
@@ -201,6 +210,16 @@ RELATIONS: Mapping[str, Callable[[object, object], bool]] = {
 }
 
 
+#: Each relation turned round (``a < b`` is ``b > a``).  A relational test
+#: whose variable is bound later is checked at the condition that binds it,
+#: turned round, as Soar's reorderer moves it there: with Soar's comparison of
+#: values of different types (:func:`soar_compare`) the two readings differ
+#: (``apple < 2`` holds, ``2 > apple`` does not).
+REVERSED: Mapping[str, str] = {
+    "=": "=", "<>": "<>", "<=>": "<=>", "<": ">", ">": "<", "<=": ">=", ">=": "<=",
+}
+
+
 def relation_holds(relation: str, value: object, other: object) -> bool:
     """Whether ``value relation other`` holds, with Soar's semantics.
 
@@ -246,7 +265,7 @@ class WmeIndex:
 
     Examples
     --------
-    >>> s1 = Identifier("S", 1)
+    >>> s1 = Identifier("S", 1, goal=True)  # a state
     >>> index = WmeIndex([WME(s1, "a", 1, False, 1), WME("x", "b", 2, False, 2)])
     >>> len(index.of(s1)), len(list(index))
     (1, 2)
@@ -341,6 +360,8 @@ def match_condition(cond: Condition, wme: WME, partial: Partial) -> Partial | No
     """
     if wme.acceptable != cond.acceptable:
         return None
+    if cond.goal and not is_goal(wme.id):
+        return None
     b = dict(partial.bindings)
     ident = b.get(cond.id, _UNBOUND)
     if ident is _UNBOUND:
@@ -352,7 +373,8 @@ def match_condition(cond: Condition, wme: WME, partial: Partial) -> Partial | No
     waiting: list[PendingRelation] = []
     for p in partial.pending:
         if p.variable in b:
-            if not relation_holds(p.relation, p.value, b[p.variable]):
+            # checked at the binding condition, turned round (Soar's reorderer)
+            if not relation_holds(REVERSED[p.relation], b[p.variable], p.value):
                 return None
         else:
             waiting.append(p)
@@ -388,7 +410,8 @@ def evaluation_order(elements: Sequence[ConditionElement],
     gives their indexes: the Rete orders them by connectivity); each
     negation right after the positive condition that binds the last of the
     variables it shares with the conjunction's positive conditions
-    (``outer`` are bound already).
+    (``outer`` are bound already), several there the last written first
+    (as Soar's reorderer takes them).
 
     Examples
     --------
@@ -398,25 +421,28 @@ def evaluation_order(elements: Sequence[ConditionElement],
     ...  for i in evaluation_order(p.conditions)]
     ['Condition', 'Condition', 'Condition-']
     """
-    known = set(outer)
+    outer_set = set(outer)
     if positives is None:
         positives = [i for i, e in enumerate(elements) if _is_positive(e)]
-    bound_after: list[set[Variable]] = [set(known)]
-    for i in positives:
-        known |= condition_equality_variables(elements[i])  # type: ignore[arg-type]
-        bound_after.append(set(known))
-    scope = known - set(outer)
+    # the step after which each variable is bound (0: before the first)
+    step_of: dict[Variable, int] = {v: 0 for v in outer_set}
+    for step, i in enumerate(positives, start=1):
+        for v in condition_equality_variables(elements[i]):  # type: ignore[arg-type]
+            if v not in step_of:
+                step_of[v] = step
     slots: list[list[int]] = [[] for _ in range(len(positives) + 1)]
     for i, e in enumerate(elements):
         if _is_positive(e):
             continue
-        needed = all_variables(e) & scope
-        k = next(k for k, have in enumerate(bound_after) if needed <= have)
+        k = max((step_of[v] for v in all_variables(e) if v in step_of and v not in outer_set),
+                default=0)
         slots[k].append(i)
-    order = list(slots[0])
+    # negations ready at the same step: the last written first, as Soar's
+    # reorderer takes them
+    order = slots[0][::-1]
     for k, i in enumerate(positives):
         order.append(i)
-        order.extend(slots[k + 1])
+        order.extend(slots[k + 1][::-1])
     return order
 
 

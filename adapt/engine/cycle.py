@@ -33,7 +33,9 @@ preferences no longer give, is removed on the spot -- and the phase ends
 ``halt`` finishes its elaboration cycle and stops the agent (no output
 phase).  ``(interrupt)`` stops the run before the next decision phase: the
 phase it fires in, and the output, input and proposal phases after it, run
-to their end (as in Soar).  ``run N`` stops before the apply phase of the run's ``N``-th
+to their end (as in Soar).  A match of a production flagged ``:interrupt``
+stops the run at the end of the phase in which it appeared (unless it went
+again before then, as in Soar).  ``run N`` stops before the apply phase of the run's ``N``-th
 decision.
 """
 
@@ -45,7 +47,7 @@ from typing import TYPE_CHECKING, Final
 from adapt.engine.events import Event
 from adapt.engine.goals import Goal
 from adapt.engine.preferences import decide, should_keep
-from adapt.engine.symbols import Identifier, Symbol
+from adapt.engine.symbols import Symbol
 from adapt.engine.vocabulary import NO_CHANGE, ImpasseAttribute, ImpasseType, Phase, Support
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -107,6 +109,14 @@ def run(agent: Agent, max_decisions: int | None) -> None:
         agent.next_phase = _NEXT[phase]
         if agent.halted:
             agent.stop_reason = "halt"
+        elif agent.kernel.interrupt_matches:
+            # a production flagged :interrupt matched in this phase (Soar's
+            # match-time interrupt): the run stops after the phase
+            names = agent.kernel.interrupt_matches
+            agent.message("*** Production match-time interrupt (:interrupt), probably from "
+                          f"{list(names.values())[-1]}")
+            names.clear()
+            agent.stop_reason = "interrupted"
 
 
 def run_phase(agent: Agent, phase: Phase) -> None:
@@ -273,7 +283,7 @@ def _decide_slot(agent: Agent, goal: Goal) -> bool:
             events.emit(_ON_DECISION, (goal, d))
         if d.outcome == "select":
             selected = d.selected
-            assert isinstance(selected, Identifier)
+            assert selected is not None
             k.select(goal, selected)
             agent.operators.append([agent.decisions, goal.level, k.operator_name(selected)])
             agent.operator_count += 1

@@ -6,36 +6,43 @@ and the selected operator), the impasse that created it, and its pending
 match-set changes (i-assertions, o-assertions, retractions), which the
 waterfall uses to find the active level.
 
-The WMEs Soar builds for states:
+The WMEs Soar builds for states, in the order it makes them (so they get
+Soar's timetags):
 
-* top state: ``(S1 ^superstate nil ^type state ^io I1)`` and
-  ``(I1 ^input-link I2 ^output-link I3)``;
-* substate: ``^type state ^superstate <sup> ^impasse <type> ^choices
-  <multiple|none> ^attribute <operator|state> ^quiescence t``, then for
-  tie / conflict / constraint-failure one ``^item`` per candidate and
-  ``^item-count``, ``^non-numeric`` per non-numeric candidate and
-  ``^non-numeric-count``.
-
-Soar also gives every state ``^epmem``, ``^smem`` and ``^reward-link``
-structures; adapt does not (epmem, smem and RL are not supported), so
-``wm_size`` differs from Soar's by those WMEs.  Nothing else depends on them.
+* every state: ``^type state ^superstate <sup>|nil``, then the links of
+  Soar's memory modules: ``^reward-link R``, ``^epmem E`` with ``(E ^command
+  C ^result R ^present-id 1)``, ``^smem L`` with ``(L ^command C ^result
+  R)`` (:class:`ModuleLinks`; adapt has no reinforcement learning, episodic
+  or semantic memory, so nothing is ever put there, but rules and
+  ``print`` see the same states as in Soar);
+* the top state then ``^io I1`` and ``(I1 ^input-link I2 ^output-link I3)``;
+* a substate then ``^attribute <operator|state> ^impasse <type> ^choices
+  <multiple|none> ^quiescence t``, and for tie / conflict /
+  constraint-failure one ``^item`` per candidate and ``^item-count``,
+  ``^non-numeric`` per non-numeric candidate and ``^non-numeric-count``.
 
 Examples
 --------
 >>> from adapt.engine.symbols import IdentifierFactory
 >>> ids = IdentifierFactory()
->>> s1, i1, i2, i3 = ids.new("S"), ids.new("I"), ids.new("I"), ids.new("I")
->>> [w[1:] for w in top_state_wmes(s1, i1, i2, i3)]
-[('superstate', 'nil'), ('type', 'state'), ('io', I1), ('input-link', I2), ('output-link', I3)]
->>> s2 = ids.new("S")
+>>> s1 = ids.state()
+>>> links = ModuleLinks(*(ids.new(letter) for letter in "RECRLCR"))
+>>> i1, i2, i3 = ids.new("I"), ids.new("I"), ids.new("I")
+>>> [(w[0].name, w[1], str(w[2])) for w in top_state_wmes(s1, i1, i2, i3, links)]
+... # doctest: +NORMALIZE_WHITESPACE
+[('S1', 'type', 'state'), ('S1', 'superstate', 'nil'), ('S1', 'reward-link', 'R1'),
+ ('S1', 'epmem', 'E1'), ('E1', 'command', 'C1'), ('E1', 'result', 'R2'),
+ ('E1', 'present-id', '1'), ('S1', 'smem', 'L1'), ('L1', 'command', 'C2'),
+ ('L1', 'result', 'R3'), ('S1', 'io', 'I1'), ('I1', 'input-link', 'I2'),
+ ('I1', 'output-link', 'I3')]
+>>> s2 = ids.state()
+>>> links2 = ModuleLinks(*(ids.new(letter) for letter in "RECRLCR"))
 >>> for w in substate_wmes(s2, s1, "tie", "operator", (O1 := ids.new("O"), ids.new("O")),
-...                        (O1,)):
+...                        (O1,), links2)[10:]:
 ...     print(w[1], w[2])
-type state
-superstate S1
+attribute operator
 impasse tie
 choices multiple
-attribute operator
 quiescence t
 item O1
 item O2
@@ -46,6 +53,8 @@ non-numeric-count 1
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from adapt.engine.instantiation import Instantiation
 from adapt.engine.matcher import FlatKey
 from adapt.engine.memory import WmeKey
@@ -54,7 +63,8 @@ from adapt.engine.symbols import Identifier, Symbol
 from adapt.engine.vocabulary import NO_CHANGE, ImpasseAttribute, ImpasseType, Support
 from adapt.engine.wme import WME
 
-__all__ = ["Goal", "SlotPreference", "top_state_wmes", "substate_wmes", "item_wmes"]
+__all__ = ["Goal", "SlotPreference", "ModuleLinks", "top_state_wmes", "substate_wmes",
+           "item_wmes"]
 
 Triple = tuple[Symbol, Symbol, Symbol]
 
@@ -124,7 +134,9 @@ class Goal:
         self.items: tuple[Symbol, ...] = ()
         self.non_numeric: tuple[Symbol, ...] = ()
         self.prefs: list[SlotPreference] = []
-        self.operator: Identifier | None = None
+        #: the selected operator: an identifier, or a constant (Soar selects
+        #: ``(<s> ^operator go +)`` as it selects an identifier)
+        self.operator: Symbol | None = None
         self.changed = False
         self.pending_i: dict[FlatKey, tuple[WME, ...]] = {}
         self.pending_o: dict[FlatKey, tuple[WME, ...]] = {}
@@ -147,11 +159,33 @@ class Goal:
         return f"Goal({self.id}, level {self.level})"
 
 
+class ModuleLinks(NamedTuple):
+    """The identifiers of a state's links to Soar's memory modules, in the
+    order Soar makes them (letters R E C R L C R)."""
+
+    reward_link: Identifier
+    epmem: Identifier
+    epmem_command: Identifier
+    epmem_result: Identifier
+    smem: Identifier
+    smem_command: Identifier
+    smem_result: Identifier
+
+
+def _state_wmes(state: Identifier, superstate: Symbol, links: ModuleLinks) -> list[Triple]:
+    return [(state, "type", "state"), (state, "superstate", superstate),
+            (state, "reward-link", links.reward_link),
+            (state, "epmem", links.epmem), (links.epmem, "command", links.epmem_command),
+            (links.epmem, "result", links.epmem_result), (links.epmem, "present-id", 1),
+            (state, "smem", links.smem), (links.smem, "command", links.smem_command),
+            (links.smem, "result", links.smem_result)]
+
+
 def top_state_wmes(s1: Identifier, io: Identifier, input_link: Identifier,
-                   output_link: Identifier) -> list[Triple]:
+                   output_link: Identifier, links: ModuleLinks) -> list[Triple]:
     """The top state's WMEs, in the order they are created."""
-    return [(s1, "superstate", "nil"), (s1, "type", "state"), (s1, "io", io),
-            (io, "input-link", input_link), (io, "output-link", output_link)]
+    return _state_wmes(s1, "nil", links) + [
+        (s1, "io", io), (io, "input-link", input_link), (io, "output-link", output_link)]
 
 
 def item_wmes(state: Identifier, impasse: str, items: tuple[Symbol, ...],
@@ -171,12 +205,12 @@ def item_wmes(state: Identifier, impasse: str, items: tuple[Symbol, ...],
 
 
 def substate_wmes(state: Identifier, superstate: Identifier, impasse: str, attribute: str,
-                  items: tuple[Symbol, ...] = (),
-                  non_numeric: tuple[Symbol, ...] = ()) -> list[Triple]:
+                  items: tuple[Symbol, ...], non_numeric: tuple[Symbol, ...],
+                  links: ModuleLinks) -> list[Triple]:
     """A new substate's WMEs, in the order they are created."""
     choices = "multiple" if impasse in ("tie", "conflict") else "none"
-    out: list[Triple] = [(state, "type", "state"), (state, "superstate", superstate),
-                         (state, "impasse", impasse), (state, "choices", choices),
-                         (state, "attribute", attribute), (state, "quiescence", "t")]
+    out = _state_wmes(state, superstate, links)
+    out += [(state, "attribute", attribute), (state, "impasse", impasse),
+            (state, "choices", choices), (state, "quiescence", "t")]
     out.extend(item_wmes(state, impasse, items, non_numeric))
     return out

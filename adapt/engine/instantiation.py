@@ -115,7 +115,8 @@ class RuleInfo:
     """
 
     __slots__ = ("production", "name", "has_make", "makes_operator_prefs", "declared",
-                 "new_variables", "elaborates_operator", "static_support", "operator_slots",
+                 "new_variables", "elaborates_operator", "op_elab_only", "static_support",
+                 "operator_slots",
                  "new_hints", "plan", "id_sites", "proposes", "proposal_sites")
 
     def __init__(self, production: Production) -> None:
@@ -128,8 +129,7 @@ class RuleInfo:
         # ^operator) is i-supported, whatever else the rule tests (Soar's
         # calculate_support_for_instantiation_preferences); other operator
         # preferences do not decide the support
-        states = {c.id for c in production.positive_conditions
-                  if (c.attr, c.value) == (EqualityTest("type"), EqualityTest("state"))}
+        states = {c.id for c in production.positive_conditions if c.goal}
         proposals = [a for a in makes if a.attr == "operator"
                      and a.preference is PreferenceKind.ACCEPTABLE]
         self.proposes = bool(proposals) and all(a.id in states for a in proposals)
@@ -140,6 +140,9 @@ class RuleInfo:
             and isinstance(c.value.term, Variable)}
         #: some action augments an operator the rule tests as selected
         self.elaborates_operator = any(a.id in operator_vars for a in makes)
+        #: every make action augments a tested operator (a pure operator
+        #: elaboration: its support depends on the production's other matches)
+        self.op_elab_only = bool(makes) and all(a.id in operator_vars for a in makes)
         flags = production.flags
         self.declared: Support | None = (
             Support.O if "o-support" in flags else Support.I if "i-support" in flags else None
@@ -153,8 +156,15 @@ class RuleInfo:
                 _rhs_variables(action.call, seen)
         bound = production.binding_sites
         self.new_variables = tuple(v for v in seen if v not in bound)
-        #: the identifier letters of the new identifiers (``<o>`` -> ``o``)
-        self.new_hints = tuple(v.name[1:] for v in self.new_variables)
+        #: the identifier letters of the new identifiers (``<o>`` -> ``o``; a
+        #: dot path's hidden variable, as in Soar, the attribute's:
+        #: ``^arithmetic.facts <f>`` makes ``A1``)
+        path_hints: dict[Variable, str] = {}
+        for a in makes:
+            if isinstance(a.value, Variable) and a.value.name.startswith("<#") \
+                    and isinstance(a.attr, str):
+                path_hints.setdefault(a.value, a.attr)
+        self.new_hints = tuple(path_hints.get(v, v.name[1:]) for v in self.new_variables)
         #: the support every match gets, or None when it depends on the match
         self.static_support: Support | None
         if not self.has_make:
@@ -268,7 +278,7 @@ class Instantiation:
     """
 
     __slots__ = ("key", "rule", "goal", "support", "wmes", "i_wmes", "slot_prefs",
-                 "bindings", "retracted")
+                 "bindings", "retracted", "unmatched", "traces")
 
     def __init__(self, key: FlatKey | None, rule: RuleInfo | None, goal: Goal,
                  support: Support, wmes: tuple[WME, ...]) -> None:
@@ -281,6 +291,13 @@ class Instantiation:
         self.slot_prefs: list[tuple[Goal, SlotPreference]] = []
         self.bindings: dict[Variable, Symbol] | None = None
         self.retracted = False
+        #: an o-supported justification whose match is gone: its retraction
+        #: keeps everything (o-support) but is work of its goal, as in Soar
+        self.unmatched = False
+        #: for a substate's firing, what supported each matched WME when it
+        #: fired (Soar's ``bt.trace``): backtracing follows these, not what
+        #: supports the WMEs now (they may have gone or changed since)
+        self.traces: tuple[Instantiation | None, ...] | None = None
 
     @property
     def name(self) -> str:

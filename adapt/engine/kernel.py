@@ -28,7 +28,7 @@ from typing import Callable, Final
 
 from adapt.engine.events import Event, EventBus
 from adapt.engine.functions import FunctionTable, RhsContext
-from adapt.engine.goals import Goal, item_wmes, substate_wmes, top_state_wmes
+from adapt.engine.goals import Goal, ModuleLinks, item_wmes, substate_wmes, top_state_wmes
 from adapt.engine.instantiation import (
     SRC_CONST,
     SRC_NEW,
@@ -106,19 +106,28 @@ class Kernel:
         #: productions were added since the last commit (their matches come
         #: in the order they were added, as in Soar)
         self.productions_added = False
+        #: the current matches of the productions that only elaborate an
+        #: operator (:attr:`RuleInfo.op_elab_only`), by production
+        self.op_elab_matches: dict[str, dict[FlatKey, tuple[WME, ...]]] = {}
+        #: the productions flagged ``:interrupt``
+        self.interrupt_rules: set[str] = set()
+        #: the pending matches of ``:interrupt`` productions: while any is
+        #: pending at the end of a phase, the run stops (Soar's match-time
+        #: interrupt); the name of the last one
+        self.interrupt_matches: dict[FlatKey, str] = {}
         # the live listener lists of the events raised on hot paths
         self._on_fire = self.events.listeners(Event.FIRE)
         self._on_retract = self.events.listeners(Event.RETRACT)
         self._on_wm = self.events.listeners(Event.WM_CHANGES)
-        s1 = self.ids.new("S")
-        self._reserve_module_ids(0)
+        s1 = self.ids.state()
+        links = self._module_links(0)
         io, il, ol = self.ids.new("I"), self.ids.new("I"), self.ids.new("I")
         self.top = Goal(s1, 0, None)
         self.bottom = self.top
         self.goals[s1] = self.top
         self.input_link, self.output_link = il, ol
         self.wm.add_root(s1)
-        for t in top_state_wmes(s1, io, il, ol):
+        for t in top_state_wmes(s1, io, il, ol, links):
             self.wm.add(*t)
             self.top.arch.append((t[0], t[1], t[2], False))
 
@@ -128,6 +137,10 @@ class Kernel:
         if production.name in self.rules:
             self.matcher.remove_production(production.name)
         self.rules[production.name] = RuleInfo(production)
+        if "interrupt" in production.flags:
+            self.interrupt_rules.add(production.name)
+        else:
+            self.interrupt_rules.discard(production.name)
         self.matcher.add_production(production)
         self.matcher_dirty = True
         self.productions_added = True
@@ -139,19 +152,20 @@ class Kernel:
         Returns every WME added and removed (goal removals included).
         """
         wm = self.wm
+        preferences = self.preferences
+        if preferences.changes or preferences.marks or preferences.op_marks:
+            preferences.flush()
         if not wm.pending and not self.matcher_dirty:
             return [], []
         self.matcher_dirty = False
-        # Soar meets the matches that working-memory changes make newest first
-        # (it adds the newest WME first, and its Rete lists a node's children
-        # newest first); the matches of newly added productions oldest first
-        newest_first = not self.productions_added
         self.productions_added = False
         all_added: list[WME] | None = None
         all_removed: list[WME] | None = None
         take_changes = self.take_changes
-        forget = self.preferences.osup
+        forget = preferences.osup
         while True:
+            if preferences.changes:
+                preferences.flush()
             added, removed = wm.commit()
             if all_added is None:
                 all_added, all_removed = added, removed
@@ -180,7 +194,7 @@ class Kernel:
             if results.negated_index or results.ncc_justs:  # justifications' negations
                 results.check_negations(added, removed)
             added_matches, removed_matches = take_changes()
-            self._schedule(added_matches, removed_matches, newest_first)
+            self._schedule(added_matches, removed_matches)
             if doomed is None:
                 break
             live = [g for g in doomed if self.goals.get(g.id) is g]
@@ -209,14 +223,23 @@ class Kernel:
         return False
 
     def _schedule(self, added: dict[FlatKey, tuple[WME, ...]],
-                  removed: dict[FlatKey, tuple[WME, ...]], newest_first: bool = False) -> None:
+                  removed: dict[FlatKey, tuple[WME, ...]]) -> None:
         """File the matcher's changes (flat key -> wmes): a new match waits at
-        its goal (in reverse order with ``newest_first``), a vanished one is
-        unscheduled or its instantiation retracts."""
+        its goal (after those waiting already, in the order the matcher found
+        them: they fire the other way round), a vanished one is unscheduled or
+        its instantiation retracts."""
         pending_goal = self.pending_goal
+        interrupts = self.interrupt_rules
+        op_elabs = self.op_elab_matches
         for key in removed:
+            if op_elabs:
+                current = op_elabs.get(key[0])
+                if current is not None:
+                    current.pop(key, None)
             goal = pending_goal.pop(key, None)
             if goal is not None:
+                if interrupts:
+                    self.interrupt_matches.pop(key, None)
                 if goal.pending_i.pop(key, None) is None:
                     goal.pending_o.pop(key, None)
                 continue
@@ -229,8 +252,7 @@ class Kernel:
         rules = self.rules
         top = self.top
         only_top = top.lower is None
-        found = reversed(list(added.items())) if newest_first else added.items()
-        for key, wmes in found:
+        for key, wmes in added.items():
             if only_top:
                 goal = top
             else:
@@ -245,11 +267,47 @@ class Kernel:
             support = info.static_support
             if support is None:
                 support = info.support_of(wmes, goal.id, goals)
+            if info.op_elab_only and info.declared is None:
+                support = self._op_elab_support(key, wmes)
             if support is _O:
                 goal.pending_o[key] = wmes
             else:
                 goal.pending_i[key] = wmes
             pending_goal[key] = goal
+            if interrupts and key[0] in interrupts:
+                self.interrupt_matches[key] = key[0]
+
+    def _op_elab_support(self, key: FlatKey, wmes: tuple[WME, ...]) -> Support:
+        """The support of a new match of a production that only elaborates the
+        operator it tests: i-support, unless another current match of the
+        production tests another selected operator -- then Soar's match-time
+        check (``p_node_left_addition``, which compares the new match's
+        operator with every match's) files it as an application: o-support."""
+        current = self.op_elab_matches.setdefault(key[0], {})
+        mine = self._selected_operator(wmes)
+        support = _I
+        for other in current.values():
+            theirs = self._selected_operator(other)
+            if theirs is not None and theirs is not mine:
+                support = _O
+                break
+        current[key] = wmes
+        return support
+
+    def _selected_operator(self, wmes: tuple[WME, ...]) -> Symbol | None:
+        """The selected operator a match tests on its lowest state."""
+        goals = self.goals
+        lowest: Goal | None = None
+        for w in wmes:
+            g = goals.get(w[0])
+            if g is not None and (lowest is None or g.level > lowest.level):
+                lowest = g
+        if lowest is None:
+            return None
+        for w in wmes:
+            if w[0] is lowest.id and w[1] == "operator" and not w[3]:
+                return w[2]
+        return None
 
     def schedule_retraction(self, inst: Instantiation) -> None:
         """Retract ``inst`` in its goal's next elaboration cycle (at once
@@ -257,6 +315,13 @@ class Kernel:
         if inst.retracted:
             return
         goal = inst.goal
+        if inst.rule is None and inst.support is _O:
+            # an o-supported justification: its retraction removes nothing,
+            # but Soar still has it to retract at its goal (once)
+            if not inst.unmatched and self.goals.get(goal.id) is goal:
+                inst.unmatched = True
+                goal.retractions[id(inst)] = inst
+            return
         if self.goals.get(goal.id) is goal:
             goal.retractions[inst.key if inst.key is not None else id(inst)] = inst
         else:
@@ -301,7 +366,10 @@ class Kernel:
         if retractions:
             goal.retractions = {}
             on_retract = self._on_retract
-            for inst in retractions.values():
+            # the last scheduled first: Soar's retraction lists grow at the head
+            for inst in reversed(retractions.values()):
+                if inst.unmatched:
+                    continue  # an o-supported justification: nothing to retract
                 if on_retract:
                     self.events.emit(Event.RETRACT, inst)
                 self.retract(inst)
@@ -342,7 +410,9 @@ class Kernel:
         # (operator slots too), and is not asserted itself -- nor is it a result.
         if kind is _O:
             deselect: list[Goal] = []
-            for _, prefs in made:
+            # Soar collects them into a list that grows at its head: they are
+            # processed in the order the firings were made, each in action order
+            for _, prefs in reversed(made):
                 if any(p[0] is _REJECT and p[5] for p in prefs):
                     for p in prefs:
                         if p[0] is _REJECT and p[5]:
@@ -361,6 +431,8 @@ class Kernel:
     def _instantiate(self, key: FlatKey, wmes: tuple[WME, ...], rule: RuleInfo, goal: Goal,
                      support: Support) -> tuple[Instantiation, list[MadePreference]]:
         inst = Instantiation(key, rule, goal, support, wmes)
+        if goal.level > 0:
+            inst.traces = self._traces(wmes, goal.level)
         new: list[Identifier] | None = None
         if rule.new_hints:
             level = goal.level
@@ -422,6 +494,22 @@ class Kernel:
                 value_of(step[1], wmes, new)
         return inst, prefs
 
+    def _traces(self, wmes: tuple[WME, ...], level: int) -> tuple[Instantiation | None, ...]:
+        """What supports each of a substate match's WMEs of its own level or
+        deeper now (the newest holder), for backtracing later."""
+        isup = self.preferences.isup
+        osup = self.preferences.osup
+        out: list[Instantiation | None] = []
+        for w in wmes:
+            ident = w[0]
+            if type(ident) is not Identifier or ident.level < level:
+                out.append(None)
+                continue
+            key = (ident, w[1], w[2], w[3])
+            holders = isup.get(key)
+            out.append(holders[-1] if holders else osup.get(key))
+        return tuple(out)
+
     def _add_copies(self, level: int, prefs: list[MadePreference], o_support: bool) -> None:
         """Acceptable preferences for the WMEs ``deep-copy`` made, their new
         identifiers at the level of the identifier the copy is attached to
@@ -467,6 +555,9 @@ class Kernel:
         if goal.level > 0:
             results = self.results.split(inst, prefs)
             if results is not None:
+                # the results first, in the firing's order: Soar asserts the
+                # justification's preferences before the firing's own
+                self.results.make(inst, [p for p in prefs if p in results])
                 prefs = [p for p in prefs if p not in results]
         o_local = self.preferences.assert_preferences(inst, prefs, inst.support is _O,
                                                       o_rejects=False)
@@ -474,8 +565,6 @@ class Kernel:
             self.results.note_o_local(inst)  # once per firing: it backtraces the whole match
         if inst.i_wmes or inst.slot_prefs:
             goal.instantiations[inst.key if inst.key is not None else id(inst)] = inst
-        if results:
-            self.results.make(inst, list(results))
 
     def retract(self, inst: Instantiation) -> None:
         """Remove everything an instantiation supports with i-support."""
@@ -493,7 +582,7 @@ class Kernel:
                 del instantiations[key]
 
     # -- decisions ---------------------------------------------------------------
-    def select(self, goal: Goal, operator: Identifier) -> None:
+    def select(self, goal: Goal, operator: Symbol) -> None:
         """Install ``operator`` as the goal's selected operator."""
         if goal.lower is not None:
             self.remove_goal(goal.lower)
@@ -514,8 +603,8 @@ class Kernel:
         """Create a substate below ``goal`` (removing any existing one)."""
         if goal.lower is not None:
             self.remove_goal(goal.lower)
-        ident = self.ids.new("S", goal.level + 1)
-        self._reserve_module_ids(goal.level + 1)
+        ident = self.ids.state(goal.level + 1)
+        links = self._module_links(goal.level + 1)
         sub = Goal(ident, goal.level + 1, goal)
         sub.impasse, sub.attribute = impasse, attribute
         sub.items, sub.non_numeric = items, non_numeric
@@ -524,19 +613,17 @@ class Kernel:
         self.bottom = sub
         self.goals[ident] = sub
         self.wm.add_root(ident)
-        for t in substate_wmes(ident, goal.id, impasse, attribute, items, non_numeric):
+        for t in substate_wmes(ident, goal.id, impasse, attribute, items, non_numeric, links):
             self.wm.add(*t)
             sub.arch.append((t[0], t[1], t[2], False))
         return sub
 
-    def _reserve_module_ids(self, level: int) -> None:
-        """Use up the identifiers Soar gives each new state's ``^reward-link``,
-        ``^epmem`` and ``^smem`` structures (R, E, C, R, L, C, R, in that order),
-        which adapt does not build, so that every other identifier gets the
-        number it has in Soar."""
+    def _module_links(self, level: int) -> ModuleLinks:
+        """The identifiers of a new state's ``^reward-link``, ``^epmem`` and
+        ``^smem`` structures, made in Soar's order (R, E, C, R, L, C, R), so
+        that every identifier gets the number it has in Soar."""
         new = self.ids.new
-        for letter in "RECRLCR":
-            new(letter, level)
+        return ModuleLinks(*(new(letter, level) for letter in "RECRLCR"))
 
     def update_items(self, goal: Goal, items: tuple[Symbol, ...],
                      non_numeric: tuple[Symbol, ...]) -> None:
@@ -563,6 +650,7 @@ class Kernel:
         if goal.lower is not None:
             self.remove_goal(goal.lower)
         self.events.emit(Event.REMOVE_GOAL, goal)
+        goal.id.goal = False
         level = goal.level
         pending_goal = self.pending_goal
         for key in goal.pending_i:

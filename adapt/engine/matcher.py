@@ -28,11 +28,14 @@ brute-force :class:`adapt.engine.naive.NaiveMatcher` is the reference.
 
 from __future__ import annotations
 
-from typing import Any, Iterable, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, Iterable, Protocol, runtime_checkable
 
 from adapt.engine.production import Production, Variable
 from adapt.engine.symbols import Symbol
 from adapt.engine.wme import WME
+
+if TYPE_CHECKING:  # pragma: no cover
+    from adapt.engine.reorder import ConstantOrder
 
 __all__ = ["Match", "Matcher", "RawMatcher", "MatchKey", "FlatKey", "MatchChanges"]
 
@@ -86,6 +89,8 @@ class Matcher(Protocol):
     """
 
     multi_attributes: dict[str, int]
+    #: the order of constants in Soar's symbol table (:class:`adapt.engine.reorder.ConstantOrder`)
+    constants: ConstantOrder
 
     def add_production(self, production: Production) -> None:
         """Add a production; its current matches become pending additions.

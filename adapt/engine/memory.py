@@ -19,9 +19,10 @@
   identifier can no longer be reached from any *root* (the states), all of its
   WMEs are removed too, recursively (cycles included).
 
-The WMEs changed by a commit are passed to a *listener* (the matcher:
-``remove_wme`` for each removal, then ``add_wme`` for each addition) and
-returned to the caller.
+The WMEs changed by a commit are passed to a *listener* (the matcher) in
+Soar's order -- ``add_wme`` for each addition, the newest first, then
+``remove_wme`` for each removal, the last requested (and the garbage
+collected) first -- and returned to the caller in the order they happened.
 
 Working memory does not know about preferences or support; the decision
 cycle decides which WMEs should exist and asks for the changes.
@@ -30,7 +31,7 @@ Examples
 --------
 >>> from adapt.engine.symbols import IdentifierFactory
 >>> ids = IdentifierFactory()
->>> s1, o1 = ids.new("S"), ids.new("O")
+>>> s1, o1 = ids.state(), ids.new("O")
 >>> wm = WorkingMemory()
 >>> wm.add_root(s1)
 >>> wm.add(s1, "count", 1)
@@ -124,6 +125,10 @@ class WorkingMemory:
             return
         self._removes[key] = None
 
+    def add_key(self, key: WmeKey) -> None:
+        """:meth:`add` by key ``(id, attr, value, acceptable)``."""
+        self._adds[key] = None
+
     def remove_key(self, key: WmeKey) -> None:
         """:meth:`remove` by key ``(id, attr, value, acceptable)``."""
         if key in self._adds and key not in self._wmes:
@@ -209,14 +214,17 @@ class WorkingMemory:
                     break
         listener = self.listener
         if listener is not None:
-            if removed:
-                remove_wme = listener.remove_wme
-                for w in removed:
-                    remove_wme(w)
+            # Soar's order (do_buffered_wm_changes): its lists of WMEs to add and
+            # to remove grow at the head, and it passes the additions, then the
+            # removals (garbage collection's last), through its Rete
             if added:
                 add_wme = listener.add_wme
-                for w in added:
+                for w in reversed(added):
                     add_wme(w)
+            if removed:
+                remove_wme = listener.remove_wme
+                for w in reversed(removed):
+                    remove_wme(w)
         return added, removed
 
     def _unlink(self, key: WmeKey, w: WME) -> None:
@@ -317,7 +325,7 @@ class WorkingMemory:
         Examples
         --------
         >>> from adapt.engine.symbols import IdentifierFactory
-        >>> ids = IdentifierFactory(); s1, i1 = ids.new("S"), ids.new("I")
+        >>> ids = IdentifierFactory(); s1, i1 = ids.state(), ids.new("I")
         >>> wm = WorkingMemory(); wm.add_root(s1)
         >>> wm.add(s1, "io", i1); wm.add(i1, "x", 2); wm.add(s1, "a", "b")
         >>> _ = wm.commit()

@@ -43,7 +43,7 @@ from __future__ import annotations
 from adapt.engine.conditions import WmeIndex, check_scope, conjunction_matches
 from adapt.engine.matcher import Match, MatchKey
 from adapt.engine.production import Production
-from adapt.engine.reorder import join_order
+from adapt.engine.reorder import ConstantOrder, join_order
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
@@ -65,7 +65,7 @@ class NaiveMatcher:
     """
 
     __slots__ = ("_productions", "_orders", "_wmes", "_current", "_reported", "_dirty",
-                 "multi_attributes")
+                 "multi_attributes", "constants")
 
     def __init__(self) -> None:
         self._productions: dict[str, Production] = {}
@@ -73,6 +73,8 @@ class NaiveMatcher:
         self._orders: dict[str, list[int]] = {}
         #: ``multi-attributes`` hints for the join order of productions added from now on
         self.multi_attributes: dict[str, int] = {}
+        #: the order of constants that breaks the join order's last ties
+        self.constants = ConstantOrder()
         self._wmes: dict[int, WME] = {}
         self._current: dict[MatchKey, Match] = {}
         self._reported: dict[MatchKey, Match] = {}
@@ -84,8 +86,9 @@ class NaiveMatcher:
             raise EngineError(f"production {production.name} is already in the matcher")
         check_production(production)
         self._productions[production.name] = production
+        self.constants.add_production(production)
         self._orders[production.name] = join_order(production.conditions, (),
-                                                   self.multi_attributes)
+                                                   self.multi_attributes, self.constants)
         self._dirty = True
 
     def remove_production(self, name: str) -> None:

@@ -20,10 +20,11 @@ Examples
 ... ''')
 >>> p, = rules.productions
 >>> p.name, len(p.conditions), [a.preference.name for a in p.actions]
-('count*propose', 2, ['ACCEPTABLE', 'UNARY_INDIFFERENT', 'ACCEPTABLE'])
->>> p.conditions[1]  # doctest: +NORMALIZE_WHITESPACE
+('count*propose', 1, ['ACCEPTABLE', 'UNARY_INDIFFERENT', 'ACCEPTABLE'])
+>>> p.conditions[0]  # doctest: +NORMALIZE_WHITESPACE
 Condition(id=<s>, attr=EqualityTest(term='count'), value=RelationalTest(relation='<', term=3),
-          acceptable=False, negated=False, location=SourceLocation(file='<string>', line=3, col=4))
+          acceptable=False, negated=False, location=SourceLocation(file='<string>', line=3, col=4),
+          goal=True)
 >>> parse_rules("sp {p1 (state <s>) --> (halt)}")
 Traceback (most recent call last):
   ...
@@ -36,6 +37,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import stat
 from dataclasses import dataclass
 from typing import Union
 
@@ -73,6 +75,7 @@ from adapt.engine.production import (
     Test,
     Variable,
     condition_equality_variables,
+    equality_variable,
     relational_variables,
 )
 from adapt.engine.symbols import Constant, Float
@@ -106,12 +109,15 @@ class RuleFile:
 #: How deeply ``source`` may nest (Soar's limit).
 MAX_SOURCE_DEPTH = 100
 
-_FLAGS = {":o-support": "o-support", ":i-support": "i-support", ":default": "default"}
+#: The largest rule file read, in bytes (64 MiB: a large agent is a few MB); no more is read.
+MAX_FILE_BYTES = 64 * 1024 * 1024
+
+_FLAGS = {":o-support": "o-support", ":i-support": "i-support", ":default": "default",
+          ":interrupt": "interrupt"}
 #: With learning off, a production Soar flags as a chunk is an ordinary production.
 _FLAGS_CHUNKING_OFF = dict(_FLAGS, **{":chunk": ""})
 _UNSUPPORTED_FLAGS = {
     ":chunk": "chunking is not implemented",
-    ":interrupt": "stopping the run when a rule fires is not implemented; call (interrupt)",
     ":template": "Soar-RL templates need reinforcement learning, which is not implemented",
 }
 _UNARY_PREFS = {
@@ -139,7 +145,33 @@ def _describe(tok: Token) -> str:
 
 
 def _is_state_test(c: ConditionElement) -> bool:
-    return isinstance(c, Condition) and not c.negated and (c.attr, c.value) == _TYPE_STATE
+    """A positive condition with Soar's goal test (written in ``(state <s> ...)``)."""
+    return isinstance(c, Condition) and not c.negated and c.goal
+
+
+def _goal_tests_on_roots(conditions: list[ConditionElement]) -> list[ConditionElement]:
+    """Soar keeps the goal test of ``(state <x> ...)`` only where ``<x>`` is a
+    *root*: a variable no positive condition has as its value
+    (``remove_isa_state_tests_for_non_roots``).  ``(state <s> ^fake <f>)
+    (state <f> ^name fake)`` tests ``<f>`` as a plain identifier."""
+    values = {equality_variable(c.value) for c in conditions
+              if isinstance(c, Condition) and not c.negated}
+    return [dataclasses.replace(c, goal=False)
+            if isinstance(c, Condition) and c.goal and not c.negated and c.id in values else c
+            for c in conditions]
+
+
+def _goal_tests(ident: Variable, conds: list[ConditionElement],
+                loc: SourceLocation) -> list[ConditionElement]:
+    """The conditions of ``(state <ident> ...)``: those on ``ident`` get the goal
+    test; with no positive one among them (``(state <s>)``, ``(state <s> -^a)``,
+    which Soar refuses), ``(<ident> ^type state)`` with the goal test comes first."""
+    out: list[ConditionElement] = [
+        dataclasses.replace(c, goal=True) if isinstance(c, Condition) and c.id == ident else c
+        for c in conds]
+    if not any(_is_state_test(c) for c in out):
+        out.insert(0, Condition(ident, *_TYPE_STATE, location=loc, goal=True))
+    return out
 
 
 def _relational_vars_deep(c: ConditionElement) -> set[Variable]:
@@ -310,8 +342,8 @@ class _Parser:
             known = self.flags.get(flag.text)
             if known is None:
                 raise self.syntax(
-                    f"unknown production flag '{flag.text}' (expected :o-support, :i-support "
-                    "or :default)",
+                    f"unknown production flag '{flag.text}' (expected :o-support, :i-support, "
+                    ":default or :interrupt)",
                     flag,
                 )
             if known:
@@ -329,6 +361,7 @@ class _Parser:
             conditions.extend(self.parse_cond())
         arrow = self.advance()
         lhs_bound = self.check_conditions(conditions, arrow)
+        conditions = _goal_tests_on_roots(conditions)
         actions: list[Action] = []
         while self.peek().kind != "}":
             tok = self.peek()
@@ -426,8 +459,6 @@ class _Parser:
         self.advance()
         ident = Variable(str(id_tok.value))
         out: list[ConditionElement] = []
-        if is_state:
-            out.append(Condition(ident, *_TYPE_STATE, location=loc))
         while self.peek().kind != ")":
             tok = self.peek()
             if tok.kind not in ("^", "-"):
@@ -438,6 +469,8 @@ class _Parser:
                 )
             out.extend(self.parse_attr_value_tests(ident, loc))
         self.advance()
+        if is_state:
+            return _goal_tests(ident, out, loc)
         if not out:
             out.append(Condition(ident, None, None, location=loc))
         return out
@@ -542,7 +575,11 @@ class _Parser:
 
     def check_conditions(self, conditions: list[ConditionElement], arrow: Token) -> set[Variable]:
         """First condition a state, every condition linked, relational variables bound."""
-        if not conditions or not _is_state_test(conditions[0]):
+        head: ConditionElement | None = conditions[0] if conditions else None
+        while isinstance(head, ConjunctiveNegation):  # (state <s> -^a.b c ...)
+            head = head.conditions[0] if head.conditions else None
+        if head is None or not any(isinstance(c, Condition) and _is_state_test(c)
+                                   and c.id == head.id for c in conditions):
             at: _Located = arrow
             first = conditions[0].location if conditions else None
             if first is not None:
@@ -845,13 +882,20 @@ def read_text_file(name: str) -> str:
     Raises
     ------
     RuleError
-        When the file cannot be read or is not UTF-8 text.
+        When the file cannot be read, is a device, is larger than
+        :data:`MAX_FILE_BYTES` (no more than that is read) or is not UTF-8 text.
     """
     try:
+        mode = os.stat(name).st_mode
+        if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):  # /dev/zero would never end
+            raise RuleError("not a rule file but a device; expected a text file", file=name)
         with open(name, "rb") as handle:
-            data = handle.read()
+            data = handle.read(MAX_FILE_BYTES + 1)
     except OSError as exc:
         raise RuleError(f"cannot read rule file: {exc.strerror or exc}", file=name) from None
+    if len(data) > MAX_FILE_BYTES:
+        raise RuleError(f"the file is larger than {MAX_FILE_BYTES // (1024 * 1024)} MiB; "
+                        "expected a rule file", file=name)
     try:
         text = data.decode("utf-8-sig")  # a byte-order mark (as some editors write) is not text
     except UnicodeDecodeError as exc:

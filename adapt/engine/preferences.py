@@ -87,6 +87,7 @@ __all__ = [
     "should_keep",
     "numeric_values",
     "choose",
+    "same_symbol",
 ]
 
 #: What :func:`decide` can conclude about a slot.
@@ -180,8 +181,15 @@ class SlotDecision(NamedTuple):
 _NONE_DECISION: Final = SlotDecision("none", None, (), (), ())
 
 
-def _same(a: Symbol, b: Symbol) -> bool:
-    """The same symbol (``2`` and ``2.0`` differ; identifiers by identity)."""
+def same_symbol(a: Symbol, b: Symbol) -> bool:
+    """The same symbol (``2`` and ``2.0`` differ; identifiers by identity).
+
+    Examples
+    --------
+    >>> from adapt.engine.symbols import Float
+    >>> same_symbol("go", "go"), same_symbol(2, Float(2.0))
+    (True, False)
+    """
     return a is b or (type(a) is type(b) and not isinstance(a, Identifier) and a == b)
 
 
@@ -278,7 +286,7 @@ class _Slot:
             dominated = {
                 worse
                 for better, worse in self.dominance
-                if better in present and worse in present and not _same(better, worse)
+                if better in present and worse in present and not same_symbol(better, worse)
             }
             if dominated:
                 if len(dominated) == len(present):
@@ -409,7 +417,7 @@ def decide(
     cands: list[Symbol] = result  # type: ignore[assignment]
     if current is not None:
         for c in cands:
-            if _same(c, current):
+            if same_symbol(c, current):
                 return SlotDecision("select", c, (), (), tuple(cands))
     values = numeric_values(slot.valued, cands, numeric_mode)
     chosen = choose(
@@ -443,9 +451,9 @@ def should_keep(preferences: Iterable[Preference], current: Symbol) -> bool:
     result = _Slot(preferences).run()
     if isinstance(result, SlotDecision):
         sel = result.selected
-        return result.outcome == "select" and sel is not None and _same(sel, current)
+        return result.outcome == "select" and sel is not None and same_symbol(sel, current)
     for c in result:
-        if _same(c, current):
+        if same_symbol(c, current):
             return True
     return False
 

@@ -8,7 +8,11 @@ and the decision cycle consume them.  Everything here is already *normalised*:
   variables (named ``<#1>``, ``<#2>``, ... -- a name no user variable can have);
 * a condition with several attribute-value pairs is split into one
   :class:`Condition` per pair, all sharing the identifier variable;
-* ``(state <s> ...)`` adds the condition ``(<s> ^type state)``;
+* ``(state <s> ...)`` marks the conditions on ``<s>`` written in it as
+  :attr:`Condition.goal` (``<s>`` must be a state of the goal stack, Soar's
+  goal test); when it has no positive attribute test (``(state <s>)``,
+  ``(state <s> -^done)``), the condition ``(<s> ^type state)`` with that mark
+  is added first;
 * ``-^attr value`` inside a condition becomes a negated :class:`Condition`;
 * a value without a preference on the RHS becomes ``acceptable``; ``+`` is
   implicit only when no other preference is given for that value.
@@ -144,7 +148,10 @@ class Condition:
     """One WME test ``(<id> ^attr value [+])``, possibly negated.
 
     ``id`` is always a variable.  ``attr`` and ``value`` are tests, ``None``
-    meaning "anything" (``(<s> ^foo)`` has ``value=None``).
+    meaning "anything" (``(<s> ^foo)`` has ``value=None``).  ``goal``: the
+    identifier must be a state of the goal stack (written ``(state <s> ...)``:
+    Soar's goal test, :func:`adapt.engine.symbols.is_goal`); a WME that merely
+    looks like a state, ``^type state`` and all, does not pass it.
     """
 
     id: Variable
@@ -153,6 +160,7 @@ class Condition:
     acceptable: bool = False
     negated: bool = False
     location: SourceLocation | None = field(default=None, compare=False)
+    goal: bool = False
 
 
 @dataclass(frozen=True, slots=True)

@@ -183,20 +183,30 @@ class ResultMaker:
             # o-supported operator-slot preferences stay, as in Soar, until
             # their goal goes
             goal.instantiations[id(just)] = just
+        if support is Support.O:
+            # an o-supported justification keeps its results, but its match
+            # (grounds, negations) is watched: when it goes, its retraction is
+            # work of its goal for one elaboration cycle, as in Soar
+            self._watch(just, grounds, negations)
         elif just.i_wmes or just.slot_prefs:
             goal.instantiations[id(just)] = just
-            index = self.grounds_index
-            for w in grounds:
-                index.setdefault(w.timetag, []).append(just)
-            for element, bindings in negations:
-                if isinstance(element, Condition):
-                    self.negated_index.setdefault(bindings[element.id], []).append(just)
-                elif just not in self.ncc_justs:
-                    self.ncc_justs.append(just)
-            if negations and self._violated(just):
-                # a negation already has a match (the instantiation behind it
-                # is waiting to retract): the justification does not hold
-                k.schedule_retraction(just)
+            self._watch(just, grounds, negations)
+
+    def _watch(self, just: Justification, grounds: list[WME],
+               negations: tuple[Negation, ...]) -> None:
+        """Retract ``just`` when a ground leaves or a negation comes to match."""
+        index = self.grounds_index
+        for w in grounds:
+            index.setdefault(w.timetag, []).append(just)
+        for element, bindings in negations:
+            if isinstance(element, Condition):
+                self.negated_index.setdefault(bindings[element.id], []).append(just)
+            elif just not in self.ncc_justs:
+                self.ncc_justs.append(just)
+        if negations and self._violated(just):
+            # a negation already has a match (the instantiation behind it
+            # is waiting to retract): the justification does not hold
+            self.kernel.schedule_retraction(just)
 
     def _justification(self, grounds: list[WME], negated: list[Negation],
                        target: int) -> Justification:
@@ -311,7 +321,7 @@ class ResultMaker:
             for w in added:
                 justs = index.get(w[0])
                 if justs:
-                    live = [j for j in justs if not j.retracted]
+                    live = [j for j in justs if not (j.retracted or j.unmatched)]
                     if len(live) != len(justs):
                         if live:
                             index[w[0]] = live
@@ -324,7 +334,7 @@ class ResultMaker:
                 if self._violated(j):
                     self.kernel.schedule_retraction(j)
         if self.ncc_justs and (added or removed):
-            live = [j for j in self.ncc_justs if not j.retracted]
+            live = [j for j in self.ncc_justs if not (j.retracted or j.unmatched)]
             self.ncc_justs = live
             for j in live:
                 if self._violated(j):
@@ -366,10 +376,20 @@ class ResultMaker:
             current = stack.pop()
             if negated is not None:
                 _negations_of(current, negated)
-            for w in current.wmes:
+            traces = current.traces
+            for i, w in enumerate(current.wmes):
                 if level_of(w.id) < level:
                     grounds[w.timetag] = w
                     continue
+                if traces is not None:
+                    traced = traces[i]
+                    if traced is not None and w.attr != "item":
+                        if stop_at_o and traced.support is Support.O:
+                            continue
+                        if id(traced) not in seen:
+                            seen.add(id(traced))
+                            stack.append(traced)
+                        continue
                 key = w.key
                 if w.attr == "item" and w.id in k.goals:
                     sub = k.goals[w.id]

@@ -22,6 +22,22 @@ A *holder* is an :class:`~adapt.engine.instantiation.Instantiation` (a
 production's firing, or a justification); what it holds is recorded on it
 (``i_wmes``, ``slot_prefs``) so that :meth:`PreferenceMemory.retract`
 undoes exactly that.
+
+The order of working-memory changes
+-----------------------------------
+The WMEs that preferences add and remove are buffered here and handed to
+working memory by :meth:`PreferenceMemory.flush` (at the kernel's commit) in
+the order Soar makes them, which decides their timetags and so the order in
+which the matcher meets them (``decide_non_context_slots`` and
+``do_buffered_acceptable_preference_wme_changes`` in Soar's ``decide.cpp``):
+a slot ``(id ^attr)`` is *marked* when a preference for it is asserted or
+retracted; the slots are then decided the last marked first (Soar's
+``changed_slots`` list grows at its head), each removing its WMEs the newest
+first and adding its new ones in candidate order (by each value's most recent
+acceptable preference, oldest first); then the ``(S ^operator O +)`` WMEs of
+the operator slots whose acceptable or require preferences changed, again the
+last marked slot first, in a slot the require preferences first and the
+newest preference first.
 """
 
 from __future__ import annotations
@@ -30,7 +46,7 @@ from typing import TYPE_CHECKING, Final
 
 from adapt.engine.goals import SlotPreference
 from adapt.engine.memory import WmeKey, WorkingMemory
-from adapt.engine.preferences import Preference
+from adapt.engine.preferences import Preference, same_symbol
 from adapt.engine.production import PreferenceKind
 from adapt.engine.symbols import Identifier, Symbol, level_of
 
@@ -44,9 +60,16 @@ __all__ = ["PreferenceMemory", "MadePreference"]
 #: o_supported)`` -- ``o_supported`` is the support of the firing that made it.
 MadePreference = tuple[PreferenceKind, Identifier, Symbol, Symbol, "Symbol | None", bool]
 
+#: added to a require preference's time: its WME comes before the acceptable ones
+_REQUIRE_FIRST: Final = 1 << 40
 _ACCEPTABLE: Final = PreferenceKind.ACCEPTABLE
 _REJECT: Final = PreferenceKind.REJECT
 _REQUIRE: Final = PreferenceKind.REQUIRE
+
+
+def key_is_acceptable(keys: list[WmeKey]) -> bool:
+    """Whether the WMEs are acceptable-preference WMEs ``(S ^operator O +)``."""
+    return bool(keys) and keys[0][3]
 
 
 class PreferenceMemory:
@@ -61,7 +84,8 @@ class PreferenceMemory:
         preference on ``(S ^operator ...)`` for one of them goes to its slot.
     """
 
-    __slots__ = ("wm", "goals", "isup", "osup", "irej")
+    __slots__ = ("wm", "goals", "isup", "osup", "irej", "changes", "marks", "op_marks",
+                 "clock", "made_at")
 
     def __init__(self, wm: WorkingMemory, goals: dict[Symbol, Goal]) -> None:
         self.wm = wm
@@ -72,6 +96,90 @@ class PreferenceMemory:
         self.osup: dict[WmeKey, Instantiation] = {}
         #: WME key -> the i-supported holders of a reject of it
         self.irej: dict[WmeKey, list[Instantiation]] = {}
+        #: the buffered WME changes (True: add, False: remove) until :meth:`flush`
+        self.changes: dict[WmeKey, bool] = {}
+        #: the slots ``(id, attr)`` marked since the last flush, first mark first
+        self.marks: dict[tuple[Symbol, Symbol], None] = {}
+        #: the operator slots (state ids) whose acceptable or require
+        #: preferences changed since the last flush, first mark first
+        self.op_marks: dict[Symbol, None] = {}
+        #: counts acceptable (and require) preferences as they are asserted
+        self.clock = 0
+        #: WME key -> when its most recent acceptable preference of this batch
+        #: was asserted (require preferences of operators count double: they come first)
+        self.made_at: dict[WmeKey, int] = {}
+
+    # -- the buffered changes ---------------------------------------------------
+    def _add(self, key: WmeKey) -> None:
+        """Request the WME ``key`` (working memory's semantics: a removal
+        requested before is overridden)."""
+        self.changes[key] = True
+
+    def _remove(self, key: WmeKey) -> None:
+        """Request the removal of the WME ``key``; cancels a requested addition
+        of a WME that is not in working memory."""
+        changes = self.changes
+        if changes.get(key) is True and key not in self.wm:
+            del changes[key]
+        else:
+            changes[key] = False
+
+    def flush(self) -> None:
+        """Hand the buffered changes to working memory in Soar's order (see the
+        module docstring)."""
+        changes = self.changes
+        if not changes:
+            self.marks.clear()
+            self.op_marks.clear()
+            return
+        self.changes = {}
+        wm = self.wm
+        made_at = self.made_at
+        by_slot: dict[tuple[Symbol, Symbol], list[tuple[WmeKey, bool]]] = {}
+        for key, add in changes.items():
+            slot = (key[0], key[1])
+            group = by_slot.get(slot)
+            if group is None:
+                by_slot[slot] = [(key, add)]
+            else:
+                group.append((key, add))
+        order: dict[tuple[Symbol, Symbol], None] = {}
+        for slot in reversed(self.marks):
+            if slot in by_slot:
+                order[slot] = None
+        for ident in reversed(self.op_marks):
+            if (ident, "operator") in by_slot:
+                order[(ident, "operator")] = None
+        if len(order) < len(by_slot):  # changes of slots not marked (none expected)
+            for slot in by_slot:
+                order[slot] = None
+        for slot in order:
+            group = by_slot[slot]
+            if len(group) > 1:
+                removes = [key for key, add in group if not add]
+                removes.sort(key=self._timetag_of, reverse=True)
+                adds = [key for key, add in group if add]
+                if slot[1] == "operator" and key_is_acceptable(adds):
+                    adds.sort(key=lambda k: -made_at.get(k, 0))
+                else:
+                    adds.sort(key=lambda k: made_at.get(k, 0))
+                for key in removes:
+                    wm.remove_key(key)
+                for key in adds:
+                    wm.add_key(key)
+            else:
+                key, add = group[0]
+                if add:
+                    wm.add_key(key)
+                else:
+                    wm.remove_key(key)
+        self.marks.clear()
+        self.op_marks.clear()
+        made_at.clear()
+
+    def _timetag_of(self, key: WmeKey) -> int:
+        w = self.wm.get(*key)
+        return w[4] if w is not None else 0
 
     # -- asserting -------------------------------------------------------------
     def assert_preferences(self, holder: Instantiation, prefs: list[MadePreference],
@@ -86,13 +194,16 @@ class PreferenceMemory:
         """
         goals = self.goals
         isup, irej, osup = self.isup, self.irej, self.osup
-        adds = self.wm.pending_adds
+        changes = self.changes
+        marks = self.marks
+        made_at = self.made_at
         o_local = False
         for p in prefs:
             kind, ident, attr, value, ref, _ = p
             if attr == "operator" and ident in goals:
                 self.add_slot_preference(goals[ident], Preference(kind, value, ref), holder)
             elif kind is _ACCEPTABLE:
+                marks[(ident, attr)] = None
                 key = (ident, attr, value, False)
                 if o_supported:
                     osup[key] = holder
@@ -104,9 +215,12 @@ class PreferenceMemory:
                     else:
                         supporters.append(holder)
                     holder.i_wmes.append(key)
+                self.clock += 1
+                made_at[key] = self.clock
                 if key not in irej:
-                    adds[key] = None
+                    changes[key] = True
             elif kind is _REJECT:
+                marks[(ident, attr)] = None
                 if o_supported:
                     if o_rejects:
                         self.o_reject(p)
@@ -114,7 +228,9 @@ class PreferenceMemory:
                     key = (ident, attr, value, False)
                     irej.setdefault(key, []).append(holder)
                     holder.i_wmes.append(key)
-                    self.wm.remove_key(key)
+                    self._remove(key)
+            else:  # another preference for an ordinary attribute: it marks the slot
+                marks[(ident, attr)] = None
         return o_local
 
     def add_slot_preference(self, goal: Goal, pref: Preference, holder: Instantiation) -> None:
@@ -125,13 +241,19 @@ class PreferenceMemory:
         holder.slot_prefs.append((goal, sp))
         kind = pref.kind
         if kind is _ACCEPTABLE or kind is _REQUIRE:
+            self.op_marks[goal.id] = None
             key = (goal.id, "operator", pref.value, True)
             supporters = self.isup.get(key)
             if supporters is None:
                 self.isup[key] = [holder]
             else:
                 supporters.append(holder)
-            self.wm.pending_adds[key] = None
+            self.clock += 1
+            # the require preferences' WMEs are made first (Soar's slot order)
+            made = self.clock + (_REQUIRE_FIRST if kind is _REQUIRE else 0)
+            if made > self.made_at.get(key, 0):
+                self.made_at[key] = made
+            self.changes[key] = True
 
     def o_reject(self, p: MadePreference) -> list[Goal]:
         """An o-supported reject: remove every preference for the value, and the WME.
@@ -149,14 +271,17 @@ class PreferenceMemory:
                 return []
             goal.prefs = kept
             goal.changed = True
+            self.op_marks[ident] = None
             key = (ident, "operator", value, True)
             if self.isup.pop(key, None) is not None:
-                self.wm.remove_key(key)
-            return [goal] if goal.operator is value else []
+                self._remove(key)
+            operator = goal.operator
+            return [goal] if operator is not None and same_symbol(operator, value) else []
+        self.marks[(ident, attr)] = None
         wme_key = (ident, attr, value, False)
         had = self.osup.pop(wme_key, None) is not None
         if self.isup.pop(wme_key, None) is not None or had:
-            self.wm.remove_key(wme_key)
+            self._remove(wme_key)
         return []
 
     # -- retracting ----------------------------------------------------------------
@@ -166,9 +291,11 @@ class PreferenceMemory:
         Returns the goals whose *selected* operator just lost an acceptable
         preference of ``holder`` (Soar deselects them at once).
         """
-        isup, osup, wm = self.isup, self.osup, self.wm
+        isup, osup = self.isup, self.osup
         irej = self.irej
+        marks = self.marks
         for key in holder.i_wmes:
+            marks[(key[0], key[1])] = None
             if irej:
                 rejecters = irej.get(key)
                 if rejecters is not None and holder in rejecters:
@@ -176,7 +303,7 @@ class PreferenceMemory:
                     if not rejecters:
                         del irej[key]
                         if key in isup or key in osup:
-                            wm.add(*key)
+                            self._add(key)
                     continue
             supporters = isup.get(key)
             if supporters is None or holder not in supporters:
@@ -184,7 +311,7 @@ class PreferenceMemory:
             if len(supporters) == 1:
                 del isup[key]
                 if key not in osup:
-                    wm.remove_key(key)
+                    self._remove(key)
             else:
                 supporters.remove(holder)
         deselect: list[Goal] = []
@@ -196,6 +323,7 @@ class PreferenceMemory:
             goal.changed = True
             kind = sp.preference.kind
             if kind is _ACCEPTABLE or kind is _REQUIRE:
+                self.op_marks[goal.id] = None
                 value = sp.preference.value
                 key = (goal.id, "operator", value, True)
                 supporters = isup.get(key)
@@ -203,8 +331,9 @@ class PreferenceMemory:
                     supporters.remove(holder)
                     if not supporters:
                         del isup[key]
-                        wm.remove_key(key)
-                if kind is _ACCEPTABLE and goal.operator is value:
+                        self._remove(key)
+                operator = goal.operator
+                if kind is _ACCEPTABLE and operator is not None and same_symbol(operator, value):
                     deselect.append(goal)
         return deselect
 
@@ -214,8 +343,9 @@ class PreferenceMemory:
         if key not in self.osup or (holder is not None and self.osup[key] is not holder):
             return
         del self.osup[key]
+        self.marks[(key[0], key[1])] = None
         if key not in self.isup:
-            self.wm.remove(*key)
+            self._remove(key)
 
     def drop_levels(self, level: int) -> None:
         """Forget the o-supported WMEs on identifiers of goal level ``level`` or lower

@@ -37,6 +37,7 @@ __all__ = [
     "format_symbol",
     "symbol_sort_key",
     "level_of",
+    "is_goal",
     "IdentifierFactory",
 ]
 
@@ -52,15 +53,21 @@ class Identifier:
     promotes it).  It lives on the identifier, as in Soar, so it goes away
     with the identifier: nothing has to forget it when working memory drops
     the identifier.
+
+    ``goal`` is true while the identifier is a state of the goal stack (the
+    top state or a substate): what a condition written ``(state <s> ...)``
+    requires of ``<s>`` (Soar's ``isa_goal``).  The kernel sets it when it
+    creates a state and clears it when it removes one.
     """
 
-    __slots__ = ("letter", "number", "name", "level")
+    __slots__ = ("letter", "number", "name", "level", "goal")
 
-    def __init__(self, letter: str, number: int, level: int = 0) -> None:
+    def __init__(self, letter: str, number: int, level: int = 0, goal: bool = False) -> None:
         self.letter = letter
         self.number = number
         self.name = f"{letter}{number}"
         self.level = level
+        self.goal = goal
 
     def __repr__(self) -> str:
         return self.name
@@ -122,6 +129,18 @@ def format_symbol(value: Symbol) -> str:
     return str(value)
 
 
+def is_goal(value: object) -> bool:
+    """Whether ``value`` is a state of the goal stack (:attr:`Identifier.goal`):
+    what ``(state <s> ...)`` tests.
+
+    Examples
+    --------
+    >>> is_goal(Identifier("S", 1, goal=True)), is_goal(Identifier("F", 1)), is_goal("S1")
+    (True, False, False)
+    """
+    return type(value) is Identifier and value.goal
+
+
 def level_of(value: object) -> int:
     """The goal level of an identifier (:attr:`Identifier.level`); 0 for anything else."""
     return value.level if isinstance(value, Identifier) else 0
@@ -142,8 +161,8 @@ class IdentifierFactory:
     Examples
     --------
     >>> ids = IdentifierFactory()
-    >>> ids.new("S"), ids.new("I"), ids.new("s"), ids.new("<")
-    (S1, I1, S2, I2)
+    >>> ids.state(), ids.new("O"), ids.new("o"), ids.new("<"), ids.new("small"), ids.state()
+    (S1, O1, O2, I1, I2, S2)
     """
 
     __slots__ = ("_counters", "_letters")
@@ -156,11 +175,20 @@ class IdentifierFactory:
     def new(self, hint: str, level: int = 0) -> Identifier:
         """A fresh identifier at goal level ``level`` whose letter is the first
         letter of ``hint`` (upper-cased), or ``I`` when ``hint`` does not start
-        with a letter."""
+        with a letter -- or starts with S, which only states have (Soar's
+        ``prohibit_S``: a rule's ``<small>`` makes ``I4``, not ``S4``)."""
         letter = self._letters.get(hint)
         if letter is None:
             letter = hint[:1].upper() if hint[:1].isalpha() else "I"
+            if letter == "S":
+                letter = "I"
             self._letters[hint] = letter
         n = self._counters.get(letter, 0) + 1
         self._counters[letter] = n
         return Identifier(letter, n, level)
+
+    def state(self, level: int = 0) -> Identifier:
+        """A fresh state identifier (``S``, a goal: :attr:`Identifier.goal`)."""
+        n = self._counters.get("S", 0) + 1
+        self._counters["S"] = n
+        return Identifier("S", n, level, goal=True)

@@ -101,6 +101,9 @@ class TraceWriter:
     # -- phases ---------------------------------------------------------------
     def begin_phase(self, d: int, phase: str) -> None:
         """A phase starts (``d`` = decisions started so far)."""
+        if self.level < 2:  # level 1 writes no phase records
+            self._phase = None
+            return
         rec: dict[str, Any] = {"kind": "phase", "d": d, "phase": phase}
         if self.level >= 4:
             rec["adds"] = [_wme_json(w) for w in self._carry]

@@ -57,17 +57,23 @@ class TraceRecorder:
         self._d = 0
         self._decision: dict[str, Any] | None = None
         writer.existing_wmes(kernel.wm)
-        self._unsubscribe = [
-            events.subscribe(Event.PHASE_BEGIN, self.phase_begun),
-            events.subscribe(Event.PHASE_END, self.phase_ended),
-            events.subscribe(Event.WM_CHANGES, self.wm_changed),
-            events.subscribe(Event.FIRE, self.fired),
-            events.subscribe(Event.RETRACT, self.retracted),
-            events.subscribe(Event.DECISION, self.decided),
-            events.subscribe(Event.IMPASSE, self.impasse),
-            events.subscribe(Event.WRITE, writer.write_text),
-            events.subscribe(Event.MESSAGE, writer.message),
-        ]
+        # subscribe only to what the level writes: a firing's bindings, the
+        # WMEs of a commit and a decision's candidates are built only when
+        # someone listens, so level 1 costs what it shows
+        level = writer.level
+        subscriptions: list[tuple[Event, Any]] = [
+            (Event.PHASE_BEGIN, self.phase_begun),
+            (Event.PHASE_END, self.phase_ended),
+            (Event.DECISION, self.decided),
+            (Event.IMPASSE, self.impasse)]
+        if level >= 2:
+            subscriptions += [(Event.WRITE, writer.write_text), (Event.MESSAGE, writer.message)]
+        if level >= 3:
+            subscriptions += [(Event.FIRE, self.fired), (Event.RETRACT, self.retracted)]
+        if level >= 4:
+            subscriptions.append((Event.WM_CHANGES, self.wm_changed))
+        self._unsubscribe = [events.subscribe(event, callback)
+                             for event, callback in subscriptions]
 
     def detach(self) -> None:
         """Stop listening."""
@@ -109,17 +115,19 @@ class TraceRecorder:
         """``DECISION``: the candidates and the selection of the decision record."""
         goal, d = payload
         k = self.kernel
-        candidates: dict[Symbol, list[Any]] = {}
-        for sp in goal.prefs:
-            p = sp.preference
-            candidates.setdefault(p.value, []).append([p.kind.value, symbol_json(p.referent)])
-        self._decision = {
-            "d": self._d, "level": goal.level,
-            "candidates": [{"id": symbol_json(v), "name": k.operator_name(v), "preferences": ps}
-                           for v, ps in candidates.items()],
-            "selected": (None if d.selected is None else
-                         {"id": symbol_json(d.selected), "name": k.operator_name(d.selected)}),
-            "impasse": None}
+        record: dict[str, Any] = {"d": self._d, "level": goal.level}
+        if self.writer.level >= 5:  # the candidates: only the level that writes them
+            candidates: dict[Symbol, list[Any]] = {}
+            for sp in goal.prefs:
+                p = sp.preference
+                candidates.setdefault(p.value, []).append([p.kind.value, symbol_json(p.referent)])
+            record["candidates"] = [
+                {"id": symbol_json(v), "name": k.operator_name(v), "preferences": ps}
+                for v, ps in candidates.items()]
+        record["selected"] = (None if d.selected is None else
+                              {"id": symbol_json(d.selected), "name": k.operator_name(d.selected)})
+        record["impasse"] = None
+        self._decision = record
 
     def impasse(self, payload: tuple[Goal, Goal]) -> None:
         """``IMPASSE``: the impasse of the decision record."""

@@ -14,7 +14,11 @@
 * :mod:`~adapt.imagination.render` - the :class:`Renderer` (BGR image and
   label image through an :class:`adapt.geometry.Camera`);
 * :mod:`~adapt.imagination.predict` - rollouts, contact prediction, intercepts
-  and seeded ensembles.
+  and seeded ensembles; :mod:`~adapt.imagination.outlook` - a scene's expected
+  future (``adapt imagine``);
+* :mod:`~adapt.imagination.footprint` - where a robot fits and the way round
+  what is in its way; :mod:`~adapt.imagination.reach` - where it can meet a
+  moving object; :mod:`~adapt.imagination.sight` - what a wall hides.
 
 This package imports numpy, pymunk, OpenCV (for drawing), ``adapt.geometry``
 and ``adapt.errors`` only.
@@ -56,6 +60,7 @@ from adapt.imagination.scene import (
     Ball,
     Floor,
     Obstacle,
+    RobotShape,
     RobotSpec,
     SceneSpec,
     Wall,
@@ -99,6 +104,7 @@ __all__ = [
     "RenderResult",
     "Renderer",
     "RobotSpec",
+    "RobotShape",
     "SceneSpec",
     "StepHook",
     "Surface",

@@ -28,11 +28,12 @@ from __future__ import annotations
 
 import heapq
 import math
+from dataclasses import dataclass
 from typing import Sequence
 
-from adapt.imagination.scene import Obstacle, SceneSpec, Vec2
+from adapt.imagination.scene import Obstacle, SceneSpec, Vec2, Wall
 
-__all__ = ["Footprint", "path_length"]
+__all__ = ["Footprint", "Collision", "path_length"]
 
 #: Corner points stand this much more than the radius off the obstacle (metres).
 CLEARANCE = 0.03
@@ -82,6 +83,24 @@ def path_length(start: Sequence[float], way: Sequence[Vec2]) -> float:
     return total
 
 
+@dataclass(frozen=True, slots=True)
+class Collision:
+    """What a disc overlaps: the ``index``-th wall or obstacle of the scene, how far the
+    disc's centre is from it (``gap``, metres), and whether the centre is inside it (an
+    obstacle)."""
+
+    index: int
+    wall: Wall | None
+    obstacle: Obstacle | None
+    gap: float
+    inside: bool = False
+
+    @property
+    def name(self) -> str:
+        """The wall's or the obstacle's name."""
+        return self.wall.name if self.wall is not None else self.obstacle.name  # type: ignore[union-attr]
+
+
 class Footprint:
     """Where a disc of ``radius`` may be on ``scene``'s floor (see the module docstring)."""
 
@@ -98,7 +117,8 @@ class Footprint:
     # -- fitting -------------------------------------------------------------------------------
 
     def clear(self, p: Sequence[float]) -> bool:
-        """Whether the disc fits with its centre at ``p``."""
+        """Whether the disc fits with its centre at ``p``: on the floor's extent, and
+        overlapping no wall or obstacle (:meth:`collision`)."""
         x, y = float(p[0]), float(p[1])
         r = self.radius
         extent = self.scene.floor.extent
@@ -106,10 +126,35 @@ class Footprint:
             x0, y0, x1, y1 = extent
             if not (x0 + r <= x <= x1 - r and y0 + r <= y <= y1 - r):
                 return False
-        for (ax, ay), (bx, by) in self.segments:
-            if _point_segment(x, y, ax, ay, bx, by) < r:
-                return False
-        return self.obstacle_at((x, y)) is None
+        return self.collision((x, y)) is None
+
+    def collision(self, p: Sequence[float], *, touch: float = 0.0) -> Collision | None:
+        """The first wall (then obstacle) the disc at ``p`` overlaps by more than ``touch``
+        metres (touching is allowed up to it), or None.
+
+        Examples
+        --------
+        >>> from adapt.imagination.scene import Wall
+        >>> fp = Footprint(SceneSpec(walls=(Wall("north", (-1, 1), (1, 1)),)), 0.25)
+        >>> c = fp.collision((0.0, 0.9))
+        >>> c.name, round(c.gap, 3), fp.collision((0.0, 0.75)) is None
+        ('north', 0.1, True)
+        """
+        x, y = float(p[0]), float(p[1])
+        limit = self.radius - touch
+        for i, wall in enumerate(self.scene.walls):
+            (ax, ay), (bx, by) = wall.start, wall.end
+            gap = _point_segment(x, y, ax, ay, bx, by)
+            if gap < limit:
+                return Collision(i, wall, None, gap)
+        for i, ob in enumerate(self.scene.obstacles):
+            poly = ob.polygon
+            n = len(poly)
+            gap = min(_point_segment(x, y, *poly[k], *poly[(k + 1) % n]) for k in range(n))
+            inside = _inside((x, y), poly)
+            if inside or gap < limit:
+                return Collision(i, None, ob, gap, inside)
+        return None
 
     def obstacle_at(self, p: Sequence[float]) -> Obstacle | None:
         """The obstacle whose footprint holds the point ``p`` (the disc's size aside), or None."""

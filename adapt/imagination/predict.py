@@ -276,13 +276,13 @@ def intercept_reach(ball: Ball, robot: RobotSpec) -> float:
 
     Examples
     --------
-    >>> intercept_reach(Ball("b", radius=0.1), RobotSpec(shape="disc", radius=0.25))
+    >>> from adapt.imagination.scene import RobotShape
+    >>> intercept_reach(Ball("b", radius=0.1), RobotSpec(shape=RobotShape.DISC, radius=0.25))
     0.35
-    >>> intercept_reach(Ball("b", radius=0.1), RobotSpec(shape="box", size=(0.6, 0.4)))
+    >>> intercept_reach(Ball("b", radius=0.1), RobotSpec(shape=RobotShape.BOX, size=(0.6, 0.4)))
     0.30000000000000004
     """
-    body = robot.radius if robot.shape == "disc" else min(robot.size) / 2.0
-    return ball.radius + body
+    return ball.radius + robot.inner_radius
 
 
 def intercept(

@@ -31,7 +31,7 @@ from adapt.imagination.footprint import Footprint, path_length
 from adapt.imagination.predict import Trajectory, time_to_reach
 from adapt.imagination.scene import RobotSpec, SceneSpec, Vec2
 
-__all__ = ["Meeting", "standing_point", "meet", "body_radius", "APPROACH"]
+__all__ = ["Meeting", "standing_point", "meet", "APPROACH"]
 
 #: The robot plans to stop this fraction of the reach short of the object's centre.
 APPROACH = 0.9
@@ -55,13 +55,6 @@ class Meeting:
     drive: float
 
 
-def body_radius(robot: RobotSpec) -> float:
-    """The radius of the robot's footprint (a box: half its diagonal)."""
-    if robot.shape == "disc":
-        return robot.radius
-    return math.hypot(robot.size[0], robot.size[1]) / 2.0
-
-
 def standing_point(scene: SceneSpec, robot: RobotSpec, target: Sequence[float], reach: float,
                    approach_from: Sequence[float], *,
                    footprint: Footprint | None = None) -> Vec2 | None:
@@ -72,7 +65,7 @@ def standing_point(scene: SceneSpec, robot: RobotSpec, target: Sequence[float], 
     A robot already within reach of the target stays where it is. ``footprint`` is the
     robot's in ``scene``, built when not given.
     """
-    fp = footprint if footprint is not None else Footprint(scene, body_radius(robot))
+    fp = footprint if footprint is not None else Footprint(scene, robot.outer_radius)
     return _standing_point(fp, target, reach, approach_from)
 
 
@@ -126,7 +119,7 @@ def meet(path: Trajectory, scene: SceneSpec, robot: RobotSpec, position: Sequenc
     # a necessary condition first, vectorised: the straight distance less the reach
     dist = np.maximum(np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) - reach, 0.0)
     need = np.array([time_to_reach(float(v), speed, robot.max_accel) for v in dist])
-    fp = footprint if footprint is not None else Footprint(scene, body_radius(robot))
+    fp = footprint if footprint is not None else Footprint(scene, robot.outer_radius)
     for k in np.flatnonzero(ok & (need <= times - start + 1e-9)):
         target = (float(pts[k, 0]), float(pts[k, 1]))
         stand = _standing_point(fp, target, reach, (rx, ry))

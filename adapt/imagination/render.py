@@ -200,6 +200,11 @@ class Renderer:
         """
         return Renderer(self.scene, camera, exact=self.exact, backdrop=self.backdrop)
 
+    def view(self, camera: Camera) -> NDArray[np.uint8]:
+        """What ``camera`` sees of the scene in its initial state: the render callback
+        the camera loop takes (:func:`adapt.vision.sync.synchronise`)."""
+        return self.with_camera(camera).render().image
+
     # -- surfaces and appearance ------------------------------------------------
 
     @property

@@ -41,6 +41,7 @@ adapt.errors.ImaginationError: radius: expected a positive number of metres, got
 from __future__ import annotations
 
 import copy
+import enum
 import math
 from dataclasses import dataclass, field
 from typing import Sequence
@@ -56,6 +57,7 @@ __all__ = [
     "Obstacle",
     "Ball",
     "RobotSpec",
+    "RobotShape",
     "SceneSpec",
     "BUILTIN_TEXTURES",
     "DEFAULT_DT",
@@ -460,15 +462,27 @@ class Ball:
         return out
 
 
+class RobotShape(enum.Enum):
+    """The robot's body: a disc of its ``radius``, or a box of its ``size``."""
+
+    DISC = "disc"
+    BOX = "box"
+
+
 @dataclass(frozen=True, slots=True)
 class RobotSpec:
     """A robot driven by velocity commands.
 
+    Its two radii are written here once: :attr:`outer_radius`, the disc its
+    body fits in (where it fits on the floor, and the way round what is in its
+    way), and :attr:`inner_radius`, the distance from its centre to its
+    nearest side (how close it comes to what it touches).
+
     Parameters
     ----------
-    shape : {"disc", "box"}
+    shape : RobotShape
         A disc of ``radius`` or a box of ``size = (length, width)`` (length
-        along its heading).
+        along its heading); the text ``"disc"`` or ``"box"`` is taken too.
     heading_deg : float
         Initial heading, degrees counter-clockwise from ``+x``.
     max_speed, max_accel : float
@@ -477,7 +491,7 @@ class RobotSpec:
     """
 
     name: str = "robot"
-    shape: str = "disc"
+    shape: RobotShape = RobotShape.DISC
     radius: float = 0.25
     size: Vec2 = (0.5, 0.4)
     position: Vec2 = (0.0, 0.0)
@@ -490,8 +504,11 @@ class RobotSpec:
 
     def __post_init__(self) -> None:
         _name(self.name)
-        if self.shape not in ("disc", "box"):
-            raise ImaginationError(f"shape: expected 'disc' or 'box', got {self.shape!r}")
+        if not isinstance(self.shape, RobotShape):
+            try:
+                object.__setattr__(self, "shape", RobotShape(self.shape))
+            except ValueError:
+                raise ImaginationError(f"shape: expected 'disc' or 'box', got {self.shape!r}") from None
         object.__setattr__(self, "radius", _positive("radius", self.radius, "metres", MIN_SIZE))
         size = _vec2("size", self.size)
         _positive("size", size[0], "metres", MIN_SIZE)
@@ -513,10 +530,10 @@ class RobotSpec:
 
         Examples
         --------
-        >>> RobotSpec(shape="box", size=(2.0, 1.0)).outline()
+        >>> RobotSpec(shape=RobotShape.BOX, size=(2.0, 1.0)).outline()
         ((-1.0, -0.5), (1.0, -0.5), (1.0, 0.5), (-1.0, 0.5))
         """
-        if self.shape == "box":
+        if self.shape is RobotShape.BOX:
             hl, hw = self.size[0] / 2.0, self.size[1] / 2.0
             return ((-hl, -hw), (hl, -hw), (hl, hw), (-hl, hw))
         n = 16
@@ -524,6 +541,31 @@ class RobotSpec:
             (self.radius * math.cos(2 * math.pi * k / n), self.radius * math.sin(2 * math.pi * k / n))
             for k in range(n)
         )
+
+    @property
+    def outer_radius(self) -> float:
+        """The radius of the disc the body fits in: a disc's radius, half a box's diagonal.
+
+        Examples
+        --------
+        >>> RobotSpec(radius=0.25).outer_radius, RobotSpec(shape=RobotShape.BOX, size=(0.6, 0.8)).outer_radius
+        (0.25, 0.5)
+        """
+        if self.shape is RobotShape.DISC:
+            return self.radius
+        return math.hypot(self.size[0], self.size[1]) / 2.0
+
+    @property
+    def inner_radius(self) -> float:
+        """The distance from the centre to the nearest side: a disc's radius, half a box's
+        smaller side.
+
+        Examples
+        --------
+        >>> RobotSpec(shape=RobotShape.BOX, size=(0.6, 0.8)).inner_radius
+        0.3
+        """
+        return self.radius if self.shape is RobotShape.DISC else min(self.size) / 2.0
 
 
 @dataclass(frozen=True, slots=True)

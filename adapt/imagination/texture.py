@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 
 from adapt.errors import ImageError
 from adapt.imagination.scene import BUILTIN_TEXTURES
+from adapt.native import native_messages
 
 __all__ = ["Texture", "load_texture", "texture_path", "mip_levels", "TEXTURE_DIR"]
 
@@ -113,9 +114,11 @@ def load_texture(ref: str) -> Texture:
         If the file is missing or not an image.
     """
     path = texture_path(ref)
-    image = cv2.imread(str(path), cv2.IMREAD_COLOR) if path.is_file() else None
+    with native_messages() as said:  # libpng's own complaint goes into the message
+        image = cv2.imread(str(path), cv2.IMREAD_COLOR) if path.is_file() else None
     if image is None or image.size == 0:
-        raise ImageError(f"texture file {str(path)!r} is missing or not a readable image")
+        raise ImageError(f"texture file {str(path)!r} is missing or not a readable image"
+                         f"{said.detail()}")
     turn = _UPRIGHT.get(ref[len("builtin:"):]) if ref.startswith("builtin:") else None
     if turn is not None:
         image = cv2.rotate(image, turn)

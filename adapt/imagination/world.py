@@ -89,7 +89,7 @@ from typing import Any, Callable, Sequence
 import pymunk
 
 from adapt.errors import ImaginationError
-from adapt.imagination.scene import MAX_DT, MIN_DT, Ball, RobotSpec, SceneSpec, Vec2
+from adapt.imagination.scene import MAX_DT, MIN_DT, Ball, RobotShape, RobotSpec, SceneSpec, Vec2
 
 __all__ = [
     "BodyState",
@@ -404,14 +404,14 @@ class World:
         rolling.velocity = (w[0] - take * nx, w[1] - take * ny)
 
     def _add_robot(self, space: pymunk.Space, robot: RobotSpec) -> None:
-        if robot.shape == "disc":
+        if robot.shape is RobotShape.DISC:
             moment = pymunk.moment_for_circle(robot.mass, 0.0, robot.radius)
         else:
             moment = pymunk.moment_for_box(robot.mass, robot.size)
         body = pymunk.Body(robot.mass, moment)
         body.position = robot.position
         body.angle = math.radians(robot.heading_deg)
-        if robot.shape == "disc":
+        if robot.shape is RobotShape.DISC:
             shape: pymunk.Shape = pymunk.Circle(body, robot.radius)
         else:
             shape = pymunk.Poly(body, robot.outline())
@@ -428,7 +428,7 @@ class World:
         turn.max_force = robot.mass * robot.max_accel * max(robot.radius, max(robot.size))
         space.add(body, shape, control, drive, turn)
         self._robot = body
-        self._radius[robot.name] = _robot_radius(robot)
+        self._radius[robot.name] = robot.inner_radius  # how far it may move per sub-step
         self._names[shape] = robot.name
         self._control = control
 
@@ -998,7 +998,3 @@ class World:
         self._control.velocity = (vx, vy)
         self._control.angular_velocity = w
 
-
-def _robot_radius(robot: RobotSpec) -> float:
-    """The distance a robot may move per sub-step is measured against this."""
-    return robot.radius if robot.shape == "disc" else min(robot.size) / 2.0

@@ -270,14 +270,6 @@ class Mirror:
         """Drive the imagined robot (the commanded motion: odometry)."""
         self.world.command_robot(velocity, angular_velocity)
 
-    def heading_towards(self, target: Sequence[float]) -> float:
-        """The heading (radians) from the imagined robot to ``target``."""
-        pose = self.robot_pose()
-        if pose is None:
-            return 0.0
-        (x, y), _ = pose
-        return math.atan2(float(target[1]) - y, float(target[0]) - x)
-
 
 def _yaw(rotation: np.ndarray) -> float:
     """Heading of a camera's viewing direction on the floor (radians from +x)."""

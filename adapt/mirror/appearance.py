@@ -94,6 +94,7 @@ from adapt.errors import AppearanceError
 from adapt.files import write_atomic
 from adapt.geometry import MAX_COORDINATE, Camera
 from adapt.imagination import LABEL_BALL, LABEL_FLOOR, LABEL_SKY, Renderer, Surface
+from adapt.native import native_messages
 
 __all__ = [
     "AppearanceModel",
@@ -882,7 +883,8 @@ def _read_image(base: Path, name: object, where: str, flags: int) -> NDArray[np.
         data = np.fromfile(path, np.uint8)
     except OSError:
         raise AppearanceError(f"{where}: cannot read {str(path)!r}") from None
-    image = cv2.imdecode(data, flags) if data.size else None
+    with native_messages() as said:  # libpng's own complaint goes into the message
+        image = cv2.imdecode(data, flags) if data.size else None
     if image is None or image.dtype != np.uint8:
-        raise AppearanceError(f"{where}: {str(path)!r} is not an 8-bit image")
+        raise AppearanceError(f"{where}: {str(path)!r} is not an 8-bit image{said.detail()}")
     return np.asarray(image, np.uint8)

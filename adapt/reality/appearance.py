@@ -4,7 +4,7 @@ A synthetic reality renders its true scene with the imagination's
 :class:`~adapt.imagination.Renderer` (the texture scale is already in the
 true scene's tiles) and then makes it look like a camera's image with
 :class:`Look`, whose parameters are the scenario's
-:class:`~adapt.scenario.Appearance`.  In order, per pixel and channel:
+:class:`~adapt.scenario.RealAppearance`.  In order, per pixel and channel:
 
 1. **tint**: the static surfaces (floor, walls, obstacles; found in the
    label image) are multiplied by ``tint`` ``(b, g, r)``; the sky, balls and
@@ -27,8 +27,8 @@ true scene's tiles) and then makes it look like a camera's image with
 Examples
 --------
 >>> import numpy as np
->>> from adapt.scenario import Appearance
->>> look = Look(Appearance(brightness=20.0, gradient=0.5), (4, 2))
+>>> from adapt.scenario import RealAppearance
+>>> look = Look(RealAppearance(brightness=20.0, gradient=0.5), (4, 2))
 >>> img = np.full((2, 4, 3), 100, np.uint8)
 >>> out = look.apply(img, np.ones((2, 4), np.int32), np.random.default_rng(0))
 >>> out[0, :, 0].tolist()          # 100 * (1 .. 0.5) + 20, left to right
@@ -47,7 +47,7 @@ from numpy.typing import NDArray
 
 from adapt.geometry import Camera
 from adapt.imagination.render import LABEL_BALL, LABEL_FLOOR
-from adapt.scenario.records import Appearance
+from adapt.scenario.records import RealAppearance
 
 __all__ = ["Look", "lighting_gain", "draw_spin_marker", "MARKER_SIZE", "MARKER_DARKNESS"]
 
@@ -95,7 +95,7 @@ def _normal_quantiles() -> NDArray[np.float32]:
 
 
 class Look:
-    """Applies an :class:`~adapt.scenario.Appearance` to rendered frames of one size.
+    """Applies an :class:`~adapt.scenario.RealAppearance` to rendered frames of one size.
 
     The per-pixel gain (lighting times contrast), the offsets, the noise
     table and the work buffers are made once; :meth:`apply` costs a few
@@ -107,7 +107,7 @@ class Look:
     times cheaper than ``Generator.standard_normal``.
     """
 
-    def __init__(self, appearance: Appearance, size: tuple[int, int]) -> None:
+    def __init__(self, appearance: RealAppearance, size: tuple[int, int]) -> None:
         self.appearance = appearance
         self.size = (int(size[0]), int(size[1]))
         a = appearance

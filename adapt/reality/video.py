@@ -50,6 +50,7 @@ from numpy.typing import NDArray
 
 from adapt.errors import RealityError
 from adapt.frames import Frame
+from adapt.native import NativeMessages, native_messages
 from adapt.reality.truth import CsvTruth, load_truth_csv
 from adapt.reality.warning import RealityWarning
 from adapt.scenario import Scenario, VideoReality
@@ -69,20 +70,18 @@ def natural_key(path: str) -> list[object]:
 
 
 def frame_limit(scenario: Scenario, fps: float) -> int:
-    """Frames a video run takes at most: ``run.max_frames``, or
-    ``run.duration`` (10 s when not given) at the video's ``fps``."""
-    run = scenario.run
-    if run.max_frames is not None:
-        return int(run.max_frames)
-    seconds = 10.0 if run.duration is None else run.duration
-    return max(1, int(math.floor(seconds * fps + 1e-9)))
+    """Frames a video run takes at most: the run's length at the video's ``fps``
+    (:meth:`RunSettings.frames_at <adapt.scenario.RunSettings.frames_at>`)."""
+    return scenario.run.frames_at(fps)
 
 
 def _check(image: NDArray[np.generic] | None, index: int, where: str,
-           size: tuple[int, int]) -> NDArray[np.uint8]:
-    """A frame as read, checked: 8-bit, three channels, the expected size."""
+           size: tuple[int, int], said: NativeMessages | None = None) -> NDArray[np.uint8]:
+    """A frame as read, checked: 8-bit, three channels, the expected size (``said``: what
+    the decoder printed, for the message)."""
     if image is None:
-        raise RealityError(f"frame {index} ({where}) is not a readable image")
+        raise RealityError(f"frame {index} ({where}) is not a readable image"
+                           f"{said.detail() if said is not None else ''}")
     channels = 1 if image.ndim == 2 else image.shape[2]
     if image.dtype != np.uint8:
         raise RealityError(f"frame {index} ({where}) has {image.dtype} pixels; expected 8-bit "
@@ -162,10 +161,11 @@ class VideoSource:
         p = Path(path)
         if not p.is_file():
             raise RealityError(f"video file {str(p)!r} not found")
-        capture = cv2.VideoCapture(str(p))
+        with native_messages() as said:  # FFmpeg's complaints go into the message
+            capture = cv2.VideoCapture(str(p))
         if not capture.isOpened():
             capture.release()
-            raise RealityError(f"{str(p)!r}: OpenCV cannot open it as a video")
+            raise RealityError(f"{str(p)!r}: OpenCV cannot open it as a video{said.detail()}")
         if fps is None:
             fps = float(capture.get(cv2.CAP_PROP_FPS))
             if not (fps > 0 and math.isfinite(fps)):
@@ -252,12 +252,15 @@ class VideoSource:
             if index >= len(self._files):
                 return None
             f = self._files[index]
-            return _check(cv2.imread(f, cv2.IMREAD_UNCHANGED), index, f, self._size)
+            with native_messages() as said:  # libjpeg's complaints go into the message
+                image = cv2.imread(f, cv2.IMREAD_UNCHANGED)
+            return _check(image, index, f, self._size, said)
         assert self._capture is not None
-        ok, image = self._capture.read()
+        with native_messages() as said:
+            ok, image = self._capture.read()
         if not ok:
             return None
-        return _check(image, index, self._where, self._size)
+        return _check(image, index, self._where, self._size, said)
 
     def _frames(self) -> Iterator[Frame]:
         index = 0

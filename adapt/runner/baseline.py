@@ -1,4 +1,16 @@
-"""The baseline the mirror is measured against, run in the same run on the same sightings.
+"""The baselines the mirror is measured against, run in the same run on the same sightings.
+
+Baselines are a keyed collection (:func:`default_baselines`; today one,
+``kalman``), each a :class:`BaselineSet`: one baseline per object
+(:class:`ObjectBaseline`, made by the set's factory when the object is first
+perceived with a size), stepped by the loop every frame on the object's
+sighting, returning a :class:`BaselineState` (its predictions and the
+robots it drives) that goes into the frame record.  The evaluation, the
+report and the figures iterate the collection; the report writes the
+``kalman`` baseline under its historic key ``baseline``
+(:func:`report_key`).
+
+The Kalman baseline (:class:`Baseline`):
 
 A constant-velocity Kalman filter (:class:`~adapt.kalman.ConstantVelocityKF`,
 no bounce handling) follows each object from the sightings its perceptual
@@ -27,17 +39,131 @@ Examples
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Callable, Mapping, Protocol, Sequence
 
 import numpy as np
 
 from adapt.imagination import RobotSpec, SceneSpec
 from adapt.imagination.footprint import Footprint
-from adapt.imagination.predict import Trajectory, intercept
-from adapt.imagination.reach import body_radius
+from adapt.imagination.predict import Trajectory, intercept, intercept_reach
 from adapt.kalman import ConstantVelocityKF
+from adapt.schemas.percepts import ObjectPercept
 
-__all__ = ["Baseline", "SimulatedRobot"]
+__all__ = ["Baseline", "SimulatedRobot", "BaselinePrediction", "ObjectBaseline", "BaselineSetup",
+           "BaselineState", "BaselineSet", "default_baselines", "report_key", "REPORT_KEYS"]
+
+Vec2 = tuple[float, float]
+
+#: The key a baseline's outputs have in ``report.json`` (contract keys), when not its name.
+REPORT_KEYS = {"kalman": "baseline"}
+
+
+def report_key(name: str) -> str:
+    """The key of baseline ``name`` in the report and the summary.
+
+    >>> report_key("kalman"), report_key("reflecting")
+    ('baseline', 'reflecting')
+    """
+    return REPORT_KEYS.get(name, name)
+
+
+@dataclass(frozen=True, slots=True)
+class BaselinePrediction:
+    """Where a baseline expects the object ``horizon`` seconds ahead."""
+
+    horizon: float
+    position: Vec2
+
+
+class ObjectBaseline(Protocol):
+    """A baseline for one object: what it predicts and the robot it drives."""
+
+    def step(self, time: float, sighting: Sequence[float] | None) -> None:
+        """Take this frame's sighting (None: not seen) and drive for one frame."""
+        ...
+
+    def predictions(self) -> tuple[BaselinePrediction, ...]:
+        """Its predictions at the horizons (empty before it can predict)."""
+        ...
+
+    @property
+    def robot_position(self) -> Vec2 | None:
+        """Where its simulated robot is (None without a robot)."""
+        ...
+
+
+@dataclass(frozen=True, slots=True)
+class BaselineSetup:
+    """What a baseline for one object is made with: the real robot's model (None without
+    a robot), the catch reach for this object, the horizons, the frame interval and the
+    scene (its walls and obstacles)."""
+
+    robot: RobotSpec | None
+    reach: float
+    horizons: tuple[float, ...]
+    dt: float
+    scene: SceneSpec
+
+
+#: Makes a baseline for one object.
+BaselineFactory = Callable[[BaselineSetup], ObjectBaseline]
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class BaselineState:
+    """One baseline in one frame: its predictions and its robot's position, per object."""
+
+    name: str
+    predictions: Mapping[str, tuple[BaselinePrediction, ...]] = field(
+        default_factory=lambda: MappingProxyType({}))
+    robots: Mapping[str, Vec2 | None] = field(default_factory=lambda: MappingProxyType({}))
+
+
+class BaselineSet:
+    """One named baseline over every object (see the module docstring)."""
+
+    def __init__(self, name: str, factory: BaselineFactory, *, robot: RobotSpec | None,
+                 horizons: Sequence[float], dt: float, scene: SceneSpec) -> None:
+        self.name = name
+        self.factory = factory
+        self.robot = robot
+        self.horizons = tuple(horizons)
+        self.dt = dt
+        self.scene = scene
+        self.objects: dict[str, ObjectBaseline] = {}
+
+    def step(self, time: float, objects: Sequence[ObjectPercept]) -> BaselineState:
+        """Step each object's baseline on its sighting (an object is followed from the
+        first frame its size is known)."""
+        preds: dict[str, tuple[BaselinePrediction, ...]] = {}
+        robots: dict[str, Vec2 | None] = {}
+        for p in objects:
+            if p.ball is None:
+                continue
+            b = self.objects.get(p.object)
+            if b is None:
+                reach = 0.0 if self.robot is None else intercept_reach(p.ball, self.robot)
+                b = self.objects[p.object] = self.factory(BaselineSetup(
+                    self.robot, reach, self.horizons, self.dt, self.scene))
+            b.step(time, None if p.sighting is None else p.sighting.position)
+            preds[p.object] = b.predictions()
+            robots[p.object] = b.robot_position
+        return BaselineState(self.name, MappingProxyType(preds), MappingProxyType(robots))
+
+
+def kalman(setup: BaselineSetup) -> "Baseline":
+    """The constant-velocity Kalman baseline for one object (:class:`Baseline`)."""
+    return Baseline(setup.robot, reach=setup.reach, horizons=setup.horizons, dt=setup.dt,
+                    scene=setup.scene)
+
+
+def default_baselines(robot: RobotSpec | None, *, horizons: Sequence[float], dt: float,
+                      scene: SceneSpec) -> dict[str, BaselineSet]:
+    """The baselines every run has, by name: ``kalman``."""
+    return {"kalman": BaselineSet("kalman", kalman, robot=robot, horizons=horizons, dt=dt,
+                                  scene=scene)}
 
 
 class SimulatedRobot:
@@ -101,7 +227,7 @@ class Baseline:
         #: real robot's footprint in ``scene``'s walls and obstacles when a scene is given.
         self.robot = None if robot is None else SimulatedRobot(
             robot.position, robot.max_speed, robot.max_accel,
-            None if scene is None else Footprint(scene, body_radius(robot)))
+            None if scene is None else Footprint(scene, robot.outer_radius))
         self.reach = reach
         self.horizons = tuple(horizons)
         self.dt = dt
@@ -138,9 +264,15 @@ class Baseline:
         """Where the filter expects the object ``horizon`` seconds after its last time."""
         return self.kf.predict_position(horizon)
 
-    def predictions(self) -> list[dict[str, object]]:
-        """The report's form: ``[{"horizon", "position"}]`` (empty before any sighting)."""
+    def predictions(self) -> tuple[BaselinePrediction, ...]:
+        """Straight-line predictions at the horizons (empty before any sighting)."""
         if not self.kf.initialised:
-            return []
-        return [{"horizon": h, "position": [round(v, 4) for v in self.predict(h)]}
-                for h in self.horizons]
+            return ()
+        return tuple(BaselinePrediction(h, self.predict(h)) for h in self.horizons)
+
+    @property
+    def robot_position(self) -> Vec2 | None:
+        """Where its simulated robot is (None without a robot)."""
+        if self.robot is None:
+            return None
+        return (float(self.robot.position[0]), float(self.robot.position[1]))

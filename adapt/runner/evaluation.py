@@ -8,8 +8,8 @@ the truth), and the summary gets:
 
 * the **tracking** errors' medians (observed, imagined with correction, and
   the uncorrected imagination beside them);
-* the **prediction** errors at each horizon, of the mirror and of the
-  constant-velocity Kalman baseline, for the predictions made in frames
+* the **prediction** errors at each horizon, of the mirror and of each
+  baseline (the constant-velocity Kalman filter), for the predictions made in frames
   where the object was seen and about times before the robot caught it,
   split by whether the true object bounced within the horizon (its velocity
   turned by more than :data:`BOUNCE_TURN_DEG`);
@@ -23,10 +23,14 @@ the truth), and the summary gets:
   earliest point of that path it could reach in time, straight, from rest);
   the same for the baseline's simulated robot.
 
-Nothing that perceives may call this module; the runner calls it after each
-frame's loop is done.  Statistics over a run of any length use
-:class:`Sample`, which keeps at most a fixed number of values (thinning
-evenly), so memory stays flat.
+Nothing that perceives may call this module: it is the first listener on
+the frame records (:mod:`adapt.runner.record`), and scores each one into a
+typed :class:`FrameScore` that the report and the figures read.  It scores
+positions and confidences at the report's precision (metres and
+confidences to four decimals, :func:`reported`), so that every number of the
+summary can be recomputed from the frames of ``report.json``.  Statistics
+over a run of any length use :class:`Sample`, which keeps at most a fixed
+number of values (thinning evenly), so memory stays flat.
 
 Examples
 --------
@@ -41,18 +45,32 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from typing import Any, Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import numpy as np
 
-from adapt.geometry import Camera, rotation_log
+from adapt.geometry import Camera
 from adapt.imagination.predict import Trajectory, intercept_reach
 from adapt.imagination.reach import meet
+from adapt.runner.baseline import report_key
+from adapt.runner.record import FrameRecord, Vec2
 from adapt.scenario import Scenario
-from adapt.schemas.intercept import CATCH_SLACK  # a contact's bodies are never quite touching
 
-__all__ = ["Evaluation", "Sample", "camera_error", "COMMIT_CONFIDENCE", "BOUNCE_TURN_DEG"]
+if TYPE_CHECKING:  # pragma: no cover
+    from adapt.reality import FrameTruth, GroundTruth
 
+__all__ = ["Evaluation", "FrameScore", "ObjectErrors", "Sample", "camera_error", "reported",
+           "COMMIT_CONFIDENCE", "BOUNCE_TURN_DEG", "CATCH_SLACK", "MIRROR"]
+
+#: The name of the mirror's predictions among the sources scored (the baselines' are theirs).
+MIRROR = "mirror"
+
+#: Touching is at exactly the catch reach; the evaluation counts this much more (metres) as
+#: caught too: a contact's bodies are never quite touching (the intercept schema itself says
+#: caught only at the reach: its idea of the object may be off).
+CATCH_SLACK = 0.02
 #: The confidence the mirror's rules commit at (``rules/mirror/intercept.soar``).
 COMMIT_CONFIDENCE = 0.7
 #: A true path that turns by more than this within a horizon bounced there.
@@ -117,8 +135,58 @@ def camera_error(estimate: Camera, truth: Camera) -> tuple[float, float]:
     [0.03, 2.0]
     """
     pos = float(np.linalg.norm(estimate.position - truth.position))
-    rot = float(np.degrees(np.linalg.norm(rotation_log(estimate.rotation @ truth.rotation.T))))
-    return pos, rot
+    return pos, truth.angle_to(estimate)
+
+
+def reported(p: Sequence[float] | None) -> Vec2 | None:
+    """A floor position at the report's precision (metres to four decimals).
+
+    >>> reported((0.123456, 1.0)), reported(None)
+    ((0.1235, 1.0), None)
+    """
+    return None if p is None else (round(float(p[0]), 4), round(float(p[1]), 4))
+
+
+@dataclass(frozen=True, slots=True)
+class ObjectErrors:
+    """How far an object's observed, imagined and uncorrected positions are from the
+    truth in one frame (metres; None where there is no position)."""
+
+    observed: float | None = None
+    imagined: float | None = None
+    uncorrected: float | None = None
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class FrameScore:
+    """One frame against the truth: the true positions (None while an object is not
+    present), the true robot, the synthetic camera's error (position m, rotation deg),
+    each object's errors, and the true robot's distance to the target."""
+
+    truth: Mapping[str, Vec2 | None] = field(default_factory=lambda: MappingProxyType({}))
+    robot: Vec2 | None = None
+    camera_error: tuple[float, float] | None = None
+    errors: Mapping[str, ObjectErrors] = field(default_factory=lambda: MappingProxyType({}))
+    robot_distance: float | None = None
+
+    def as_json(self) -> dict[str, Any]:
+        """The keys a frame of ``report.json`` gets from the truth (``docs/runner.md``)."""
+        out: dict[str, Any] = {"truth": {n: None if p is None else list(p)
+                                         for n, p in self.truth.items()}}
+        if self.robot is not None:
+            out["truth_robot"] = list(self.robot)
+        if self.camera_error is not None:
+            out["camera_pose_error"] = {"position_m": round(self.camera_error[0], 5),
+                                        "rotation_deg": round(self.camera_error[1], 5)}
+        out["errors"] = {n: {"observed": _r5(e.observed), "imagined": _r5(e.imagined),
+                             "uncorrected": _r5(e.uncorrected)} for n, e in self.errors.items()}
+        if self.robot_distance is not None:
+            out["robot_distance"] = round(self.robot_distance, 4)
+        return out
+
+
+def _r5(v: float | None) -> float | None:
+    return None if v is None else round(v, 5)
 
 
 def _turn_deg(a: Sequence[float], b: Sequence[float]) -> float:
@@ -162,27 +230,30 @@ class Evaluation:
         ``truth.at(index) -> FrameTruth | None``.
     fps : float
         Frames per second (to find the frame a prediction is about).
+    baselines : sequence of str
+        The baselines' names, in the order their scores are listed.
     """
 
-    def __init__(self, scenario: Scenario, truth: Any, fps: float = 30.0) -> None:
+    def __init__(self, scenario: Scenario, truth: "GroundTruth | None", fps: float = 30.0,
+                 baselines: Sequence[str] = ("kalman",)) -> None:
         self.scenario = scenario
         self.truth = truth
         self.fps = fps
+        self.baselines = tuple(baselines)
         self.camera_position = Sample()
         self.camera_rotation = Sample()
         self.observed: dict[str, Sample] = {}
         self.imagined: dict[str, Sample] = {}
         self.uncorrected: dict[str, Sample] = {}
         self.scores: dict[tuple[str, float], _Scores] = {}
-        self._pending: dict[int, list[tuple[str, str, float, tuple[float, float], int, float]]] = {}
+        self._pending: dict[int, list[tuple[str, str, float, Vec2, int, float]]] = {}
         #: The latest scored predictions, for the figure: (time made, source, horizon, error m).
         self.timeline: deque[tuple[float, str, float, float]] = deque(maxlen=TIMELINE)
         self._velocities: dict[str, deque[tuple[int, tuple[float, float]]]] = {}
         self.confident = 0
         self.confident_within = 0
         robot = scenario.scene.robot
-        self.target = next((str(g.get("object")) for g in scenario.goals
-                            if g.name == "intercept" and g.get("object") is not None), None)
+        self.target = scenario.target
         self.reach: float | None = None
         if robot is not None and self.target is not None:
             try:
@@ -190,80 +261,103 @@ class Evaluation:
             except KeyError:
                 self.reach = None
         self.caught: float | None = None
-        self.baseline_caught: float | None = None
+        #: When each baseline's robot caught the target (None: not yet), by baseline name.
+        self.baselines_caught: dict[str, float | None] = {name: None for name in self.baselines}
         self._path: deque[tuple[float, float, float]] = deque(maxlen=PATH_LIMIT)
         self._appeared: tuple[float, tuple[float, float]] | None = None
+        #: The latest frame's score (None without truth for it).
+        self.latest: FrameScore | None = None
+        self._latest_index = -1
 
     @property
     def available(self) -> bool:
         """True when the reality has ground truth."""
         return self.truth is not None
 
+    def score(self, index: int) -> FrameScore | None:
+        """The score of frame ``index`` when it is the latest scored, else None."""
+        return self.latest if index == self._latest_index else None
+
     # -- per frame ---------------------------------------------------------------------
 
-    def add(self, index: int, time: float, record: dict[str, Any], camera: Camera,
-            uncorrected: Mapping[str, tuple[float, float]] | None = None,
-            baseline_robot: Sequence[float] | None = None) -> None:
-        """Score one frame; add ``truth``, ``camera_pose_error`` and ``errors`` to its record."""
+    def frame(self, record: FrameRecord) -> None:
+        """Score one frame's record (the listener's call)."""
+        self.latest = None
+        self._latest_index = record.index
         if self.truth is None:
             return
-        t = self.truth.at(index)
+        t = self.truth.at(record.index)
         if t is None:
             return
-        truth_pos: dict[str, list[float] | None] = {}
+        truth_pos: dict[str, Vec2 | None] = {}
         for name, obj in t.objects.items():
-            truth_pos[name] = None if obj is None else [round(obj.position[0], 4),
-                                                         round(obj.position[1], 4)]
+            truth_pos[name] = None if obj is None else reported(obj.position)
             if obj is not None and obj.velocity is not None:
                 vel = self._velocities.setdefault(name, deque(maxlen=int(self.fps * 65) + 4))
-                vel.append((index, (float(obj.velocity[0]), float(obj.velocity[1]))))
-        record["truth"] = truth_pos
-        robot = getattr(t, "robot", None)
-        if robot is not None:
-            record["truth_robot"] = [round(float(robot.position[0]), 4),
-                                     round(float(robot.position[1]), 4)]
-        if getattr(t, "camera", None) is not None:
-            pos, rot = camera_error(camera, t.camera)
-            record["camera_pose_error"] = {"position_m": round(pos, 5),
-                                           "rotation_deg": round(rot, 5)}
-            self.camera_position.add(pos)
-            self.camera_rotation.add(rot)
-        errors: dict[str, dict[str, float | None]] = {}
-        for name, seen in record["objects"].items():
-            true = truth_pos.get(name)
-            e: dict[str, float | None] = {"observed": None, "imagined": None, "uncorrected": None}
+                vel.append((record.index, (float(obj.velocity[0]), float(obj.velocity[1]))))
+        robot = t.robot
+        cam = None
+        if t.camera is not None:
+            cam = camera_error(record.camera, t.camera)
+            self.camera_position.add(cam[0])
+            self.camera_rotation.add(cam[1])
+        errors = self._errors(record, truth_pos)
+        self._score_predictions(record.index, truth_pos)
+        self._expect(record)
+        distance = self._intercepts(record, t, truth_pos)
+        self.latest = FrameScore(
+            MappingProxyType(truth_pos),
+            None if robot is None else reported(robot.position), cam,
+            MappingProxyType(errors), distance)
+
+    def _errors(self, record: FrameRecord, truth_pos: Mapping[str, Vec2 | None]
+                ) -> dict[str, ObjectErrors]:
+        errors: dict[str, ObjectErrors] = {}
+        for obj in record.tracked:
+            true = truth_pos.get(obj.name)
+            found: dict[str, float | None] = {"observed": None, "imagined": None,
+                                              "uncorrected": None}
             if true is not None:
-                for key, store, p in (("observed", self.observed, seen.get("observed")),
-                                      ("imagined", self.imagined, seen.get("imagined")),
+                for key, store, p in (("observed", self.observed, reported(obj.observed)),
+                                      ("imagined", self.imagined, reported(obj.imagined)),
                                       ("uncorrected", self.uncorrected,
-                                       (uncorrected or {}).get(name))):
+                                       record.uncorrected.get(obj.name))):
                     if p is not None:
                         d = math.dist(p, true)
-                        e[key] = round(d, 5)
-                        store.setdefault(name, Sample()).add(d)
-            errors[name] = e
-        record["errors"] = errors
-        self._score_predictions(index, truth_pos)
-        self._expect(index, time, record)
-        self._intercepts(time, t, truth_pos, baseline_robot, record)
+                        found[key] = d
+                        store.setdefault(obj.name, Sample()).add(d)
+            errors[obj.name] = ObjectErrors(**found)
+        return errors
 
-    def _expect(self, index: int, time: float, record: dict[str, Any]) -> None:
+    def _expect(self, record: FrameRecord) -> None:
         """Keep the predictions made from a sighting in this frame, to score when their time
         comes (a prediction made while the object is not seen is the imagination running on:
         it is reported, not scored)."""
-        for source, key in (("mirror", "predictions"), ("baseline", "baseline")):
-            for name, preds in (record.get(key) or {}).items():
-                if (record["objects"].get(name) or {}).get("observed") is None:
-                    continue
-                for p in preds:
-                    h = float(p["horizon"])
-                    target = index + int(round(h * self.fps))
-                    conf = float(p.get("confidence", math.nan))
-                    self._pending.setdefault(target, []).append(
-                        (name, source, h, (float(p["position"][0]), float(p["position"][1])),
-                         index, conf))
+        seen = {t.name for t in record.tracked if t.observed is not None}
+        for obj in record.tracked:
+            p = record.percept_of(obj.name)
+            if obj.name not in seen or p is None or p.prediction is None:
+                continue
+            for h in p.prediction.horizons:
+                self._expect_one(record.index, obj.name, MIRROR, h.horizon, h.position,
+                                 round(h.confidence, 4))
+        for name in self.baselines:
+            state = record.baselines.get(name)
+            if state is None:
+                continue
+            for obj_name, preds in state.predictions.items():
+                if obj_name in seen:
+                    for b in preds:
+                        self._expect_one(record.index, obj_name, report_key(name), b.horizon,
+                                         b.position, math.nan)
 
-    def _score_predictions(self, index: int, truth_pos: Mapping[str, list[float] | None]) -> None:
+    def _expect_one(self, index: int, name: str, source: str, horizon: float,
+                    position: Sequence[float], confidence: float) -> None:
+        target = index + int(round(horizon * self.fps))
+        self._pending.setdefault(target, []).append(
+            (name, source, horizon, reported(position), index, confidence))  # type: ignore[arg-type]
+
+    def _score_predictions(self, index: int, truth_pos: Mapping[str, Vec2 | None]) -> None:
         for name, source, h, pos, made, conf in self._pending.pop(index, []):
             true = truth_pos.get(name)
             if true is None or (name == self.target and self.caught is not None):
@@ -271,7 +365,7 @@ class Evaluation:
             err = math.dist(pos, true)
             self.scores.setdefault((source, h), _Scores()).add(err, self._bounced(name, made, index))
             self.timeline.append((made / self.fps, source, h, err))
-            if source == "mirror" and self.reach is not None and name == self.target and \
+            if source == MIRROR and self.reach is not None and name == self.target and \
                     h == max(self.scenario.predict.horizons) and conf >= COMMIT_CONFIDENCE:
                 self.confident += 1
                 self.confident_within += err <= self.reach
@@ -280,30 +374,34 @@ class Evaluation:
         vel = [v for i, v in self._velocities.get(name, ()) if start <= i <= end]
         return len(vel) > 1 and max(_turn_deg(vel[0], v) for v in vel[1:]) > BOUNCE_TURN_DEG
 
-    def _intercepts(self, time: float, t: Any, truth_pos: Mapping[str, list[float] | None],
-                    baseline_robot: Sequence[float] | None, record: dict[str, Any]) -> None:
+    def _intercepts(self, record: FrameRecord, t: "FrameTruth",
+                    truth_pos: Mapping[str, Vec2 | None]) -> float | None:
         if self.target is None or self.reach is None:
-            return
+            return None
         ball = truth_pos.get(self.target)
-        robot = getattr(t, "robot", None)
+        robot = t.robot
         if ball is None:
-            return
+            return None
+        time = record.time
         self._path.append((time, ball[0], ball[1]))
         if self._appeared is None and robot is not None and self._in_view(t, ball):
             self._appeared = (time, (float(robot.position[0]), float(robot.position[1])))
+        distance = None
         if robot is not None:
-            d = math.dist(robot.position, ball)
-            record["robot_distance"] = round(d, 4)
-            if d <= self.reach + CATCH_SLACK and self.caught is None:
+            distance = math.dist(robot.position, ball)
+            if distance <= self.reach + CATCH_SLACK and self.caught is None:
                 self.caught = time
-        if baseline_robot is not None:
-            d = math.dist(baseline_robot, ball)
-            if d <= self.reach + CATCH_SLACK and self.baseline_caught is None:
-                self.baseline_caught = time
+        for name in self.baselines:
+            state = record.baselines.get(name)
+            where = None if state is None else state.robots.get(self.target)
+            if where is not None and self.baselines_caught.get(name) is None and \
+                    math.dist(where, ball) <= self.reach + CATCH_SLACK:
+                self.baselines_caught[name] = time
+        return distance
 
-    def _in_view(self, t: Any, ball: Sequence[float]) -> bool:
+    def _in_view(self, t: "FrameTruth", ball: Sequence[float]) -> bool:
         """Is the target's centre inside the true camera's image (True without a camera)?"""
-        camera = getattr(t, "camera", None)
+        camera = t.camera
         if camera is None or self.target is None:
             return True
         radius = self.scenario.model(self.target).ball.radius
@@ -356,8 +454,9 @@ class Evaluation:
                                                               "rolling_resistance", "drag", "spin")}
                 for o in drawn.objects}
         horizons = sorted({h for _, h in self.scores})
+        sources = (MIRROR, *(report_key(name) for name in self.baselines))
         out["prediction_error_m"] = {
-            f"{h:g}": {src: self.scores[(src, h)].summary() for src in ("mirror", "baseline")
+            f"{h:g}": {src: self.scores[(src, h)].summary() for src in sources
                        if (src, h) in self.scores} for h in horizons}
         if self.target is not None:
             out["confidence"] = {
@@ -369,7 +468,8 @@ class Evaluation:
                                 "caught": self.caught is not None,
                                 "t": None if self.caught is None else round(self.caught, 4),
                                 "reachable": self.reachable()}
-            out["baseline"] = {"caught": self.baseline_caught is not None,
-                               "t": None if self.baseline_caught is None
-                               else round(self.baseline_caught, 4)}
+            for name in self.baselines:
+                caught = self.baselines_caught.get(name)
+                out[report_key(name)] = {"caught": caught is not None,
+                                         "t": None if caught is None else round(caught, 4)}
         return out

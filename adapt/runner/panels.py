@@ -2,7 +2,8 @@
 
 Each panel is the camera's size; the three are put side by side with a thin
 caption bar.  Boxes: the region a schema monitors, in its own colour, with
-its name; unexpected regions in red.
+its name; unexpected regions in red.  :class:`VideoOutput` is the listener
+that writes one such frame per frame record.
 
 Examples
 --------
@@ -15,13 +16,21 @@ Examples
 
 from __future__ import annotations
 
-from typing import Sequence
+import math
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING, Sequence
 
 import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["side_by_side", "CAPTION"]
+from adapt.frames import VideoSink
+
+if TYPE_CHECKING:  # pragma: no cover
+    from adapt.runner.record import FrameRecord
+
+__all__ = ["side_by_side", "panel", "VideoOutput", "CAPTION"]
 
 #: Height of the caption bar above the panels, pixels.
 CAPTION = 16
@@ -72,3 +81,39 @@ def side_by_side(real: NDArray[np.uint8], synthetic: NDArray[np.uint8] | None,
     cv2.putText(bar, text, (3 * w - size - 4, CAPTION - 4), cv2.FONT_HERSHEY_SIMPLEX, 0.4,
                 (200, 230, 255), 1, cv2.LINE_AA)
     return np.vstack([bar, np.hstack([left, mid, right])])
+
+
+def panel(record: "FrameRecord") -> NDArray[np.uint8]:
+    """The video frame of a frame record."""
+    bg = record.background
+    note = ""
+    if bg is not None and not math.isnan(bg.pixel_error):
+        note = f"camera error {bg.pixel_error:.2f} px"
+    return side_by_side(record.frame.image, None if bg is None else bg.synthetic,
+                        None if bg is None or bg.mmd is None else bg.mmd.difference,
+                        record.monitored, [] if bg is None else [r.bbox for r in bg.unexpected],
+                        frame=record.index, time=record.time, note=note)
+
+
+class VideoOutput:
+    """``mmd.mp4``, a listener on the frame records (written atomically: :class:`VideoSink`)."""
+
+    def __init__(self, path: str | os.PathLike[str], fps: float, size: tuple[int, int]) -> None:
+        self.path = Path(path)
+        self.fps = fps
+        self.size = size
+        self.sink: VideoSink | None = None
+
+    def frame(self, record: "FrameRecord") -> None:
+        """Write the record's panels."""
+        if self.sink is None:
+            w, h = self.size
+            self.sink = VideoSink(self.path, self.fps, (3 * w, h + CAPTION))
+        self.sink.write(panel(record))
+
+    def close(self) -> Path | None:
+        """Finish the video; its path, or None when no frame was written."""
+        if self.sink is None:
+            return None
+        self.sink.close()
+        return self.sink.path

@@ -53,20 +53,23 @@ from types import MappingProxyType
 from typing import Mapping, Sequence
 
 from adapt.errors import ScenarioError
+from adapt.files import Inputs
 from adapt.geometry import Camera
 from adapt.imagination.scene import SceneSpec
+from adapt.scenario.inputs import scenario_inputs
 from adapt.scenario.nodes import Override, join  # noqa: F401  (re-exported)
 from adapt.scenario.records import (
-    Appearance,
     CameraMount,
     CameraOffset,
     Creation,
     Goal,
+    GoalKind,
     Mount,
     ObjectModel,
     OutputSettings,
     PredictSettings,
     Range,
+    RealAppearance,
     Reality,
     RealityKind,
     RobotTruth,
@@ -97,18 +100,22 @@ __all__ = [
     "Throw",
     "TrueObject",
     "CameraOffset",
-    "Appearance",
+    "RealAppearance",
     "RobotTruth",
     "SyntheticReality",
     "VideoReality",
     "Reality",
     "Goal",
+    "GoalKind",
     "RuleFile",
     "SchemaSettings",
     "RunSettings",
     "PredictSettings",
     "OutputSettings",
 ]
+
+#: The largest scenario file read, in bytes; no more is read.
+MAX_BYTES = 16 * 1024 * 1024
 
 #: The top-level sections, in the order the documentation lists them.
 TOP_KEYS = ("seed", "camera", "world", "reality", "goals", "rules", "schemas", "run",
@@ -186,12 +193,24 @@ class Scenario:
                 return m
         raise KeyError(name)
 
+    def inputs(self) -> Inputs:
+        """Every file the scenario names: itself, its rule files, textures, the learned
+        appearance, the video or its frames, the ground truth
+        (:func:`adapt.scenario.inputs.scenario_inputs`); no output may replace one."""
+        return scenario_inputs(self)
+
     def schema_settings(self, type_name: str) -> SchemaSettings | None:
         """The ``schemas.<type_name>`` parameters, or None."""
         for s in self.schemas:
             if s.type == type_name:
                 return s
         return None
+
+    @property
+    def target(self) -> str | None:
+        """The object of the first ``intercept`` goal (:attr:`GoalKind.INTERCEPT`), or None."""
+        return next((str(g.get("object")) for g in self.goals
+                     if g.kind is GoalKind.INTERCEPT and g.get("object") is not None), None)
 
 
 def load_scenario(path: str | Path, overrides: Sequence[Override | str] = ()) -> Scenario:
@@ -204,13 +223,18 @@ def load_scenario(path: str | Path, overrides: Sequence[Override | str] = ()) ->
     """
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8-sig")
+        with open(p, "rb") as f:  # a bounded read: a device such as /dev/zero never ends
+            data = f.read(MAX_BYTES + 1)
+        text = data.decode("utf-8-sig")
     except FileNotFoundError:
         raise ScenarioError("no such scenario file", file=str(path), line=1, col=1) from None
     except IsADirectoryError:
         raise ScenarioError("is a folder; expected a scenario YAML file", file=str(path)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise ScenarioError(f"cannot read the scenario: {exc}", file=str(path)) from None
+    if len(data) > MAX_BYTES:
+        raise ScenarioError(f"larger than {MAX_BYTES // (1024 * 1024)} MiB; expected a scenario "
+                            "YAML file (a few kilobytes)", file=str(path))
     return loads_scenario(text, file=str(path), base=p.resolve().parent, path=p,
                           overrides=overrides)
 

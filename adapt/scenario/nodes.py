@@ -30,13 +30,43 @@ from adapt.errors import ScenarioError
 from adapt.scenario.records import Range
 from adapt.scenario.source import Source
 
-__all__ = ["NodeReader", "Node", "Override", "join", "YAML12Loader"]
+__all__ = ["NodeReader", "Node", "Override", "join", "YAML12Loader", "yaml_value"]
 
 Node = yaml.Node
 
 
+#: The deepest nesting of lists and mappings a scenario, or a ``--set`` value, may have (the
+#: documented keys go five deep); bounded while composing, before it could exhaust the stack.
+MAX_DEPTH = 64
+
+
+class NestingError(yaml.MarkedYAMLError):
+    """YAML that nests deeper than :data:`MAX_DEPTH` levels, at the node that would go deeper."""
+
+
 class YAML12Loader(yaml.SafeLoader):
-    """PyYAML's safe loader with YAML 1.2 floats (``1e-3``, ``2E5``, ``.5e1``)."""
+    """PyYAML's safe loader with YAML 1.2 floats (``1e-3``, ``2E5``, ``.5e1``) and nesting
+    bounded by :data:`MAX_DEPTH` (:class:`NestingError`).
+
+    >>> try:
+    ...     yaml.load("[" * 65 + "]" * 65, Loader=YAML12Loader)
+    ... except NestingError as exc:
+    ...     print(exc.problem, "at column", exc.problem_mark.column + 1)
+    the YAML nests deeper than 64 levels of lists and mappings at column 65
+    """
+
+    _depth = 0
+
+    def compose_node(self, parent: Node | None, index: int) -> Node | None:
+        depth = self._depth
+        if depth >= MAX_DEPTH:
+            raise NestingError(problem=f"the YAML nests deeper than {MAX_DEPTH} levels of lists "
+                               "and mappings", problem_mark=self.peek_event().start_mark)
+        self._depth = depth + 1
+        try:
+            return super().compose_node(parent, index)  # type: ignore[no-any-return]
+        finally:
+            self._depth = depth
 
 
 YAML12Loader.add_implicit_resolver(
@@ -44,6 +74,26 @@ YAML12Loader.add_implicit_resolver(
     re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
     list("-+0123456789."),
 )
+
+
+def yaml_value(text: str) -> Any:
+    """A value written in YAML (``0.7``, ``[1, 2]``, ``brick``), read as a scenario's values
+    are (YAML 1.2 numbers).
+
+    Raises
+    ------
+    ValueError
+        When ``text`` is not YAML.
+
+    Examples
+    --------
+    >>> yaml_value("1e-3"), yaml_value("[1, 2]"), yaml_value("brick")
+    (0.001, [1, 2], 'brick')
+    """
+    try:
+        return yaml.load(text, Loader=YAML12Loader)
+    except yaml.YAMLError as exc:
+        raise ValueError(f"not a YAML value: {exc}") from None
 
 
 def join(path: str, key: str | int) -> str:
@@ -116,10 +166,10 @@ class NodeReader:
         except yaml.MarkedYAMLError as exc:
             mark = exc.problem_mark or exc.context_mark
             line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
-            raise ScenarioError(
-                f"not valid YAML: {exc.problem or exc}", file=self.file, line=line, col=col,
-                source_line=self.line_text(line),
-            ) from None
+            what = (f"{exc.problem}; a scenario needs far fewer" if isinstance(exc, NestingError)
+                    else f"not valid YAML: {exc.problem or exc}")
+            raise ScenarioError(what, file=self.file, line=line, col=col,
+                                source_line=self.line_text(line)) from None
         except yaml.YAMLError as exc:
             raise ScenarioError(f"not valid YAML: {exc}", file=self.file) from None
 
@@ -318,8 +368,15 @@ class NodeReader:
         steps: list[str | int] = []
         pos = 0
         text = ov.path
+        lead = len(ov.text) - len(ov.text.lstrip())  # the key's column in the --set text
         while pos < len(text):
             if text[pos] == ".":
+                if pos == 0 or pos + 1 == len(text) or text[pos + 1] == ".":
+                    at = pos + 1 if pos and pos + 1 < len(text) else pos
+                    raise ScenarioError(
+                        "an empty key between dots; expected a key path like run.fps or "
+                        "world.objects.ball.mass", file="--set", line=1, col=lead + at + 1,
+                        source_line=ov.text)
                 pos += 1
                 continue
             m = _STEP.match(text, pos)
@@ -337,6 +394,11 @@ class NodeReader:
         loader = YAML12Loader(ov.value if ov.value.strip() else "~")
         try:
             node = loader.get_single_node()
+        except NestingError as exc:
+            mark = exc.problem_mark
+            col = len(ov.text) - len(ov.value) + 1 + (mark.column if mark and not mark.line else 0)
+            raise ScenarioError(f"{ov.path}: {exc.problem}", file="--set", line=1, col=col,
+                                source_line=ov.text) from None
         except yaml.YAMLError as exc:
             raise ScenarioError(f"{ov.path}: the value is not valid YAML: {exc}", file="--set",
                                 line=1, col=len(ov.path) + 2, source_line=ov.text) from None

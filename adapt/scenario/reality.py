@@ -18,11 +18,11 @@ import yaml
 from adapt.imagination.scene import Ball, RobotSpec
 from adapt.scenario.nodes import Node, join
 from adapt.scenario.records import (
-    Appearance,
     CameraOffset,
     Creation,
     ObjectModel,
     Range,
+    RealAppearance,
     RealityKind,
     RobotTruth,
     SyntheticReality,
@@ -54,7 +54,7 @@ DEFAULT_DRAG = 0.03
 #: Share of the tangential velocity a real ball stores as spin at a bounce, by default.
 DEFAULT_SPIN = 0.25
 #: The default appearance of a synthetic reality: a little sensor noise and blur.
-DEFAULT_APPEARANCE = Appearance(noise=2.0, blur=0.6)
+DEFAULT_APPEARANCE = RealAppearance(noise=2.0, blur=0.6)
 
 
 class RealityReader(WorldReader):
@@ -175,7 +175,7 @@ class RealityReader(WorldReader):
             kw["source"] = self.source(knode, p)
         return CameraOffset(**kw)
 
-    def appearance(self, node: Node, path: str) -> Appearance:
+    def appearance(self, node: Node, path: str) -> RealAppearance:
         spec: dict[str, Callable[[Node, str], Any]] = {
             "brightness": self.number,
             "contrast": lambda n, p: self.number(n, p, "positive"),
@@ -201,7 +201,7 @@ class RealityReader(WorldReader):
                 items = self.mapping(node, path)
                 raise self.error(items["tint"][1], join(join(path, "tint"), i),
                                  f"expected a gain in (0, 4], got {g:g}")
-        return Appearance(**kw, source=self.source(node, path))
+        return RealAppearance(**kw, source=self.source(node, path))
 
     def robot_truth(self, node: Node, path: str) -> RobotTruth:
         spec: dict[str, Callable[[Node, str], Any]] = {

@@ -30,7 +30,9 @@ from types import MappingProxyType
 from typing import Any, Mapping
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from adapt.geometry import Camera
 from adapt.imagination.scene import Ball, Vec2
 from adapt.scenario.source import UNKNOWN, Source
 
@@ -44,12 +46,13 @@ __all__ = [
     "Throw",
     "TrueObject",
     "CameraOffset",
-    "Appearance",
+    "RealAppearance",
     "RobotTruth",
     "SyntheticReality",
     "VideoReality",
     "Reality",
     "Goal",
+    "GoalKind",
     "RuleFile",
     "SchemaSettings",
     "RunSettings",
@@ -137,10 +140,50 @@ class CameraMount:
         t = np.array(self.look_at, float)
         if self.kind is Mount.FIXED:
             return p, t
-        c, s = math.cos(robot_heading), math.sin(robot_heading)
-        rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-        offset = np.array([robot_position[0], robot_position[1], 0.0])
+        rot, offset = _robot_frame(robot_position, robot_heading)
         return rot @ p + offset, rot @ t + offset
+
+    def mount_pose(self, position: ArrayLike, look_at: ArrayLike,
+                   robot_position: Vec2, robot_heading: float) -> tuple[np.ndarray, np.ndarray]:
+        """The inverse of :meth:`world_pose`: world ``position`` and ``look_at`` in the
+        mount's frame (the robot's, for :attr:`Mount.ROBOT`; unchanged when fixed).
+
+        Examples
+        --------
+        >>> m = CameraMount(Mount.ROBOT, (0.1, 0.0, 0.5), (1.1, 0.0, 0.3))
+        >>> p, t = m.mount_pose(*m.world_pose((2.0, 1.0), 0.3), (2.0, 1.0), 0.3)
+        >>> (p.round(6) + 0.0).tolist(), (t.round(6) + 0.0).tolist()
+        ([0.1, 0.0, 0.5], [1.1, 0.0, 0.3])
+        """
+        p = np.asarray(position, float)
+        t = np.asarray(look_at, float)
+        if self.kind is Mount.FIXED:
+            return p, t
+        rot, offset = _robot_frame(robot_position, robot_heading)
+        return rot.T @ (p - offset), rot.T @ (t - offset)
+
+    def camera_at(self, base: Camera, robot_position: Vec2, robot_heading: float) -> Camera:
+        """The camera ``base`` (its intrinsics) where the mount puts it for a robot pose
+        (``robot_heading`` in radians): the one place a robot's camera is posed.
+
+        Examples
+        --------
+        >>> base = Camera.look_at(fx=100, fy=100, cx=40, cy=30, width=80, height=60,
+        ...                       position=(0, 0, 1), look_at=(1, 0, 1))
+        >>> m = CameraMount(Mount.ROBOT, (0.0, 0.0, 0.6), (1.0, 0.0, 0.6))
+        >>> m.camera_at(base, (2.0, 1.0), math.pi / 2).position.round(6).tolist()
+        [2.0, 1.0, 0.6]
+        """
+        p, t = self.world_pose(robot_position, robot_heading)
+        return Camera.look_at(fx=base.fx, fy=base.fy, cx=base.cx, cy=base.cy, width=base.width,
+                              height=base.height, position=p, look_at=t, roll_deg=self.roll_deg)
+
+
+def _robot_frame(position: Vec2, heading: float) -> tuple[np.ndarray, np.ndarray]:
+    """The rotation and offset that take the robot's frame to the world's."""
+    c, s = math.cos(heading), math.sin(heading)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return rot, np.array([position[0], position[1], 0.0])
 
 
 # -- object models -----------------------------------------------------------------
@@ -275,7 +318,7 @@ class CameraOffset:
 
 
 @dataclass(frozen=True, slots=True)
-class Appearance:
+class RealAppearance:
     """How the true camera image differs from the imagination's render.
 
     Attributes
@@ -346,7 +389,7 @@ class SyntheticReality:
 
     dt: float
     camera: CameraOffset
-    appearance: Appearance
+    appearance: RealAppearance
     objects: tuple[TrueObject, ...]
     robot: RobotTruth
     source: Source = UNKNOWN
@@ -392,6 +435,13 @@ Reality = SyntheticReality | VideoReality
 
 # -- goals, rules, schemas ------------------------------------------------------------
 
+class GoalKind(enum.Enum):
+    """The goals the bundled rules act on (a goal may have any other name too)."""
+
+    WATCH = "watch"          #: keep the imagination in step with what is seen
+    INTERCEPT = "intercept"  #: meet the goal's ``object`` with the robot
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class Goal:
     """A goal placed in working memory (``^goal`` on the input-link).
@@ -411,6 +461,17 @@ class Goal:
             if k == key:
                 return v
         return None
+
+    @property
+    def kind(self) -> GoalKind | None:
+        """The goal's kind when the bundled rules know its name, else None.
+
+        Examples
+        --------
+        >>> Goal("intercept", (("object", "ball"),)).kind, Goal("dance", ()).kind
+        (<GoalKind.INTERCEPT: 'intercept'>, None)
+        """
+        return next((k for k in GoalKind if k.value == self.name), None)
 
 
 @dataclass(frozen=True, slots=True)
@@ -452,11 +513,23 @@ class RunSettings:
 
     @property
     def frames(self) -> int:
-        """Frames the run will take at most."""
+        """Frames the run will take at most at ``fps`` (a synthetic reality's rate)."""
+        return self.frames_at(self.fps)
+
+    def frames_at(self, fps: float) -> int:
+        """Frames the run will take at most at ``fps`` frames per second (a video's own
+        rate): ``max_frames``, or ``duration`` (10 s when not given) at ``fps``.  The one
+        computation of a run's length; a source that ends earlier ends the run earlier.
+
+        Examples
+        --------
+        >>> RunSettings().frames_at(15.0), RunSettings(max_frames=7).frames_at(15.0)
+        (150, 7)
+        """
         if self.max_frames is not None:
             return self.max_frames
         seconds = 10.0 if self.duration is None else self.duration
-        return max(1, int(math.floor(seconds * self.fps + 1e-9)))
+        return max(1, int(math.floor(seconds * fps + 1e-9)))
 
 
 @dataclass(frozen=True, slots=True)

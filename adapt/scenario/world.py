@@ -18,6 +18,7 @@ import yaml
 
 from adapt.errors import ImaginationError
 from adapt.geometry import Camera
+from adapt.imagination.footprint import Footprint
 from adapt.imagination.scene import (
     BUILTIN_TEXTURES,
     DEFAULT_DT,
@@ -48,7 +49,6 @@ CAMERA_KEYS = ("fx", "fy", "cx", "cy", "width", "height", "position", "look_at",
                "mount")
 WORLD_KEYS = ("floor", "walls", "obstacles", "objects", "robot", "gravity", "dt", "appearance")
 FLOOR_KEYS = ("texture", "tile", "color", "extent")
-SURFACE_KEYS = ("name", "height", "texture", "tile", "color", "restitution", "friction")
 WALL_KEYS = ("name", "from", "to", "height", "texture", "tile", "color", "restitution", "friction")
 OBSTACLE_KEYS = ("name", "polygon", "height", "texture", "tile", "color", "restitution", "friction")
 OBJECT_KEYS = ("name", "radius", "mass", "restitution", "friction", "rolling_resistance",
@@ -60,36 +60,6 @@ ROBOT_KEYS = ("name", "shape", "radius", "size", "position", "heading_deg", "max
 
 #: How far a ball may reach into a wall or obstacle and still count as touching it, metres.
 _TOUCH = 1e-9
-
-
-def _segment_distance(p: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
-    """Distance from point ``p`` to the segment ``a``-``b``.
-
-    >>> _segment_distance((0.0, 1.0), (-1.0, 0.0), (1.0, 0.0)), _segment_distance((3.0, 0.0), (-1.0, 0.0), (1.0, 0.0))
-    (1.0, 2.0)
-    """
-    ax, ay = a
-    dx, dy = b[0] - ax, b[1] - ay
-    length2 = dx * dx + dy * dy
-    t = 0.0 if length2 == 0 else max(0.0, min(1.0, ((p[0] - ax) * dx + (p[1] - ay) * dy) / length2))
-    return math.hypot(p[0] - (ax + t * dx), p[1] - (ay + t * dy))
-
-
-def _polygon_distance(p: tuple[float, float],
-                      polygon: tuple[tuple[float, float], ...]) -> tuple[bool, float]:
-    """Whether ``p`` is inside a convex polygon, and its distance to the polygon's edges.
-
-    >>> _polygon_distance((0.5, 0.5), ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)))
-    (True, 0.5)
-    >>> _polygon_distance((2.0, 0.5), ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)))
-    (False, 1.0)
-    """
-    n = len(polygon)
-    edges = [(polygon[i], polygon[(i + 1) % n]) for i in range(n)]
-    gap = min(_segment_distance(p, a, b) for a, b in edges)
-    sides = [(b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) for a, b in edges]
-    inside = all(s > 0 for s in sides) or all(s < 0 for s in sides)
-    return inside, gap
 
 
 class WorldReader(NodeReader):
@@ -238,41 +208,40 @@ class WorldReader(NodeReader):
                                  f"a second object called {m.name!r} (the first is {seen[m.name]})")
             seen[m.name] = where
         kw["balls"] = tuple(m.ball for m in models if m.create is Creation.AT_START)
-        for i, m in enumerate(models):
-            if m.create is Creation.AT_START:
-                self._check_clear(m.ball, items["objects"][1].value[i], join(join(path, "objects"), i),
-                                  kw["walls"], kw["obstacles"], join(path, "walls"),
-                                  join(path, "obstacles"))
         if "robot" in items:
             kw["robot"] = self.robot(items["robot"][1], join(path, "robot"))
         try:
             scene = SceneSpec(**kw)
         except ImaginationError as exc:
             raise self.error(node, path, str(exc)) from None
+        for i, m in enumerate(models):
+            if m.create is Creation.AT_START:
+                self._check_clear(m.ball, items["objects"][1].value[i],
+                                  join(join(path, "objects"), i), scene, path)
         return scene, models
 
-    def _check_clear(self, ball: Ball, node: Node, path: str, walls: tuple[Wall, ...],
-                     obstacles: tuple[Obstacle, ...], walls_path: str, obstacles_path: str) -> None:
-        """Refuse a ball that starts inside a wall or an obstacle (touching is allowed)."""
+    def _check_clear(self, ball: Ball, node: Node, path: str, scene: SceneSpec,
+                     world_path: str) -> None:
+        """Refuse a ball that starts inside a wall or an obstacle (touching is allowed): the
+        ball's footprint (:class:`~adapt.imagination.footprint.Footprint`) must be clear."""
+        hit = Footprint(scene, ball.radius).collision(ball.position, touch=_TOUCH)
+        if hit is None:
+            return
         items = self.mapping(node, path)
         where, at = (items["position"][1], join(path, "position")) if "position" in items else (node, path)
         x, y = ball.position
         r = ball.radius
-        for i, wall in enumerate(walls):
-            gap = _segment_distance(ball.position, wall.start, wall.end)
-            if gap < r - _TOUCH:
-                raise self.error(where, at,
-                                 f"the ball {ball.name!r} (radius {r:g} m) at [{x:g}, {y:g}] "
-                                 f"crosses the wall {wall.name!r} ({join(walls_path, i)}): its centre "
-                                 f"is {gap:.3g} m from it; expected at least the radius")
-        for i, obstacle in enumerate(obstacles):
-            inside, gap = _polygon_distance(ball.position, obstacle.polygon)
-            if inside or gap < r - _TOUCH:
-                what = "has its centre inside" if inside else f"is {gap:.3g} m from, so overlaps,"
-                raise self.error(where, at,
-                                 f"the ball {ball.name!r} (radius {r:g} m) at [{x:g}, {y:g}] {what} "
-                                 f"the obstacle {obstacle.name!r} ({join(obstacles_path, i)}); "
-                                 "expected a ball clear of every obstacle")
+        if hit.wall is not None:
+            raise self.error(where, at,
+                             f"the ball {ball.name!r} (radius {r:g} m) at [{x:g}, {y:g}] "
+                             f"crosses the wall {hit.name!r} ({join(join(world_path, 'walls'), hit.index)}"
+                             "): its centre is {hit.gap:.3g} m from it; expected at "
+                             "least the radius")
+        what = "has its centre inside" if hit.inside else f"is {hit.gap:.3g} m from, so overlaps,"
+        raise self.error(where, at,
+                         f"the ball {ball.name!r} (radius {r:g} m) at [{x:g}, {y:g}] {what} "
+                         f"the obstacle {hit.name!r} ({join(join(world_path, 'obstacles'), hit.index)}"
+                         "); expected a ball clear of every obstacle")
 
     def world_appearance(self, node: Node, path: str) -> Path | None:
         """``world.appearance``: a folder of learned surface looks (``index.json``

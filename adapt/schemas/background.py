@@ -2,12 +2,17 @@
 what the imagination does not explain.
 
 Every frame (paper section 4.1, Figure 3) it renders the imagination through
-the synthetic camera, computes the match-mediated difference against the
-real frame, corrects the synthetic camera with ``H_e`` (eq. 3, or the full
-pose from the floor's homography), and turns the difference into regions.
-A region that a schema monitors is *expected*; any other is *unexpected*,
-and the rules decide whether to spawn a perceptual schema for it.  Regions
-are followed over frames (:mod:`adapt.schemas.tracks`) so each has an age.
+the synthetic camera, takes the camera loop's step against the real frame
+(:func:`adapt.vision.sync.sync_step`: the match-mediated difference, its
+pixel error, and the camera corrected with ``H_e``, eq. 3, or the full pose
+from the floor's homography), and turns the difference into regions.  A
+region a schema claims (the one it was spawned for) or monitors is
+*expected*; any other is *unexpected*, and the rules decide whether to spawn
+a perceptual schema for it.  Regions are followed over frames
+(:mod:`adapt.schemas.tracks`) so each has an age.  What it perceives is
+published as a :class:`~adapt.schemas.percepts.BackgroundPercept` on its
+ports; the schema itself keeps only the policy: when to correct, the filter
+of false alignments, the learning schedule.
 
 Each region is reported with its bounding box, centroid and area (real-image
 pixels), its floor position (the bottom of its box back-projected onto the
@@ -42,11 +47,11 @@ pose), which is why the structure comes first.
 
 from __future__ import annotations
 
-import base64
 import dataclasses
 import enum
 import math
 import time
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Mapping
 
 import cv2
@@ -54,17 +59,21 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import VisionError
-from adapt.mirror.structure import face_labels, structure_homography
+from adapt.mirror.structure import face_labels
+from adapt.scenario import RealityKind
 from adapt.schemas.base import BBox, Schema, Status
 from adapt.schemas.links import Structure
+from adapt.schemas.percepts import AppearanceStage, BackgroundPercept, FirstLook, RegionReport
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
-from adapt.schemas.tracks import RegionTracker, Track
-from adapt.vision.camera_correction import correct_pose, correct_rotation
+from adapt.schemas.tracks import RegionTracker
+from adapt.vision.camera_correction import correct_rotation
 from adapt.vision.homography import corner_error
 from adapt.vision.matching import PreparedImage, prepare
-from adapt.vision.mmd import MMDResult, mmd
-from adapt.vision.regions import find_regions, to_input
+from adapt.vision.mmd import MMDResult
+from adapt.vision.regions import best_overlap, find_regions, to_input
+from adapt.vision.registration import structure_homography
 from adapt.vision.scale import image_scale
+from adapt.vision.sync import sync_step
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Frame
@@ -73,8 +82,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.schemas.network import SchemaNetwork
 
 __all__ = ["SceneBackground", "SCENE_BACKGROUND", "RegionReport", "AppearanceStage",
-           "STRUCTURE_ITERATIONS", "STRUCTURE_ACCEPT", "REACQUIRE_AFTER", "TRACE_EVERY",
-           "TRACE_EVERY_MAX"]
+           "AppearanceMode", "STRUCTURE_ITERATIONS", "STRUCTURE_ACCEPT", "REACQUIRE_AFTER"]
 
 #: Fit-align-correct rounds per frame while the camera is aligned to the structure.
 STRUCTURE_ITERATIONS = 3
@@ -88,48 +96,16 @@ STRUCTURE_ACCEPT = 1.5
 REACQUIRE_AFTER = 10
 #: Pixels (at 640x480) around monitored boxes, regions and differences that are never learned.
 EXCLUDE_PAD = 6
-#: A trace record of the learned look: at its first learning, then when it has
-#: changed and TRACE_EVERY frames have passed, the wait doubling after each record
-#: up to TRACE_EVERY_MAX frames (a long run's trace holds a few dozen of them).
-TRACE_EVERY = 30
-TRACE_EVERY_MAX = 1800
-#: Largest side of a texture preview in the trace, pixels.
-PREVIEW_SIDE = 160
+#: Label of the floor in a render (the full pose is corrected from matches on it).
+FLOOR_LABEL = 1
 
 
-class AppearanceStage(enum.Enum):
-    """Where the schema's appearance learning is (see the module docstring)."""
+class AppearanceMode(enum.Enum):
+    """The ``appearance`` parameter: learn the surfaces' look, or not, or for a video."""
 
-    OFF = "off"              # the scenario's look (or a loaded one), never changed
-    STRUCTURE = "structure"  # aligning the camera to the scene's structure first
-    LEARNED = "learned"      # the look is learned and refined
-
-
-@dataclasses.dataclass(frozen=True, slots=True)
-class RegionReport:
-    """One tracked difference region as the input-link reports it."""
-
-    id: int
-    bbox: BBox
-    centroid: tuple[float, float]
-    area: int
-    age: int
-    expected: bool
-    owner: str | None
-    floor: tuple[float, float] | None
-    size: float | None
-    imagined: str | None = None
-    at_edge: bool = False
-
-    def as_json(self) -> dict[str, Any]:
-        """JSON form (trace and report)."""
-        return {"id": self.id, "bbox": list(self.bbox),
-                "centroid": [round(self.centroid[0], 2), round(self.centroid[1], 2)],
-                "area": self.area, "age": self.age, "expected": self.expected,
-                "owner": self.owner,
-                "floor": None if self.floor is None else [round(v, 4) for v in self.floor],
-                "size": None if self.size is None else round(self.size, 4),
-                "imagined": self.imagined, "at_edge": self.at_edge}
+    AUTO = "auto"  # on for a video reality
+    ON = "on"
+    OFF = "off"
 
 
 class SceneBackground(Schema):
@@ -150,15 +126,15 @@ class SceneBackground(Schema):
         self.ms = 0.0
         self._prepared_for: tuple[int, ...] | None = None
         self._background: PreparedImage | None = None
-        self._warped_labels: NDArray[np.uint16] | None = None
         self._label_of: dict[str, int] = {}
         self._robot_box: BBox | None = None
         #: The frame's alignment can be believed (aligned, and not a sudden false jump).
         self.trusted = False
         self._settled = 1e9   # a smoothed pixel error of the trusted frames
         self._glitches = 0
-        mode = self.parameters["appearance"]
-        learn = mode == "on" or (mode == "auto" and network.reality == "video")
+        mode = AppearanceMode(self.parameters["appearance"])
+        learn = mode is AppearanceMode.ON or (mode is AppearanceMode.AUTO
+                                              and network.reality is RealityKind.VIDEO)
         if not learn:
             self.stage = AppearanceStage.OFF
         elif network.mirror.appearance.learned or not self.parameters["correct"]:
@@ -173,13 +149,11 @@ class SceneBackground(Schema):
         self._structure_errors: list[float] = []
         self._since_learn = 0
         self._unaligned = 0
-        self._traced_passes = 0
-        self._traced_frame = -TRACE_EVERY
-        self._trace_wait = TRACE_EVERY
-        #: The frame the look was first learned from: ``(index, time, real, render
-        #: before, render after)`` (references), for the figures; None before.
-        self.first_look: tuple[int, float, NDArray[np.uint8], NDArray[np.uint8],
-                               NDArray[np.uint8]] | None = None
+        #: The frame the look was first learned from (for the figures); None before.
+        self.first_look: FirstLook | None = None
+        #: The percept last published.
+        self.percept: BackgroundPercept | None = None
+        self._warped: tuple[MMDResult, NDArray[np.uint16]] | None = None
 
     # -- perception ---------------------------------------------------------------------
 
@@ -198,6 +172,20 @@ class SceneBackground(Schema):
         # the frame's own images (its moving objects drawn), the background's corners
         return dataclasses.replace(frame, corners=self._background.corners)
 
+    def _rendered(self, background: bool = True) -> None:
+        """Render the imagination through the camera as it stands (before this frame's
+        correction moves it)."""
+        mirror = self.network.mirror
+        rendered = mirror.render()
+        self.synthetic, self.labels = rendered.image, rendered.labels
+        if background:
+            # the background through this frame's camera, before any correction moves it:
+            # what H_e maps onto the real frame (an object's difference is taken against it)
+            self.background_image = mirror.background.image
+        self._label_of = {name: label for label, name in rendered.names.items()}
+        robot = mirror.scene.robot
+        self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
+
     def perceive(self, frame: "Frame") -> None:
         started = time.perf_counter()
         mirror = self.network.mirror
@@ -209,54 +197,93 @@ class SceneBackground(Schema):
                 return
             self._learn(frame, mirror.render().labels, fresh=True)
             self.stage = AppearanceStage.LEARNED
-        rendered = mirror.render()
-        self.synthetic, self.labels = rendered.image, rendered.labels
-        # the background through this frame's camera, before any correction moves it: what
-        # H_e maps onto the real frame (an object's difference is taken against it)
-        self.background_image = mirror.background.image
-        self._label_of = {name: label for label, name in rendered.names.items()}
-        robot = mirror.scene.robot
-        self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
-        self._warped_labels = None
-        synthetic = self._prepared_synthetic(rendered.image)
-        res = mmd(frame.image, synthetic, max_pixels=int(self.parameters["mmd_pixels"]))
-        self.result = res
+        self._rendered()
         camera = mirror.camera
         self.correction_deg = 0.0
-        self.trusted = False
+        correct = bool(self.parameters["correct"])
+        step = sync_step(frame.image, self._prepared_synthetic(self.synthetic),  # type: ignore[arg-type]
+                         camera, gain=self.parameters["gain"],
+                         tolerance=self.parameters["tolerance"] if correct else math.inf,
+                         full_pose=bool(self.parameters["full_pose"]), on_plane=self._on_floor,
+                         trust=lambda error: not self._implausible(error, frame),
+                         max_pixels=int(self.parameters["mmd_pixels"]))
+        res = self.result = step.result
+        self.trusted = step.trusted
         if not res.aligned:
             self.status = Status.LOST
             self.message = res.alignment.reason
             self.pixel_error = math.nan
+        elif not step.trusted:
+            self.status = Status.LOST
+            self.message = (f"H_e moves the image by {step.pixel_error:.1f} px after "
+                            f"{self._settled:.1f} px: a false alignment, ignored")
+            self._glitches += 1
+            self.pixel_error = step.pixel_error
+            self.tracker.update([], frame.index)
+            self.regions = []
+            self._publish(frame.index, frame.time, camera, started)
+            return
         else:
-            h = res.homography
-            assert h is not None
-            error = corner_error(h, np.eye(3), frame.image.shape)
-            if self._implausible(error, frame):
-                self.status = Status.LOST
-                self.message = (f"H_e moves the image by {error:.1f} px after {self._settled:.1f} "
-                                "px: a false alignment, ignored")
-                self._glitches += 1
-                self.pixel_error = error
-                self.regions = self._regions(frame, None, camera)
-                self.ms = (time.perf_counter() - started) * 1000.0
-                return
             self._glitches = 0
-            self.trusted = True
             self.status = Status.RUNNING
             self.message = ""
-            self.pixel_error = error
-            self._settled = error if self._settled >= 1e9 else 0.8 * self._settled + 0.2 * error
-            if self.parameters["correct"] and self.pixel_error > self.parameters["tolerance"]:
-                new = self._corrected(camera, res)
-                if new is not None:
-                    self.correction_deg = _angle_deg(new.rotation @ camera.rotation.T)
-                    self.corrections += 1
-                    mirror.set_camera(new)
-        self.regions = self._regions(frame, res, camera)
+            self.pixel_error = step.pixel_error
+            self._settled = (step.pixel_error if self._settled >= 1e9
+                             else 0.8 * self._settled + 0.2 * step.pixel_error)
+            if step.corrected is not None:
+                self.correction_deg = step.correction_deg
+                self.corrections += 1
+                mirror.set_camera(step.corrected)
+        # published once the camera step is done: the boxes the other schemas monitor are
+        # asked for in this frame's alignment
+        early = self._publish(frame.index, frame.time, camera, started)
+        self.regions = self._regions(frame, early)
         if self.stage is AppearanceStage.LEARNED:
             self._refine(frame, res)
-        self.ms = (time.perf_counter() - started) * 1000.0
+        self._publish(frame.index, frame.time, camera, started)
+
+    def _on_floor(self, points: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Which synthetic pixels (of the render) show the floor."""
+        assert self.labels is not None
+        ix = np.clip(points[:, 0].round().astype(int), 0, self.labels.shape[1] - 1)
+        iy = np.clip(points[:, 1].round().astype(int), 0, self.labels.shape[0] - 1)
+        return np.asarray(self.labels[iy, ix] == FLOOR_LABEL)
+
+    def joined(self) -> None:
+        """Publish what it knows before its first frame: nothing aligned, no regions."""
+        self._publish(self.network.frame_index, self.network.time, self.network.mirror.camera)
+
+    def _publish(self, index: int, time_s: float, camera: "Camera",
+                 started: float | None = None) -> BackgroundPercept:
+        """This frame's percept, published on both ports."""
+        from adapt.imagination import LABEL_BALL, LABEL_ROBOT
+
+        if started is not None:
+            self.ms = (time.perf_counter() - started) * 1000.0
+        res = self.result
+        balls = any(LABEL_BALL <= lab < LABEL_ROBOT for lab in self._label_of.values())
+        if not (self.trusted and res is not None and res.aligned and balls
+                and self.labels is not None):
+            self._warped = None
+        elif self._warped is None or self._warped[0] is not res:
+            h, w = self.labels.shape
+            warped = cv2.warpPerspective(
+                self.labels.astype(np.uint16), res.homography, (w, h),  # type: ignore[arg-type]
+                flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+            self._warped = (res, np.asarray(warped, np.uint16))
+        percept = BackgroundPercept(
+            frame=index, time=time_s, camera_before=camera,
+            camera_after=self.network.mirror.camera, mmd=res, trusted=self.trusted,
+            pixel_error=self.pixel_error, threshold=float(self.parameters["threshold"]),
+            synthetic=self.synthetic, background=self.background_image, labels=self.labels,
+            drawn=MappingProxyType(dict(self._label_of)),
+            warped_labels=None if self._warped is None else self._warped[1],
+            regions=tuple(self.regions), ms=self.ms, stage=self.stage,
+            learn_passes=self.learn_passes, learn_ms=self.learn_ms, first_look=self.first_look,
+            structure_error=self.structure_error)
+        self.percept = percept
+        self.network.publish(self, percept)
+        return percept
 
     def _implausible(self, error: float, frame: "Frame") -> bool:
         """A sudden large jump of a camera that was synchronised is a false alignment
@@ -271,13 +298,7 @@ class SceneBackground(Schema):
 
     def _waiting(self, frame: "Frame", started: float) -> None:
         """A frame of the structure stage: the render for the figures, no MMD, no regions."""
-        mirror = self.network.mirror
-        rendered = mirror.render()
-        self.synthetic, self.labels = rendered.image, rendered.labels
-        self._label_of = {name: label for label, name in rendered.names.items()}
-        robot = mirror.scene.robot
-        self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
-        self._warped_labels = None
+        self._rendered(background=False)
         self.result = None
         self.trusted = False
         self.pixel_error = math.nan
@@ -287,7 +308,7 @@ class SceneBackground(Schema):
                         + ("" if math.isnan(err) else f" ({err:.2f} px)"))
         self.tracker.update([], frame.index)
         self.regions = []
-        self.ms = (time.perf_counter() - started) * 1000.0
+        self._publish(frame.index, frame.time, self.network.mirror.camera, started)
 
     def _align_structure(self, frame: "Frame") -> bool:
         """Rounds of structure alignment and camera correction; True once aligned."""
@@ -326,7 +347,7 @@ class SceneBackground(Schema):
                 new = correct_rotation(cam, hom, gain=1.0)
             except VisionError:
                 return False
-            self.correction_deg += _angle_deg(new.rotation @ cam.rotation.T)
+            self.correction_deg += cam.angle_to(new)
             self.corrections += 1
             mirror.set_camera(new)
         return False
@@ -362,8 +383,8 @@ class SceneBackground(Schema):
             frame.image, labels, exclude=self._exclusion(frame.image.shape),
             rate=p["learn_rate"], gate=None if fresh else p["learn_gate"])
         if before is not None:
-            self.first_look = (frame.index, frame.time, frame.image, before,
-                               mirror.render().image)
+            self.first_look = FirstLook(frame.index, frame.time, frame.image, before,
+                                        mirror.render().image)
         self.learning = learned
         self.learn_ms = learned.ms
         self.learn_passes += 1
@@ -388,58 +409,13 @@ class SceneBackground(Schema):
             mask |= np.asarray(cv2.dilate(differs, kernel), np.uint8)
         return mask.astype(bool)
 
-    def appearance_record(self, frame_index: int) -> dict[str, Any] | None:
-        """A trace record of the learned look, when it changed since the last one
-        (at the first learning, then at most once per :data:`TRACE_EVERY` frames,
-        the wait doubling after each record up to :data:`TRACE_EVERY_MAX`):
-        per surface its coverage, size and a small PNG preview (a data URI,
-        transparent where unseen).  None otherwise."""
-        model = self.network.mirror.appearance
-        if self.learn_passes == self._traced_passes or not model.learned:
-            return None
-        if self._traced_passes and frame_index - self._traced_frame < self._trace_wait:
-            return None
-        if self._traced_passes:
-            self._trace_wait = min(2 * self._trace_wait, TRACE_EVERY_MAX)
-        self._traced_passes = self.learn_passes
-        self._traced_frame = frame_index
-        surfaces = []
-        for name, t in model.textures().items():
-            ok, png = cv2.imencode(".png", t.preview(PREVIEW_SIDE))
-            surfaces.append({
-                "name": name, "coverage": round(t.coverage, 4),
-                "size": [int(t.mask.shape[1]), int(t.mask.shape[0])],
-                "pixels_per_metre": round(t.pixels_per_metre[0], 1),
-                "extent": [round(v, 4) for v in t.extent], "updates": t.updates,
-                "image": ("data:image/png;base64," + base64.b64encode(png.tobytes()).decode("ascii"))
-                if ok else None})
-        return {"frame": frame_index, "stage": self.stage.value, "passes": self.learn_passes,
-                "ms": round(self.learn_ms, 2), "surfaces": surfaces}
-
-    def _corrected(self, camera: "Camera", res: MMDResult) -> "Camera | None":
-        h = res.homography
-        assert h is not None
-        gain = self.parameters["gain"]
-        if self.parameters["full_pose"]:
-            pts = res.matches.synthetic_points[res.alignment.inliers]
-            assert self.labels is not None
-            ix = np.clip(pts[:, 0].round().astype(int), 0, self.labels.shape[1] - 1)
-            iy = np.clip(pts[:, 1].round().astype(int), 0, self.labels.shape[0] - 1)
-            on_floor = self.labels[iy, ix] == 1
-            if on_floor.sum() >= 12:
-                try:
-                    return correct_pose(camera, h, pts[on_floor], gain=gain)
-                except VisionError:
-                    pass
-        try:
-            return correct_rotation(camera, h, gain=gain)
-        except VisionError:
-            return None
-
-    def _regions(self, frame: "Frame", res: MMDResult | None, camera: "Camera"
-                 ) -> list[RegionReport]:
+    def _regions(self, frame: "Frame", percept: BackgroundPercept) -> list[RegionReport]:
+        """This frame's difference regions, tracked: each owned by the schema that claims it,
+        else by the schema whose monitored box holds most of it (``expected``), or by
+        nobody (``unexpected``)."""
+        res = percept.mmd
         if res is None or not res.aligned:
-            tracks = self.tracker.update([], frame.index)
+            self.tracker.update([], frame.index)
             return []
         scale = image_scale(res.difference.shape)
         found = to_input(find_regions(res.difference, threshold=self.parameters["threshold"],
@@ -447,10 +423,15 @@ class SceneBackground(Schema):
                                                                * scale * scale)))),
                          res.frame)
         tracks = self.tracker.update(found, frame.index)
+        for region, claimant in self.network.claims().items():
+            track = self.tracker.get(region)
+            if track is not None and (track.owner is None or track.owner not in self.network):
+                self.tracker.assign(region, claimant)  # one owner per region: the first holds
         monitored = self.network.monitored_boxes(exclude=self.name)
         own = self._own_robot(res)
         if own is not None:
             monitored.append(own)
+        boxes = [b for _, b in monitored]
         h_inv = np.linalg.inv(res.homography)  # type: ignore[arg-type]
         out = []
         for t in tracks:
@@ -458,13 +439,14 @@ class SceneBackground(Schema):
             if owner is not None and owner not in self.network:
                 t.owner = owner = None
             if owner is None:
-                owner = _overlapping(t, monitored)
-            floor, size = _floor_of(t.region.bbox, h_inv, camera)
+                best = best_overlap(t.region.bbox, boxes)
+                owner = None if best is None else monitored[best][0]
+            floor, size = _floor_of(t.region.bbox, h_inv, percept.camera_before)
             r = t.region
             x, y, w, h = r.bbox
             edge = x <= 0 or y <= 0 or x + w >= frame.image.shape[1] or y + h >= frame.image.shape[0]
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
-                                    owner, floor, size, self._imagined_in(r), edge))
+                                    owner, floor, size, percept.imagined_in(r), edge))
         return out
 
     def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:
@@ -481,133 +463,6 @@ class SceneBackground(Schema):
         x1, y1 = p.max(axis=0)
         m = 0.25 * max(x1 - x0, y1 - y0)
         return robot.name, (int(x0 - m), int(y0 - m), int(x1 - x0 + 2 * m), int(y1 - y0 + 2 * m))
-
-    def _imagined_in(self, region: Any) -> str | None:
-        """The imagined moving object that covers the most of ``region`` (at least a tenth
-        of it), or None: the imagination's label image says which difference belongs to
-        which imagined object."""
-        from adapt.imagination import LABEL_BALL, LABEL_ROBOT
-
-        balls = {lab: n for n, lab in self._label_of.items() if LABEL_BALL <= lab < LABEL_ROBOT}
-        warped = self.warped_labels() if balls else None
-        if warped is None:
-            return None
-        x, y, w, h = region.bbox
-        patch = warped[y:y + h, x:x + w][region.silhouette[:h, :w]]
-        best, count = None, 0
-        for label, name in balls.items():
-            c = int(np.count_nonzero(patch == label))
-            if c > count:
-                best, count = name, c
-        return best if count >= 0.1 * max(region.area, 1) else None
-
-    def label_of(self, name: str) -> int | None:
-        """The label id of a moving object in this frame's render (None when not drawn)."""
-        return self._label_of.get(name)
-
-    def labels_except(self, name: str) -> list[int]:
-        """Label ids of the moving balls drawn this frame, but ``name``'s."""
-        from adapt.imagination import LABEL_BALL, LABEL_ROBOT
-
-        return [lab for n, lab in self._label_of.items()
-                if n != name and LABEL_BALL <= lab < LABEL_ROBOT]
-
-    def warped_labels(self) -> NDArray[np.uint16] | None:
-        """The synthetic label image warped into the real frame by ``H_e`` (nearest
-        neighbour; computed once per frame), or None without alignment."""
-        if self.result is None or not self.result.aligned or self.labels is None:
-            return None
-        if self._warped_labels is None:
-            h, w = self.labels.shape
-            self._warped_labels = cv2.warpPerspective(  # type: ignore[assignment]
-                self.labels.astype(np.uint16), self.result.homography, (w, h),  # type: ignore[arg-type]
-                flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-        return self._warped_labels
-
-    def imagined_mask(self, label: int) -> NDArray[np.bool_] | None:
-        """Pixels of the real frame where the imagination shows object ``label``, or None
-        without alignment."""
-        warped = self.warped_labels()
-        return None if warped is None else warped == label
-
-    def difference_with(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8]
-                        ) -> NDArray[Any] | None:
-        """The whole frame's difference (grey levels, no mask) between the real image and
-        another synthetic image of this frame's camera (an uncorrected imagination, say),
-        through this frame's ``H_e``, gain and bias; None without alignment."""
-        h, w = real.shape[:2]
-        return self._difference(real, synthetic, (0, 0, w, h))
-
-    def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[Any] | None:
-        """How much the real image differs from the imagination's *background* (no moving
-        objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels (the largest
-        over the channels), with the frame's gain and bias; None without alignment.
-
-        This is the difference an object schema looks for its object in: the object
-        wherever it really is, whatever the imagination shows of it.  The MMD mask is not
-        applied: its Gaussians, centred on background corners matched next to the object,
-        would eat into the object's outline and bias its fitted position.
-        """
-        bg = self.background_image
-        if bg is None:
-            return None
-        return self._difference(real, bg, window)
-
-    def _difference(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8],
-                    window: BBox) -> NDArray[Any] | None:
-        res = self.result
-        if res is None or not res.aligned:
-            return None
-        x, y, w, h = window
-        shift = np.array([[1.0, 0.0, -x], [0.0, 1.0, -y], [0.0, 0.0, 1.0]])
-        bg = synthetic
-        warped = cv2.warpPerspective(bg, shift @ res.homography, (w, h), flags=cv2.INTER_LINEAR,
-                                     borderMode=cv2.BORDER_REPLICATE)
-        part = np.ascontiguousarray(real[y:y + h, x:x + w])
-        if warped.ndim == 3:
-            c = warped.shape[2]
-            m = np.zeros((c, c + 1))
-            m[np.arange(c), np.arange(c)] = res.gain
-            m[:, -1] = res.bias
-            diff = cv2.absdiff(part, cv2.transform(warped, m))
-            out = diff[:, :, 0]
-            for k in range(1, c):
-                out = cv2.max(out, diff[:, :, k])
-            return out
-        adjusted = cv2.convertScaleAbs(warped, alpha=float(res.gain[0]), beta=float(res.bias[0]))
-        return cv2.absdiff(part, adjusted)
-
-    def to_real(self, pixel: tuple[float, float]) -> tuple[float, float]:
-        """A synthetic pixel in the real frame (through ``H_e``; unchanged without it)."""
-        if self.result is None or not self.result.aligned:
-            return pixel
-        h = self.result.homography
-        assert h is not None
-        p = h @ np.array([pixel[0], pixel[1], 1.0])
-        return (float(p[0] / p[2]), float(p[1] / p[2]))
-
-    def pixels_to_synthetic(self, pixels: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Real pixels ``(N, 2)`` in the synthetic frame (through ``H_e^-1``)."""
-        if self.result is None or not self.result.aligned:
-            return np.asarray(pixels, float)
-        h_inv = np.linalg.inv(self.result.homography)  # type: ignore[arg-type]
-        p = np.c_[pixels, np.ones(len(pixels))] @ h_inv.T
-        return p[:, :2] / p[:, 2:]
-
-    def to_synthetic(self, pixel: tuple[float, float]) -> tuple[float, float]:
-        """A real pixel in the synthetic frame (through ``H_e^-1``)."""
-        if self.result is None or not self.result.aligned:
-            return pixel
-        p = np.linalg.inv(self.result.homography) @ np.array([pixel[0], pixel[1], 1.0])  # type: ignore[arg-type]
-        return (float(p[0] / p[2]), float(p[1] / p[2]))
-
-    def assign(self, region_id: int, owner: str) -> bool:
-        """Give the tracked region ``region_id`` to schema ``owner`` (it is expected from now on)."""
-        return self.tracker.assign(region_id, owner)
-
-    def release(self, owner: str) -> None:
-        """Forget the regions a removed schema owned."""
-        self.tracker.release(owner)
 
     # -- the input-link -------------------------------------------------------------------
 
@@ -654,23 +509,6 @@ class SceneBackground(Schema):
                     "appearance": self.stage.value,
                     "learned": len(self.network.mirror.appearance.learned)})
         return out
-
-
-def _angle_deg(rotation: NDArray[np.float64]) -> float:
-    c = (float(np.trace(rotation)) - 1.0) / 2.0
-    return math.degrees(math.acos(max(-1.0, min(1.0, c))))
-
-
-def _overlapping(track: Track, monitored: list[tuple[str, BBox]]) -> str | None:
-    x, y, w, h = track.region.bbox
-    best, owner = 0.0, None
-    for name, (bx, by, bw, bh) in monitored:
-        ix = max(0, min(x + w, bx + bw) - max(x, bx))
-        iy = max(0, min(y + h, by + bh) - max(y, by))
-        share = ix * iy / max(w * h, 1)
-        if share > best:
-            best, owner = share, name
-    return owner if best >= 0.3 else None
 
 
 def _floor_of(bbox: BBox, h_inv: NDArray[np.float64], camera: "Camera"

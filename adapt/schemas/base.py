@@ -1,11 +1,15 @@
-"""The schema base class and what a schema sees.
+"""The schema base class: what the network calls, and what a schema tells it.
 
 A schema instance is a node of the schema network (the minimal subscene).
-The network calls, each frame and in this order:
+When it has been made and joined to its providers and consumers, the network
+calls :meth:`Schema.joined` (its first look at its providers' percepts).
+Then, each frame and in this order:
 
 1. :meth:`Schema.perceive` on every perceptual schema, in the order of the
    network's port edges (providers before consumers): the schema looks at
-   its part of the image and of the imagination;
+   its part of the image and of the imagination, reads its providers'
+   percepts (``self.network.percepts(self, port, kind)``) and publishes its
+   own (``self.network.publish(self, percept)``; :mod:`adapt.schemas.percepts`);
 2. :meth:`Schema.write` during the agent's input phase: the schema writes
    what it perceives (or, for a motor schema, its status) under its own
    identifier on the input-link;
@@ -17,8 +21,11 @@ The network calls, each frame and in this order:
    (a correction force acts on every step, not once a frame).
 
 A schema owns a part of the image (:meth:`Schema.monitored_box`: the
-difference it explains, labelled *expected* from then on) and a part of the
-imagination (the bodies it created).
+difference it explains, labelled *expected* from then on; and the difference
+regions it claims, :meth:`Schema.claimed_regions`), a part of the
+imagination (the bodies it created) and, for an object schema, a world
+object (:meth:`Schema.monitored_object`).  These three are all a schema tells
+the network about itself beyond its percepts.
 """
 
 from __future__ import annotations
@@ -91,6 +98,10 @@ class Schema:
 
     # -- the frame loop -------------------------------------------------------
 
+    def joined(self) -> None:
+        """Called once the network has joined the schema to its providers and consumers
+        (before its first frame): the first look at its providers' percepts."""
+
     def perceive(self, frame: "Frame") -> None:
         """Look at the new frame (perceptual schemas)."""
 
@@ -113,6 +124,15 @@ class Schema:
 
     def monitored_box(self) -> BBox | None:
         """The real-image box ``(x, y, w, h)`` this schema explains, or None."""
+        return None
+
+    def claimed_regions(self) -> tuple[int, ...]:
+        """The tracked difference regions this schema explains (their ids): it owns each
+        one its providers' regions do not already give to another schema."""
+        return ()
+
+    def monitored_object(self) -> str | None:
+        """The world object this schema monitors (at most one schema monitors an object)."""
         return None
 
     def stop(self) -> None:

@@ -21,7 +21,6 @@ import math
 from typing import TYPE_CHECKING, Any, Mapping
 
 from adapt.imagination.footprint import Footprint
-from adapt.imagination.reach import body_radius
 from adapt.imagination.scene import Vec2
 from adapt.schemas.base import Schema, Status
 from adapt.schemas.links import Structure
@@ -48,7 +47,7 @@ class Drive(Schema):
         self.robot = robot
         self.target: Vec2 | None = None
         #: the robot's footprint in the scene: where it fits, and the way round
-        self.footprint = Footprint(network.mirror.scene, body_radius(robot))
+        self.footprint = Footprint(network.mirror.scene, robot.outer_radius)
         #: the points still to drive through, ending at the target
         self.way: list[Vec2] = []
         self._way_for: Vec2 | None = None
@@ -87,7 +86,7 @@ class Drive(Schema):
 
     def _unreachable(self, p: Vec2) -> str:
         scene = self.network.mirror.scene
-        margin = self.robot.radius if self.robot.shape == "disc" else min(self.robot.size) / 2.0
+        margin = self.robot.inner_radius
         if scene.floor.extent is not None:
             x0, y0, x1, y1 = scene.floor.extent
             if not (x0 + margin <= p[0] <= x1 - margin and y0 + margin <= p[1] <= y1 - margin):

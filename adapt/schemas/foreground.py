@@ -8,7 +8,10 @@ imagination (paper section 4.4, Figure 6):
   imagined body, the last sighting, or the region it was spawned for), the
   real object is what differs from the imagination's *background*: the
   background render warped by ``H_e``, with the frame's gain and bias, outside
-  the MMD mask.  The imagination's label image (warped by ``H_e``) says which
+  the MMD mask.  All of it is read from the Scene Background's percept on the
+  ``regions`` port (:class:`~adapt.schemas.percepts.BackgroundPercept`); what
+  this schema perceives is published as an
+  :class:`~adapt.schemas.percepts.ObjectPercept` on its ``object`` port.  The imagination's label image (warped by ``H_e``) says which
   pixels other imagined objects cover; they are left out.  (Comparing with
   the full render instead would hide the object wherever the imagined body
   already covers it, and mistake background of the object's colour for the
@@ -46,27 +49,29 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any, Mapping
 
-import cv2
 import numpy as np
 
+from adapt.errors import SchemaError
 from adapt.imagination import Ball
-from adapt.imagination.reach import body_radius
 from adapt.imagination.sight import behind_wall
 from adapt.kalman import ConstantVelocityKF
 from adapt.mirror.identify import Fit, Identifier
 from adapt.scenario.records import MODEL_RANGE_PARAMETERS
 from adapt.schemas.base import BBox, Schema, Status
 from adapt.schemas.estimator import PARAMETERS, Estimate, ParameterEstimator, surprise
+from adapt.schemas.events import EventKind
 from adapt.schemas.links import Structure
+from adapt.schemas.percepts import BackgroundPercept, ObjectPercept, Sighting
 from adapt.schemas.predictor import Prediction, Predictor
 from adapt.schemas.silhouette import fit_ball
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
+from adapt.vision.regions import find_regions
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Frame
     from adapt.schemas.network import SchemaNetwork
 
-__all__ = ["ForegroundObject", "FOREGROUND_OBJECT", "Observation"]
+__all__ = ["ForegroundObject", "FOREGROUND_OBJECT"]
 
 #: Colour of an object the scenario does not declare until its own is measured (BGR).
 UNKNOWN_COLOR = (128, 128, 128)
@@ -84,20 +89,8 @@ FIT_CHI2 = 4.0
 UNKNOWN_RANGES = {"restitution": (0.2, 0.95), "friction": (0.0, 1.0),
                   "rolling_resistance": (0.0, 0.2)}
 
-
-class Observation:
-    """One sighting: the blob in the real image and the floor position it gives."""
-
-    __slots__ = ("frame", "time", "bbox", "centroid", "area", "position")
-
-    def __init__(self, frame: int, time: float, bbox: BBox, centroid: tuple[float, float],
-                 area: int, position: tuple[float, float]) -> None:
-        self.frame = frame
-        self.time = time
-        self.bbox = bbox
-        self.centroid = centroid
-        self.area = area
-        self.position = position
+#: Side of the opening that cleans an object's blob of specks (pixels).
+BLOB_OPEN = 3
 
 
 class ForegroundObject(Schema):
@@ -106,14 +99,21 @@ class ForegroundObject(Schema):
     def __init__(self, name: str, spec: SchemaSpec, parameters: Mapping[str, Any],
                  network: "SchemaNetwork") -> None:
         super().__init__(name, spec, parameters, network)
-        self.object_name = str(parameters["object"]) or name
+        declared = str(parameters["object"])
+        if declared:
+            if declared not in network.models:
+                raise SchemaError(f"no object called {declared!r}; the world declares "
+                                  + (", ".join(sorted(network.models)) or "none"))
+            if network.monitor_of(declared) is not None:
+                raise SchemaError(f"object {declared!r} is already monitored")
+        self.object_name = declared or name
         model = network.models.get(self.object_name)
         self.declared = model is not None
         self.ball: Ball | None = model.ball if model is not None else None
         self.kf = ConstantVelocityKF(q=float(parameters["process_noise"]),
                                      r=float(parameters["measurement_noise"]),
                                      gate=float(parameters["gate"]))
-        self.last: Observation | None = None
+        self.last: Sighting | None = None
         self.sightings = 0
         self.misses = 0
         #: sightings refused because a wall stands between the camera and where they fit
@@ -136,11 +136,25 @@ class ForegroundObject(Schema):
                                    evidence=settings.evidence)
         if self.ball is not None:
             self._start_estimator()
-        if self.region > 0 and network.background is not None:
-            track = network.background.tracker.get(self.region)
-            if track is not None:
-                self._window = track.region.bbox
-                network.background.assign(self.region, name)
+
+    def joined(self) -> None:
+        """The region it was spawned for, in its provider's regions: where to look first,
+        and the region it claims."""
+        bg = self._background()
+        found = None if bg is None or self.region <= 0 else bg.region(self.region)
+        if found is not None:
+            self._window = found.bbox
+        self._publish(self.network.frame_index, self.network.time)
+
+    def _background(self) -> BackgroundPercept | None:
+        """The Scene Background's percept (on the ``regions`` port), or None."""
+        return self.network.percept(self, "regions", BackgroundPercept)
+
+    def claimed_regions(self) -> tuple[int, ...]:
+        return (self.region,) if self._window is not None and self.region > 0 else ()
+
+    def monitored_object(self) -> str | None:
+        return self.object_name
 
     # -- helpers ---------------------------------------------------------------------------
 
@@ -207,7 +221,7 @@ class ForegroundObject(Schema):
             return None
         px = cam.fx * pc[0] / pc[2] + cam.cx
         py = cam.fy * pc[1] / pc[2] + cam.cy
-        bg = self.network.background
+        bg = self._background()
         centre = bg.to_real((px, py)) if bg is not None else (px, py)
         return centre, cam.fx * r / pc[2]
 
@@ -265,6 +279,20 @@ class ForegroundObject(Schema):
                 self._hooked = True
         if self.parameters["predict"] and frame.index % self.network.predict.every == 0:
             self.prediction = self._predict()
+        self._publish(frame.index, frame.time)
+
+    def _publish(self, index: int, time: float) -> None:
+        """What it perceives of its object, on its ``object`` port."""
+        est = self.kf.initialised
+        seen = self.misses == 0 and self.sightings > 0
+        self.network.publish(self, ObjectPercept(
+            frame=index, time=time, object=self.object_name, declared=self.declared,
+            ball=self.ball, sighting=self.last if seen else None,
+            position=self.kf.position if est else None,
+            velocity=self.kf.velocity if est else None, imagined=self.imagined(),
+            prediction=self.prediction,
+            estimates=self.estimate_records(),
+            rollouts=(self.predictor.simulated_s, self.predictor.wall_s)))
 
     def _learn(self, time: float, position: tuple[float, float]) -> None:
         """Bounces and rolling: update the estimates, restart the filter after a bounce, and
@@ -280,7 +308,7 @@ class ForegroundObject(Schema):
                 t0, p0, v0 = after
                 p = p0 + v0 * (time - t0)
                 self.kf.reset(time, p, v0, self.estimator.noise, 0.1)  # type: ignore[arg-type]
-            self.network.note(self, "bounce", {
+            self.network.note(self, EventKind.BOUNCE, {
                 "t": round(bounce.time, 4), "surface": bounce.surface,
                 "position": [round(v, 4) for v in bounce.position],
                 "restitution": None if bounce.restitution is None else round(bounce.restitution, 4),
@@ -336,8 +364,8 @@ class ForegroundObject(Schema):
         return self.predictor.predict(mirror.world, self.body, position, velocity,
                                       self.estimates(), velocity_std=vstd)
 
-    def _observe(self, frame: "Frame") -> Observation | None:
-        bg = self.network.background
+    def _observe(self, frame: "Frame") -> Sighting | None:
+        bg = self._background()
         if bg is None or not bg.trusted:
             return None
         where = self._predicted(frame)
@@ -352,36 +380,29 @@ class ForegroundObject(Schema):
         d = bg.object_difference(frame.image, (x0, y0, x1 - x0, y1 - y0))
         if d is None:
             return None
-        diff = d > bg.parameters["threshold"]
-        for other in bg.labels_except(self.body):
-            imagined = bg.imagined_mask(other)
-            if imagined is not None:
-                diff &= ~imagined[y0:y1, x0:x1]
-        blob = diff.astype(np.uint8)
-        blob = cv2.morphologyEx(blob, cv2.MORPH_OPEN, np.ones((3, 3), np.uint8))
-        n, labels, stats, cents = cv2.connectedComponentsWithStats(blob, connectivity=8)
-        if n <= 1:
+        others = [m for m in (bg.imagined_mask(lab) for lab in bg.balls_except(self.body))
+                  if m is not None]
+        if others:
+            d = np.array(d)
+            for imagined in others:
+                d[imagined[y0:y1, x0:x1]] = 0  # what another imagined object explains
+        # prefer large blobs near the prediction
+        blobs = [r for r in find_regions(d, threshold=bg.threshold,
+                                         min_area=int(self.parameters["min_area"]),
+                                         open_size=BLOB_OPEN, close=False)]
+        if not blobs:
             return None
-        min_area = int(self.parameters["min_area"])
-        best, best_d = 0, math.inf
-        for i in range(1, n):
-            if stats[i, cv2.CC_STAT_AREA] < min_area:
-                continue
-            d = math.dist((cents[i][0] + x0, cents[i][1] + y0), (cx, cy))  # type: ignore[assignment]
-            # prefer large blobs near the prediction
-            score = d / math.sqrt(stats[i, cv2.CC_STAT_AREA])
-            if score < best_d:
-                best, best_d = i, score  # type: ignore[assignment]
-        if best == 0:
-            return None
-        bx, by, bw, bh, area = (int(v) for v in stats[best])
-        mask = labels[by:by + bh, bx:bx + bw] == best
+        best = min(blobs, key=lambda r: math.dist((r.centroid[0] + x0, r.centroid[1] + y0),
+                                                  (cx, cy)) / math.sqrt(r.area))
+        bx, by, bw, bh = best.bbox
+        mask = best.silhouette
+        area = best.area
         bbox = (bx + x0, by + y0, bw, bh)
         if bbox[0] == 0 or bbox[1] == 0 or bbox[0] + bw >= w:
             return None  # cut by the image's edge: its outline would mislead the fit
         cam = self.network.mirror.camera
         free = fit_ball(mask, (bx + x0, by + y0), cam, radius=None,
-                        to_camera=bg.pixels_to_synthetic)
+                        to_camera=bg.to_synthetic)
         if free is None:
             return None
         if self.ball is None:
@@ -392,7 +413,7 @@ class ForegroundObject(Schema):
             if abs(free.radius - self.ball.radius) > RADIUS_TOLERANCE * self.ball.radius:
                 return None
             fit = fit_ball(mask, (bx + x0, by + y0), cam, radius=self.ball.radius,  # type: ignore[assignment]
-                           to_camera=bg.pixels_to_synthetic)
+                           to_camera=bg.to_synthetic)
             if fit is None:
                 return None
         eye = (float(cam.position[0]), float(cam.position[1]))
@@ -403,8 +424,8 @@ class ForegroundObject(Schema):
             return None
         if self.ball is None:
             self._measure_unknown(frame, fit.radius, mask, bbox)
-        centre = (float(cents[best][0] + x0), float(cents[best][1] + y0))
-        return Observation(frame.index, frame.time, bbox, centre, area, fit.position)
+        centre = (best.centroid[0] + x0, best.centroid[1] + y0)
+        return Sighting(frame.index, frame.time, bbox, centre, area, fit.position)
 
     def _measure_unknown(self, frame: "Frame", radius: float, mask: np.ndarray, bbox: BBox) -> None:
         """An object the scenario does not declare gets its size and colour from its sightings:
@@ -433,7 +454,7 @@ class ForegroundObject(Schema):
         pose = mirror.robot_pose()
         robot = mirror.scene.robot
         if pose is not None and robot is not None:
-            if math.dist(position, pose[0]) < radius + body_radius(robot):
+            if math.dist(position, pose[0]) < radius + robot.outer_radius:
                 return robot.name
         return None
 
@@ -443,7 +464,7 @@ class ForegroundObject(Schema):
         if self.overlaps(self.kf.position, ball.radius) is not None:
             return  # not yet, and not there (see overlaps)
         mirror.add_ball(ball, self.kf.position, self.kf.velocity)
-        self.network.note(self, "created", {"body": self.body,
+        self.network.note(self, EventKind.CREATED, {"body": self.body,
                                             "position": [round(v, 4) for v in self.kf.position],
                                             "velocity": [round(v, 4) for v in self.kf.velocity]})
 

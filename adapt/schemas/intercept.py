@@ -39,18 +39,14 @@ from adapt.imagination.predict import Trajectory, intercept_reach
 from adapt.imagination.reach import meet, standing_point
 from adapt.schemas.drive import Drive
 from adapt.schemas.links import Structure
+from adapt.schemas.percepts import ObjectPercept
 from adapt.schemas.predictor import REST_PLAN, REST_SPEED
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 
 if TYPE_CHECKING:  # pragma: no cover
-    from adapt.schemas.foreground import ForegroundObject
     from adapt.schemas.network import SchemaNetwork
 
-__all__ = ["Intercept", "INTERCEPT", "Plan", "Reachable", "CATCH_SLACK", "GAZE_GAIN"]
-
-#: Touching is at exactly the reach; the evaluation counts this much more (metres) as caught
-#: too (the schema itself says caught only at the reach: its idea of the object may be off).
-CATCH_SLACK = 0.02
+__all__ = ["Intercept", "INTERCEPT", "Plan", "Reachable", "GAZE_GAIN"]
 
 #: Turn rate per radian of heading error when facing the object (1/s).
 GAZE_GAIN = 4.0
@@ -95,13 +91,12 @@ class Intercept(Drive):
         self.plan: Plan | None = None
         self.reachable: Reachable | None = None
 
-    def watched(self) -> "ForegroundObject | None":
-        """The perceptual schema of the object (None while there is none)."""
-        from adapt.schemas.foreground import ForegroundObject
-
-        for s in self.network.ordered():
-            if isinstance(s, ForegroundObject) and s.object_name == self.object_name:
-                return s
+    def watched(self) -> ObjectPercept | None:
+        """What the object's perceptual schema perceives of it, on the ``object`` port (None
+        while no schema monitors it)."""
+        for p in self.network.percepts(self, "object", ObjectPercept):
+            if p.object == self.object_name:
+                return p
         return None
 
     def act(self, time: float) -> None:
@@ -114,7 +109,7 @@ class Intercept(Drive):
         limit = float(self.parameters["turn_rate"])
         obj = self.watched()
         pose = self.network.mirror.robot_pose()
-        where = None if obj is None else obj.observed() or obj.imagined()
+        where = None if obj is None else obj.observed or obj.imagined
         turn = 0.0
         if limit > 0 and where is not None and pose is not None:
             (x, y), heading = pose
@@ -206,7 +201,7 @@ class Intercept(Drive):
         pose = self.network.mirror.robot_pose()
         if obj is None or pose is None:
             return None
-        where = obj.observed() or obj.imagined()
+        where = obj.observed or obj.imagined
         return None if where is None else math.dist(where, pose[0])
 
     def summary(self) -> dict[str, Any]:

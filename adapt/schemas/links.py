@@ -112,10 +112,6 @@ class Structure:
                 child = self._children.pop((a, key))
                 self.writer.remove(self.id, a, child.id)
 
-    def remove_from(self, parent: Identifier, attr: str) -> None:
-        """Unlink this structure from ``(parent ^attr self)``; garbage collection removes the rest."""
-        self.writer.remove(parent, attr, self.id)
-
 
 @dataclass(frozen=True, slots=True)
 class Command:

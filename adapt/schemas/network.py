@@ -1,10 +1,23 @@
 """The schema network: the paper's minimal subscene as a networkx DiGraph.
 
 Nodes are schema instances (by name, the instance in the node's ``schema``
-attribute); an edge ``a -> b`` with a ``port`` attribute says that ``a``
-provides what ``b`` consumes.  Perceptual schemas perceive in the graph's
-topological order, so a provider has looked at the frame before its
-consumers do.
+attribute); an edge ``a -> b`` with a ``ports`` attribute says that ``a``
+provides what ``b`` consumes on those ports.  Perceptual schemas perceive in
+the graph's topological order, so a provider has looked at the frame before
+its consumers do.
+
+**Ports carry percepts.**  A provider publishes a frozen record on each port
+it provides (:meth:`SchemaNetwork.publish`; :mod:`adapt.schemas.percepts`),
+and a consumer reads its providers' records on a port through the graph's
+in-edges with that port (:meth:`SchemaNetwork.percepts`), never through
+another schema's members.  What a schema tells the network about itself is
+the base class's: the image box it explains (:meth:`Schema.monitored_box
+<adapt.schemas.base.Schema.monitored_box>`), the difference regions it claims
+(:meth:`~adapt.schemas.base.Schema.claimed_regions`; a region has at most one
+owner) and the world object it monitors
+(:meth:`~adapt.schemas.base.Schema.monitored_object`; an object has at most
+one).  Outside the schemas (the runner's outputs) the percepts are read with
+:meth:`SchemaNetwork.published`.
 
 The network is driven by the rules, never by Python code straight from the
 goals (paper section 3.1: put in place partly top-down by the problem
@@ -27,9 +40,8 @@ from __future__ import annotations
 
 import difflib
 import time
-from dataclasses import dataclass, field
 from time import perf_counter
-from typing import TYPE_CHECKING, Any, Callable, Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, Callable, Iterator, Mapping, Sequence, TypeVar
 
 import networkx as nx
 import numpy as np
@@ -37,7 +49,9 @@ import numpy as np
 from adapt.engine import InputWriter, OutputView
 from adapt.engine.symbols import Identifier
 from adapt.errors import SchemaError
+from adapt.scenario import RealityKind
 from adapt.schemas.base import BBox, Origin, Schema, Status
+from adapt.schemas.events import EventKind, SchemaEvent
 from adapt.schemas.links import Command, Structure, read_commands
 from adapt.schemas.registry import REGISTRY, Registry
 from adapt.schemas.spec import ParameterError, SchemaKind, SchemaSpec
@@ -46,31 +60,11 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Actuator, Frame
     from adapt.mirror import Mirror
     from adapt.scenario import Goal, ObjectModel, PredictSettings, SchemaSettings
-    from adapt.schemas.background import SceneBackground
 
-__all__ = ["SchemaNetwork", "SchemaEvent", "check_settings"]
+__all__ = ["SchemaNetwork", "SchemaEvent", "EventKind", "check_settings"]
 
-
-@dataclass(frozen=True, slots=True)
-class SchemaEvent:
-    """Something that happened to the network.
-
-    ``kind``: ``instantiated`` (top-down), ``spawned`` (bottom-up, for a
-    difference region), ``removed``, ``status`` (a schema's status changed),
-    ``created`` (a schema created a body in the imagination), ``rejected``
-    (a command the network could not carry out).
-    """
-
-    kind: str
-    schema: str
-    frame: int
-    decision: int
-    data: dict[str, Any] = field(default_factory=dict)
-
-    def as_json(self) -> dict[str, Any]:
-        """The trace's ``schema`` record (without ``kind``)."""
-        return {"d": self.decision, "frame": self.frame, "event": self.kind,
-                "schema": self.schema, "data": self.data}
+#: A percept type, for the typed accessors.
+P = TypeVar("P")
 
 
 def check_settings(settings: Sequence["SchemaSettings"], registry: Registry = REGISTRY
@@ -127,11 +121,11 @@ class SchemaNetwork:
         The prediction ensembles' random stream.
     frame_interval : float
         Seconds between frames.
-    reality : str
-        The kind of the reality the frames come from (``"synthetic"`` or
-        ``"video"``; set by the runner from the scenario).  Schemas may adapt
-        to it (the Scene Background learns the surfaces' look of a video by
-        default); it never carries the reality's truth.
+    reality : RealityKind
+        The kind of the reality the frames come from (set by the runner from
+        the scenario).  Schemas may adapt to it (the Scene Background learns
+        the surfaces' look of a video by default); it never carries the
+        reality's truth.
     """
 
     def __init__(self, mirror: "Mirror", *, registry: Registry = REGISTRY,
@@ -140,7 +134,7 @@ class SchemaNetwork:
                  goals: Sequence["Goal"] = (), actuator: "Actuator | None" = None,
                  predict: "PredictSettings | None" = None,
                  rng: np.random.Generator | None = None, frame_interval: float = 1.0 / 30.0,
-                 reality: str = "synthetic") -> None:
+                 reality: RealityKind = RealityKind.SYNTHETIC) -> None:
         from adapt.scenario import PredictSettings
 
         self.mirror = mirror
@@ -167,6 +161,7 @@ class SchemaNetwork:
         self._seen_commands: set[Identifier] = set()
         self._statuses: dict[Identifier, tuple[str, str]] = {}
         self._last_status: dict[str, Status] = {}
+        self._percepts: dict[tuple[str, str], object] = {}
 
     # -- membership ---------------------------------------------------------------------
 
@@ -203,14 +198,62 @@ class SchemaNetwork:
         """Schema names, in order."""
         return [s.name for s in self.ordered()]
 
-    @property
-    def background(self) -> "SceneBackground | None":
-        """The Scene Background schema, when there is one."""
-        from adapt.schemas.background import SceneBackground
+    # -- percepts -----------------------------------------------------------------------------
 
-        for s in self.ordered():
-            if isinstance(s, SceneBackground):
-                return s
+    def publish(self, schema: Schema, percept: object, port: str | None = None) -> None:
+        """``schema`` publishes ``percept`` on ``port`` (None: on every port it provides);
+        it replaces what the schema published there before."""
+        ports = [p.name for p in schema.spec.provides] if port is None else [port]
+        for name in ports:
+            if not any(p.name == name for p in schema.spec.provides):
+                raise SchemaError(f"{schema.spec.name} does not provide a port {name!r}")
+            self._percepts[(schema.name, name)] = percept
+
+    def percepts(self, schema: Schema, port: str, kind: type[P]) -> list[P]:
+        """The percepts of type ``kind`` that ``schema``'s providers published on ``port``
+        (through its in-edges with that port), providers in the network's order."""
+        name = schema.name
+        if name not in self.graph:
+            return []
+        out: list[P] = []
+        for provider in self.ordered():
+            data = self.graph.get_edge_data(provider.name, name)
+            if data is not None and port in data["ports"]:
+                found = self._percepts.get((provider.name, port))
+                if isinstance(found, kind):
+                    out.append(found)
+        return out
+
+    def percept(self, schema: Schema, port: str, kind: type[P]) -> P | None:
+        """The first of :meth:`percepts`, or None."""
+        found = self.percepts(schema, port, kind)
+        return found[0] if found else None
+
+    def published(self, kind: type[P]) -> list[P]:
+        """Every percept of type ``kind`` the schemas have published (once each, schemas
+        in the network's order): how what perceives is read from outside the network."""
+        out: list[P] = []
+        for schema in self.ordered():
+            for port in schema.spec.provides:
+                found = self._percepts.get((schema.name, port.name))
+                if isinstance(found, kind) and not any(found is o for o in out):
+                    out.append(found)
+        return out
+
+    def claims(self) -> dict[int, str]:
+        """The difference regions claimed (region id -> schema): each region by at most one
+        schema, the first in the network's order to claim it."""
+        out: dict[int, str] = {}
+        for schema in self.ordered():
+            for region in schema.claimed_regions():
+                out.setdefault(region, schema.name)
+        return out
+
+    def monitor_of(self, obj: str) -> str | None:
+        """The schema that monitors the world object ``obj``, or None."""
+        for schema in self.ordered():
+            if schema.monitored_object() == obj:
+                return schema.name
         return None
 
     # -- changing the network ---------------------------------------------------------------
@@ -257,12 +300,6 @@ class SchemaNetwork:
                 values[key] = p.check(value)
             except ParameterError as exc:
                 raise SchemaError(f"{spec.name} parameter {key}: {exc}") from None
-        if spec.name == "foreground-object" and values.get("object"):
-            if values["object"] not in self.models:
-                raise SchemaError(f"no object called {values['object']!r}; the world declares "
-                                  + (", ".join(sorted(self.models)) or "none"))
-            if any(getattr(s, "object_name", None) == values["object"] for s in self.ordered()):
-                raise SchemaError(f"object {values['object']!r} is already monitored")
         try:
             schema = spec.factory(name, values, self)
         except ValueError as exc:
@@ -273,7 +310,8 @@ class SchemaNetwork:
         self._order = None
         self.changed = True
         self._last_status[name] = schema.status
-        kind = "spawned" if origin is Origin.BOTTOM_UP else "instantiated"
+        schema.joined()
+        kind = EventKind.SPAWNED if origin is Origin.BOTTOM_UP else EventKind.INSTANTIATED
         self._emit(SchemaEvent(kind, name, self.frame_index, self.decision,
                                {"type": spec.name, "origin": origin.value,
                                 "parameters": {k: v for k, v in values.items()
@@ -286,25 +324,24 @@ class SchemaNetwork:
             if other == schema.name:
                 continue
             o: SchemaSpec = self.graph.nodes[other]["schema"].spec
-            for port in spec.provides:
-                if any(c.name == port.name for c in o.consumes):
-                    self.graph.add_edge(schema.name, other, port=port.name)
-            for port in spec.consumes:
-                if any(p.name == port.name for p in o.provides):
-                    self.graph.add_edge(other, schema.name, port=port.name)
+            out = tuple(p.name for p in spec.provides if any(c.name == p.name for c in o.consumes))
+            if out:
+                self.graph.add_edge(schema.name, other, ports=out)
+            into = tuple(c.name for c in spec.consumes if any(p.name == c.name for p in o.provides))
+            if into:
+                self.graph.add_edge(other, schema.name, ports=into)
 
     def remove(self, name: str) -> None:
-        """Remove a schema (it releases its bodies and hooks)."""
+        """Remove a schema (it releases its bodies and hooks; its percepts and claims go)."""
         schema = self[name]
         schema.stop()
-        bg = self.background
-        if bg is not None and bg is not schema:
-            bg.release(name)
         self.graph.remove_node(name)
+        for key in [k for k in self._percepts if k[0] == name]:
+            del self._percepts[key]
         self._last_status.pop(name, None)
         self._order = None
         self.changed = True
-        self._emit(SchemaEvent("removed", name, self.frame_index, self.decision,
+        self._emit(SchemaEvent(EventKind.REMOVED, name, self.frame_index, self.decision,
                                {"type": schema.spec.name}))
 
     # -- events ---------------------------------------------------------------------------------
@@ -313,7 +350,7 @@ class SchemaNetwork:
         for listener in self.listeners:
             listener(event)
 
-    def note(self, schema: Schema, kind: str, data: dict[str, Any]) -> None:
+    def note(self, schema: Schema, kind: EventKind, data: dict[str, Any]) -> None:
         """A schema reports an event (for example ``created``: a body in the imagination)."""
         self._emit(SchemaEvent(kind, schema.name, self.frame_index, self.decision, data))
 
@@ -348,7 +385,8 @@ class SchemaNetwork:
             before = self._last_status.get(schema.name)
             if before is not schema.status:
                 self._last_status[schema.name] = schema.status
-                self._emit(SchemaEvent("status", schema.name, self.frame_index, self.decision,
+                self._emit(SchemaEvent(EventKind.STATUS, schema.name, self.frame_index,
+                                       self.decision,
                                        {"status": schema.status.value,
                                         "message": schema.message}))
 
@@ -415,7 +453,8 @@ class SchemaNetwork:
             error = self._carry_out(cmd)
             self._statuses[cmd.id] = ("error", error) if error else ("complete", "")
             if error:
-                self._emit(SchemaEvent("rejected", str(cmd.get("name", cmd.get("schema", ""))),
+                self._emit(SchemaEvent(EventKind.REJECTED,
+                                       str(cmd.get("name", cmd.get("schema", ""))),
                                        self.frame_index, self.decision,
                                        {"command": cmd.verb, "error": error,
                                         "attributes": {k: _json(v) for k, v in cmd.as_dict().items()}}))
@@ -458,8 +497,8 @@ class SchemaNetwork:
     def subscene(self) -> dict[str, Any]:
         """The network as JSON: nodes (schema summaries) and port edges."""
         return {"nodes": [s.summary() for s in self.ordered()],
-                "edges": [{"from": a, "to": b, "port": d["port"]}
-                          for a, b, d in self.graph.edges(data=True)]}
+                "edges": [{"from": a, "to": b, "port": port}
+                          for a, b, d in self.graph.edges(data=True) for port in d["ports"]]}
 
 
 def _json(value: Any) -> Any:

@@ -154,9 +154,3 @@ class RegionTracker:
             return False
         t.owner = owner
         return True
-
-    def release(self, owner: str) -> None:
-        """Forget the tracks a removed schema owned."""
-        for t in self.tracks:
-            if t.owner == owner:
-                t.owner = None

@@ -10,9 +10,17 @@ Dask (``dask[distributed]``) is an optional dependency (``pip install
   OpenCV; threads would share one interpreter).  It lives as long as the
   sweep; its workers are this process's children and are restarted by their
   nannies if they die.
+  More workers than cores are refused (:func:`check_workers`): a run uses a
+  core, so they would only wait for one and hold memory.
 * ``scheduler`` is the address of a running scheduler (``tcp://host:8786``)
   or the path of its scheduler file (``--scheduler-file`` of ``dask
-  scheduler``, as dask-jobqueue and ``dask-mpi`` write it).
+  scheduler``, as dask-jobqueue and ``dask-mpi`` write it).  Before Dask's
+  client is let near a ``tcp://`` address, :func:`check_scheduler` makes sure
+  a Dask scheduler answers there: one greets a new connection at once with a
+  small handshake frame.  A service that says something else (an SSH banner,
+  which Dask would take for the length of a frame of exabytes) or nothing
+  within :data:`GREETING_S` seconds (an HTTP server, waiting for a request)
+  is refused as "not a Dask scheduler".
 
 The embedded cluster starts its workers without Dask's default
 ``MALLOC_TRIM_THRESHOLD_`` (see :data:`NO_TRIM`).  Every worker gets a small setup (a worker plugin, so restarted and
@@ -24,8 +32,12 @@ the runs and shuts the cluster down).
 
 from __future__ import annotations
 
+import json
 import logging
 import os
+import socket
+import struct
+import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,7 +45,15 @@ from typing import Any, Iterator
 
 from adapt.errors import SweepError
 
-__all__ = ["require_dask", "connect", "Connection", "default_workers", "INSTALL", "NO_TRIM"]
+__all__ = ["require_dask", "connect", "Connection", "default_workers", "check_workers",
+           "check_scheduler", "INSTALL", "NO_TRIM", "GREETING_S"]
+
+#: Seconds a scheduler has to accept a connection, and again to greet it (a Dask scheduler
+#: sends its handshake the moment it accepts).
+GREETING_S = 5.0
+
+#: The largest handshake frame taken for one (Dask's is about a hundred bytes).
+_MAX_GREETING = 1 << 16
 
 #: Dask's setting that starts workers with ``MALLOC_TRIM_THRESHOLD_=65536``.  Any explicit trim
 #: threshold turns glibc's dynamic mmap threshold off, so every image buffer of a run (a 640x480
@@ -72,6 +92,93 @@ def default_workers() -> int:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not Linux
         return max(1, os.cpu_count() or 1)
+
+
+def check_workers(workers: int) -> None:
+    """Refuse a number of embedded workers below 1 or above the cores this process may use.
+
+    >>> check_workers(0)
+    Traceback (most recent call last):
+    ...
+    adapt.errors.SweepError: --workers must be at least 1, got 0
+    """
+    if workers < 1:
+        raise SweepError(f"--workers must be at least 1, got {workers}")
+    cores = default_workers()
+    if workers > cores:
+        raise SweepError(f"--workers {workers}: this machine gives adapt {cores} core"
+                         f"{'s' * (cores != 1)}, and a run keeps one busy, so more workers would "
+                         f"only wait for a core and hold memory: use --workers 1..{cores}, or "
+                         "--scheduler for a cluster (docs/sweeps.md)")
+
+
+def _tcp_address(scheduler: str) -> tuple[str, int] | None:
+    """``(host, port)`` of a ``tcp://host:port`` (or ``host:port``) address; None for another
+    kind of address (``tls://``, ``inproc://``), which is left to Dask."""
+    text = scheduler.strip()
+    if "://" in text:
+        scheme, _, text = text.partition("://")
+        if scheme != "tcp":
+            return None
+    host, sep, port = text.rpartition(":")
+    if not sep or not port.isdigit() or not host:
+        return None
+    return host.strip("[]"), int(port)
+
+
+def _receive(sock: socket.socket, n: int, deadline: float) -> bytes:
+    """Up to ``n`` bytes, as many as come before ``deadline`` or the end of the stream."""
+    data = b""
+    while len(data) < n:
+        left = deadline - time.monotonic()
+        if left <= 0:
+            break
+        sock.settimeout(left)
+        try:
+            chunk = sock.recv(min(n - len(data), 65536))
+        except OSError:  # a timeout, a reset
+            break
+        if not chunk:
+            break
+        data += chunk
+    return data
+
+
+def check_scheduler(scheduler: str, timeout: float = GREETING_S) -> None:
+    """Refuse, within about ``2 * timeout`` seconds, a ``tcp://`` address where no Dask
+    scheduler answers (see the module docstring); other kinds of address pass.
+
+    Raises
+    ------
+    SweepError
+        Nothing accepts connections there, or what does is not a Dask scheduler.
+    """
+    where = _tcp_address(scheduler)
+    if where is None:
+        return
+    try:
+        sock = socket.create_connection(where, timeout=timeout)
+    except OSError as exc:
+        raise SweepError(f"cannot reach the Dask scheduler {scheduler!r}: "
+                         f"{exc.strerror or exc}; start one with `dask scheduler` (see "
+                         "docs/sweeps.md)") from None
+    with sock:
+        deadline = time.monotonic() + timeout
+        head = _receive(sock, 8, deadline)
+        size = struct.unpack("Q", head)[0] if len(head) == 8 else None
+        if size is not None and 0 < size <= _MAX_GREETING:
+            body = _receive(sock, size, deadline)
+        else:  # a little more of what it said, to show it
+            body = _receive(sock, 56, min(deadline, time.monotonic() + 0.2)) if head else b""
+    if size is not None and len(body) == size and b"pickle-protocol" in body:
+        return
+    if not head:
+        said = f"it said nothing within {timeout:g} s of connecting"
+    else:
+        said = f"it began with {(head + body)[:64]!r}"
+    raise SweepError(f"{scheduler!r} is not a Dask scheduler: {said}, where a Dask scheduler "
+                     "greets at once with its handshake; check the address and the port "
+                     "(`dask scheduler` prints them; docs/sweeps.md)")
 
 
 @dataclass
@@ -133,8 +240,8 @@ def connect(workers: int | None = None, scheduler: str | None = None,
 
     if workers is not None and scheduler is not None:
         raise SweepError("give either a number of workers or a scheduler, not both")
-    if workers is not None and workers < 1:
-        raise SweepError(f"--workers must be at least 1, got {workers}")
+    if workers is not None:
+        check_workers(workers)
     level = logging.ERROR if quiet else logging.WARNING
     saved = {name: logging.getLogger(name).level for name in ("distributed", "tornado")}
     for name in saved:
@@ -179,10 +286,22 @@ def _remote(scheduler: str) -> Any:
         if path.suffix == ".json" or path.is_file():
             if not path.is_file():
                 raise SweepError(f"no scheduler file {str(path)!r}")
+            check_scheduler(_file_address(path))
             return Client(scheduler_file=str(path), timeout="20s")
+        check_scheduler(scheduler)
         return Client(scheduler, timeout="20s")
     except SweepError:
         raise
     except (OSError, TimeoutError, ValueError) as exc:
         raise SweepError(f"cannot reach the Dask scheduler {scheduler!r}: {exc}; start one "
                          "with `dask scheduler` (see docs/sweeps.md)") from None
+
+
+def _file_address(path: Path) -> str:
+    """The ``address`` a scheduler file gives (``""`` when it gives none: Dask says why)."""
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return ""
+    address = data.get("address") if isinstance(data, dict) else None
+    return address if isinstance(address, str) else ""

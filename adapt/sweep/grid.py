@@ -39,10 +39,8 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Any
 
-import yaml
-
 from adapt.errors import SweepSpecError
-from adapt.scenario.nodes import YAML12Loader
+from adapt.scenario.nodes import yaml_value
 
 __all__ = ["Item", "Axis", "parse_seeds", "parse_axis", "canonical", "MAX_RANGE"]
 
@@ -175,8 +173,8 @@ def canonical(text: str) -> Any:
     (0.7, [1, 2], 'brick', 0.001)
     """
     try:
-        value = yaml.load(text, Loader=YAML12Loader)
-    except yaml.YAMLError:
+        value = yaml_value(text)
+    except ValueError:
         return text
     return _jsonable(value, text)
 

@@ -4,8 +4,10 @@
 forms the grid's cells (the product of the axes, the first axis varying
 slowest) and reads the scenario **once per cell** with that cell's overrides,
 so a bad value is reported before anything runs, by the scenario reader
-itself, at its column in the ``--set`` argument.  Each cell's schema
-parameters are checked and each distinct rule file is parsed once.
+itself, at its column in the ``--set`` argument.  Each cell is checked as
+``adapt check`` and the runner check a scenario
+(:func:`adapt.runner.check_scenario`: its schema parameters, and each
+distinct rule file parsed once).
 
 Runs are ordered seed by seed, each seed over every cell, so a sweep stopped
 early still has about as many runs in every cell.
@@ -46,8 +48,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Sequence
 
-from adapt.errors import LocatedError, RuleError, ScenarioError, SweepSpecError
+from adapt.errors import LocatedError, ScenarioError, SweepSpecError
+from adapt.files import Input, Inputs
+from adapt.runner.check import RuleCheck, check_scenario
 from adapt.scenario import Scenario, load_scenario
+from adapt.scenario.inputs import scenario_files
 from adapt.sweep.grid import Axis, Item, parse_axis, parse_seeds
 from adapt.sweep.task import RunSpec
 
@@ -75,6 +80,10 @@ class Plan:
         Seed by seed, each seed over every cell.
     max_frames : int or None
     fingerprint : str
+    inputs : tuple of Input
+        Everything the runs read, over every cell: the scenario's files
+        (:meth:`adapt.scenario.Scenario.inputs`) and the files its rules
+        ``source``; no output of the sweep may replace one.
     """
 
     scenario: Path
@@ -84,6 +93,7 @@ class Plan:
     runs: tuple[RunSpec, ...]
     max_frames: int | None
     fingerprint: str
+    inputs: tuple[Input, ...] = ()
 
     def describe(self) -> dict[str, Any]:
         """The grid as ``sweep.json`` records it."""
@@ -158,7 +168,7 @@ def make_plan(scenario: str | os.PathLike[str], *, seeds: str | None = None,
     overrides: list[tuple[str, ...]] = [
         tuple(f"{a.path}={i.text}" for a, i in zip(axes, combo))
         for combo in itertools.product(*(a.items for a in axes))]
-    _check_cells(path, axes, overrides, cells)
+    inputs = _check_cells(path, axes, overrides, cells)
     fp = fingerprint(base, text, max_frames)
     absolute = str(path.resolve())
     runs: list[RunSpec] = []
@@ -169,7 +179,8 @@ def make_plan(scenario: str | os.PathLike[str], *, seeds: str | None = None,
             if keep_outputs and out is not None:
                 run_out = str(Path(out).resolve() / "runs" / key)
             runs.append(RunSpec(key, absolute, ovs, cell, seed, max_frames, run_out, fp))
-    return Plan(path.resolve(), seed_list, axes, tuple(cells), tuple(runs), max_frames, fp)
+    return Plan(path.resolve(), seed_list, axes, tuple(cells), tuple(runs), max_frames, fp,
+                tuple(inputs))
 
 
 def _axes(sets: Sequence[str]) -> tuple[Axis, ...]:
@@ -189,34 +200,27 @@ def _axes(sets: Sequence[str]) -> tuple[Axis, ...]:
 
 
 def _check_cells(path: Path, axes: Sequence[Axis], overrides: Sequence[tuple[str, ...]],
-                 cells: Sequence[Cell]) -> None:
-    from adapt.engine.functions import default_functions
-    from adapt.engine.parse import load_rule_file
-    from adapt.schemas import check_settings
+                 cells: Sequence[Cell]) -> Inputs:
+    """Check every cell's scenario (each distinct rule file parsed once); return what the
+    runs read over every cell."""
+    from adapt.runner.inputs import sourced_inputs
 
     origin: dict[str, tuple[Axis, Item]] = {}
     for axis in axes:
         for item in axis.items:
             origin[f"{axis.path}={item.text}"] = (axis, item)
-    rules_seen: set[Path] = set()
-    table = default_functions()
+    parsed: dict[Path, RuleCheck] = {}
+    inputs = Inputs()
     for ovs, cell in zip(overrides, cells):
         try:
             sc = load_scenario(path, overrides=list(ovs))
-            check_settings(sc.schemas)
+            checked = check_scenario(sc, parsed=parsed)
         except ScenarioError as exc:
             raise _relocate(exc, origin, cell) from None
-        for rf in sc.rules:
-            if rf.path in rules_seen:
-                continue
-            rules_seen.add(rf.path)
-            try:
-                load_rule_file(rf.path, functions=table)
-            except RuleError as exc:
-                raise type(exc)(f"{exc.message} (a rule file of the scenario, "
-                                f"{rf.source.location}: {rf.source.path})", file=exc.file,
-                                line=exc.line, col=exc.col,
-                                source_line=exc.source_line) from None
+        inputs.extend(scenario_files(sc))
+        for rf, rc in zip(sc.rules, checked.rules):
+            inputs.extend(sourced_inputs(rf, rc.files))
+    return inputs
 
 
 def _relocate(exc: LocatedError, origin: dict[str, tuple[Axis, Item]],

@@ -2,8 +2,11 @@
 
 :func:`run_sweep` is the whole sweep, in this order:
 
-1. open ``DIR/runs.jsonl`` (:class:`~adapt.sweep.store.RunLog`: locked,
-   a cut-short last line dropped) and refuse it if it holds runs of another
+0. refuse an output that would replace anything the runs read (the plan's
+   inputs, :func:`adapt.files.check_outputs`);
+1. open ``DIR/runs.jsonl`` (:class:`~adapt.sweep.store.RunLog`: the folder
+   locked, the temporary files a killed sweep left removed, a cut-short last
+   line dropped) and refuse it if it holds runs of another
    version of the scenario (another fingerprint: the YAML, its rule files or
    ``--max-frames`` changed), since their results would be mixed;
 2. skip every run of the plan that is already there (``ok``, or ``failed``
@@ -38,7 +41,7 @@ from pathlib import Path
 from typing import Any, Callable, Iterable, Iterator
 
 from adapt.errors import SweepError
-from adapt.files import write_atomic
+from adapt.files import Input, Inputs, Output, check_outputs, write_atomic
 from adapt.sweep.aggregate import INTERVALS, cell_id, csv_text, metric_names, summarise
 from adapt.sweep.plan import Plan
 from adapt.sweep.store import RunLog, latest
@@ -137,7 +140,11 @@ def run_sweep(plan: Plan, out: str | Path, *, workers: int | None = None,
     folder = Path(out)
     if folder.exists() and not folder.is_dir():
         raise SweepError(f"--out {str(folder)!r} is a file; expected a folder")
-    _refuse_inputs(plan, folder)
+    _check_outputs(plan, folder)
+    if client is None and scheduler is None and workers is not None:
+        from adapt.sweep.cluster import check_workers
+
+        check_workers(workers)  # before anything is written
     status = on_status or (lambda text: None)
     with RunLog(folder / "runs.jsonl") as log:
         _check_fingerprints(log, plan, folder)
@@ -333,12 +340,17 @@ def _counts(statuses: Iterable[str], total: int) -> dict[str, int]:
     return out
 
 
-def _refuse_inputs(plan: Plan, folder: Path) -> None:
-    scenario = plan.scenario.resolve()
-    for name in ("runs.jsonl", "sweep.json", "runs.csv"):
-        if (folder / name).resolve() == scenario:
-            raise SweepError(f"the output {folder / name} would replace the scenario; choose "
-                             "another --out folder")
+def _check_outputs(plan: Plan, folder: Path) -> None:
+    """Refuse, before anything is written, an output -- a file, or any file of ``figures/``
+    (and ``runs/`` with ``--keep-outputs``) -- that would replace anything a run reads."""
+    remedy = "choose another --out folder"
+    outputs = [Output(f"the sweep's {name}", folder / name, remedy=remedy)
+               for name in ("runs.jsonl", "sweep.json", "runs.csv")]
+    outputs.append(Output("the sweep's figures", folder / "figures", folder=True, remedy=remedy))
+    if any(spec.out is not None for spec in plan.runs):
+        outputs.append(Output("the runs' outputs (--keep-outputs)", folder / "runs", folder=True,
+                              remedy=remedy))
+    check_outputs(outputs, Inputs([Input("the scenario", plan.scenario), *plan.inputs]))
 
 
 def _check_fingerprints(log: RunLog, plan: Plan, folder: Path) -> None:

@@ -2,9 +2,10 @@
 
 It is the one thing a sweep must not lose, so it is only ever appended to:
 each record is written as one line and flushed as soon as its run is back,
-and the file is opened once per sweep under an exclusive lock
-(``.sweep.lock`` beside it), so two sweeps cannot write into one folder at
-once.  A last line cut short (the machine died while writing it) is dropped
+and the file is opened once per sweep with its folder locked
+(:func:`adapt.files.lock_folder`: ``.adapt.lock`` beside it, the lock a run
+takes too), so two sweeps -- or a sweep and a run -- cannot write into one
+folder at once.  A last line cut short (the machine died while writing it) is dropped
 when the file is opened again; any other line that is not a run record is
 an error naming its line, never silently skipped.
 
@@ -33,6 +34,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from adapt.errors import SweepError
+from adapt.files import FolderLock, lock_folder
 
 __all__ = ["RunLog", "latest"]
 
@@ -53,7 +55,7 @@ class RunLog:
         self.records: list[dict[str, Any]] = []
         self.dropped = 0
         self._file: IO[str] | None = None
-        self._lock: IO[str] | None = None
+        self._lock: FolderLock | None = None
 
     def __enter__(self) -> "RunLog":
         self.open()
@@ -64,8 +66,7 @@ class RunLog:
 
     def open(self) -> None:
         """Lock the folder, read the records, drop a cut-short last line, open for appending."""
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._lock = _lock(self.path.parent / ".sweep.lock")
+        self._lock = lock_folder(self.path.parent, "--out", ("figures",))
         try:
             cut, newline = self._read()
             self._file = open(self.path, "a+", encoding="utf-8")
@@ -121,7 +122,7 @@ class RunLog:
             self._file.close()
             self._file = None
         if self._lock is not None:
-            self._lock.close()
+            self._lock.release()
             self._lock = None
 
 
@@ -147,17 +148,3 @@ def _finite(value: Any) -> Any:
         return [_finite(v) for v in value]
     return value
 
-
-def _lock(path: Path) -> IO[str]:
-    f = open(path, "a", encoding="utf-8")
-    try:
-        import fcntl
-    except ImportError:  # pragma: no cover - not POSIX: no lock, as before
-        return f
-    try:
-        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        f.close()
-        raise SweepError(f"another sweep is writing into {path.parent} (it holds "
-                         f"{path.name}); wait for it, or choose another --out folder") from None
-    return f

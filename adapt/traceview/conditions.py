@@ -15,15 +15,16 @@ Examples
 >>> from adapt.engine.parse import parse_rules
 >>> from adapt.engine.symbols import Identifier
 >>> from adapt.engine.wme import WME
->>> p, = parse_rules("sp {add (state <s> ^count {<c> < 3}) --> (<s> ^done yes)}").productions
->>> s1 = Identifier("S", 1)
->>> wmes = [WME(s1, "type", "state", False, 1), WME(s1, "count", 5, False, 2)]
+>>> p, = parse_rules("sp {add (state <s> ^superstate nil ^count {<c> < 3}) --> (<s> ^done yes)}"
+...                  ).productions
+>>> s1 = Identifier("S", 1, goal=True)  # a state
+>>> wmes = [WME(s1, "superstate", "nil", False, 1), WME(s1, "count", 5, False, 2)]
 >>> failure = first_failure(p, wmes)
 >>> print(condition_text(failure.condition))
-(<s> ^count { <c> < 3 })
+(state <s> ^count { <c> < 3 })
 >>> failure.alone, failure.partials
 ([], [{<s>: S1}])
->>> first_failure(p, [WME(s1, "type", "state", False, 1), WME(s1, "count", 2, False, 3)]) is None
+>>> first_failure(p, [WME(s1, "superstate", "nil", False, 1), WME(s1, "count", 2, False, 3)]) is None
 True
 
 A relational test on a variable that a later condition binds fails there:
@@ -85,16 +86,20 @@ def _test_text(test: Test | None) -> str:
 
 
 def condition_text(element: ConditionElement) -> str:
-    """A condition written back as rule text (after normalisation).
+    """A condition written back as rule text (after normalisation); one with
+    the goal test of ``(state <s> ...)`` is written ``(state <s> ...)``.
 
     >>> from adapt.engine.production import Condition, EqualityTest, Variable
     >>> condition_text(Condition(Variable("<o>"), EqualityTest("name"), None, negated=True))
     '-(<o> ^name)'
+    >>> condition_text(Condition(Variable("<s>"), EqualityTest("name"), EqualityTest("a"), goal=True))
+    '(state <s> ^name a)'
     """
     if isinstance(element, ConjunctiveNegation):
         return "-{ " + " ".join(condition_text(c) for c in element.conditions) + " }"
     value = _test_text(element.value)
-    text = f"({element.id.name} ^{_test_text(element.attr)}{' ' + value if value else ''}"
+    state = "state " if element.goal else ""
+    text = f"({state}{element.id.name} ^{_test_text(element.attr)}{' ' + value if value else ''}"
     text += " +)" if element.acceptable else ")"
     return ("-" if element.negated else "") + text
 

@@ -2,8 +2,10 @@
 
 A :class:`Trace` reads and checks the header when it is opened, then yields
 the records after it one at a time, so a trace of any length is read in
-constant memory.  A truncated last line (a run that was killed mid-write) is
-skipped with a :class:`TraceWarning` that says so; a file that is not a trace,
+constant memory: no line is read past :data:`MAX_LINE` bytes.  A truncated
+last line (a run that was killed mid-write) is skipped with a
+:class:`TraceWarning` that says so; a file that is not a trace (a device or a
+pipe, a line longer than :data:`MAX_LINE`, two traces one after the other),
 or a trace of another format version, raises :class:`adapt.errors.TraceError`.
 
 Records are grouped into *decision cycles* the way Soar counts them: cycle
@@ -42,6 +44,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from adapt.errors import TraceError
+from adapt.files import is_special
 from adapt.traceview.records import RecordError, check_header, check_record
 
 __all__ = [
@@ -54,6 +57,7 @@ __all__ = [
     "load_line",
     "LineError",
     "PRE_DECISION_PHASES",
+    "MAX_LINE",
 ]
 
 #: The ``format`` value of every adapt trace header.
@@ -62,6 +66,9 @@ FORMAT = "adapt-trace"
 VERSION = 1
 #: Phases that run before the decision phase of their cycle (their ``d`` is one less).
 PRE_DECISION_PHASES = frozenset({"input", "proposal"})
+#: The longest line (one record) read, in bytes: 32 MiB.  A longer one is refused after
+#: reading that much, never held whole.
+MAX_LINE = 32 * 1024 * 1024
 
 Record = dict[str, Any]
 
@@ -242,9 +249,12 @@ class Trace:
 
     def __init__(self, path: str | os.PathLike[str]) -> None:
         self.path = os.fspath(path)
+        if is_special(self.path):
+            raise TraceError(f"{self.path}: not a regular file (a device, a pipe or a socket); "
+                             "expected a trace file")
         try:
             with open(self.path, "rb") as f:
-                first = f.readline()
+                first = self._line(f, 1)
         except FileNotFoundError:
             raise TraceError(f"{self.path}: no such trace file") from None
         except IsADirectoryError:
@@ -256,6 +266,15 @@ class Trace:
         self.header = _parse_header(self.path, first)
         #: Messages about incomplete reading, once a pass has found them.
         self.notices: list[str] = []
+
+    def _line(self, f: Any, lineno: int) -> bytes:
+        """The next line of ``f``, at most :data:`MAX_LINE` bytes of it (``b""`` at the end)."""
+        line: bytes = f.readline(MAX_LINE + 1)
+        if len(line) > MAX_LINE and not line.endswith(b"\n"):
+            raise TraceError(f"{self.path}:{lineno}: the line is longer than "
+                             f"{MAX_LINE // (1024 * 1024)} MiB; not a trace record (a trace's "
+                             "lines are records of a few kilobytes)")
+        return line
 
     def _notice(self, message: str) -> None:
         if message not in self.notices:
@@ -272,9 +291,9 @@ class Trace:
         naming the line and the field.
         """
         with open(self.path, "rb") as f:
-            f.readline()
+            self._line(f, 1)
             lineno = 1
-            for line in f:
+            while line := self._line(f, lineno + 1):
                 lineno += 1
                 try:
                     record = load_line(line)
@@ -291,6 +310,10 @@ class Trace:
                     raise TraceError(f"{self.path}:{lineno}: not a JSON record{why}") from None
                 if not isinstance(record, dict) or not isinstance(record.get("kind"), str):
                     raise TraceError(f"{self.path}:{lineno}: not a trace record (no \"kind\")")
+                if record["kind"] == "header":
+                    raise TraceError(f"{self.path}:{lineno}: a second header record: this file "
+                                     "holds two traces one after the other (joined with cat?); "
+                                     "expected one trace per file")
                 try:
                     check_record(record)
                 except RecordError as exc:
@@ -332,7 +355,7 @@ class Trace:
             f.seek(0, os.SEEK_END)
             size = f.tell()
             f.seek(max(0, size - 65536))
-            tail = f.read().splitlines()
+            tail = f.read(65536).splitlines()
         for line in reversed(tail):
             try:
                 record = load_line(line)

@@ -88,6 +88,7 @@ class TraceStats:
     schema_events: int
     stop_reason: str | None
     elapsed_s: float | None
+    error: str | None = None
     notices: tuple[str, ...] = field(default=())
 
     def to_json(self) -> dict[str, Any]:
@@ -112,6 +113,7 @@ class TraceStats:
                        for p, n in self.phase_counts.items()},
             "schema_events": self.schema_events,
             "stop_reason": self.stop_reason,
+            "error": self.error,
             "elapsed_s": self.elapsed_s,
             "notices": list(self.notices),
         }
@@ -197,6 +199,7 @@ def compute_stats(trace: Trace, series_points: int = 256) -> TraceStats:
         schema_events=schema_events,
         stop_reason=None if footer is None else footer.get("stop_reason"),
         elapsed_s=None if footer is None else footer.get("elapsed_s"),
+        error=None if footer is None else footer.get("error"),
         notices=tuple(trace.notices),
     )
 
@@ -207,6 +210,8 @@ def format_stats(stats: TraceStats) -> str:
     if stats.files:
         lines.append("rule files: " + ", ".join(stats.files))
     stop = stats.stop_reason or "no footer: the run did not end normally"
+    if stats.error:
+        stop += f": {stats.error.splitlines()[0]}"
     lines.append(f"decisions: {stats.decisions} (stopped: {stop})")
     if stats.elapsed_s is not None:
         lines.append(f"run time: {stats.elapsed_s:g} s")

@@ -22,7 +22,7 @@
   const nDecisions = cycles.filter((c) => c.op || c.imp).length;
   const bits = [["decisions", String(f ? f.decisions : nDecisions)], ["level", String(DATA.level)]];
   if (h.seed !== undefined && h.seed !== null) bits.push(["seed", String(h.seed)]);
-  if (f) bits.push(["stopped", f.stop_reason || "?"]);
+  if (f) bits.push(["stopped", (f.stop_reason || "?") + (f.error ? ": " + f.error : "")]);
   else bits.push(["stopped", "no footer (interrupted run?)"]);
   if (h.files && h.files.length) bits.push(["rules", h.files.join(", ")]);
   bits.forEach(([k, v], i) => {

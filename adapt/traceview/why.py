@@ -340,14 +340,24 @@ def why_not(trace: Trace, rule: str, at: int, productions: dict[str, Production]
             for tt, i, a, v, acc in sorted(wm, key=lambda w: w[0])]
     fired = 0
     last: int | None = None
+    substates: set[str] = set()
     for record in trace.records():
         cycle = cycle_of(record)
         if cycle is None or cycle > at:
             break
+        if record.get("kind") == "decision" and record.get("impasse"):
+            substates.add(text_of(record["impasse"].get("state")))
         for f in record.get("firings") or ():
             if f.get("rule") == rule:
                 last = cycle
                 fired += cycle == at
+    # the states of the goal stack, which (state <s> ...) tests: the top state
+    # (^superstate nil, with ^io) and the impasses' substates still present
+    ids_with_io = {text_of(i) for _, i, a, _, _ in wm if a == "io"}
+    for _, i, a, v, _ in wm:
+        name = text_of(i)
+        if a == "superstate" and (name in substates or (v == "nil" and name in ids_with_io)):
+            table.identifier(name).goal = True
     failure = first_failure(production, wmes)
     instantiations: tuple[dict[str, str], ...] = ()
     if failure is None:

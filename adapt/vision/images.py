@@ -35,12 +35,14 @@ from numpy.typing import NDArray
 
 from adapt.errors import ImageError, VisionError
 from adapt.files import write_atomic
+from adapt.native import native_messages
 
 __all__ = [
     "check_image",
     "check_pair",
     "conform",
     "as_uint8",
+    "encode_image",
     "to_grey",
     "describe",
     "read_image",
@@ -250,12 +252,39 @@ def read_image(path: str | os.PathLike[str]) -> NDArray[np.uint8]:
         data = np.fromfile(p, dtype=np.uint8)
     except OSError as exc:
         raise ImageError(f"{path}: cannot read ({exc.strerror or exc})") from exc
-    image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
+    with native_messages() as said:  # libpng's own complaint goes into the message
+        image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED) if data.size else None
     if image is None:
-        raise ImageError(f"{path}: not an image OpenCV can decode (PNG, JPEG, ...)")
+        raise ImageError(f"{path}: not an image OpenCV can decode (PNG, JPEG, ...)"
+                         f"{said.detail()}")
     if image.ndim == 3 and image.shape[2] == 4:
         image = cv2.cvtColor(image, cv2.COLOR_BGRA2BGR)
     return image  # type: ignore[return-value]
+
+
+def encode_image(path: str | os.PathLike[str], image: NDArray) -> bytes:
+    """``image`` encoded for a file called ``path`` (its extension; ``.png`` without one),
+    as it is: 8-bit, or 16-bit for a format that keeps it (a label image as PNG).
+
+    Raises
+    ------
+    ImageError
+        If OpenCV cannot encode it in that format.
+
+    Examples
+    --------
+    >>> data = encode_image("labels.png", np.full((2, 3), 3000, np.uint16))
+    >>> int(cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED).max())
+    3000
+    """
+    ext = Path(path).suffix.lower() or ".png"
+    try:
+        ok, buf = cv2.imencode(ext, image)
+    except cv2.error:
+        ok = False
+    if not ok:
+        raise ImageError(f"cannot encode an image as {ext!r} for {str(path)!r}")
+    return bytes(buf)
 
 
 def write_image(path: str | os.PathLike[str], image: NDArray) -> Path:
@@ -269,15 +298,9 @@ def write_image(path: str | os.PathLike[str], image: NDArray) -> Path:
         writable; no partial file is left behind.
     """
     p = Path(path)
-    ext = p.suffix or ".png"
+    data = encode_image(p, as_uint8(image))
     try:
-        ok, buf = cv2.imencode(ext, as_uint8(image))
-    except cv2.error:
-        ok = False
-    if not ok:
-        raise ImageError(f"{path}: cannot encode an image as {ext!r}")
-    try:
-        write_atomic(p, buf.tobytes())
+        write_atomic(p, data)
     except OSError as exc:
         raise ImageError(f"{path}: cannot write ({exc.strerror or exc})") from exc
     return p

@@ -137,11 +137,6 @@ class MMDResult:
         """Number of inlier matches."""
         return self.alignment.n_inliers
 
-    @property
-    def inlier_points(self) -> NDArray[np.float64]:
-        """Real-image positions of the inlier matches, ``(N, 2)`` input pixels."""
-        return self.matches.real_points[self.alignment.inliers]
-
     def regions(
         self,
         monitored: Sequence[Sequence[float]] = (),

@@ -4,7 +4,8 @@
 morphological opening (removes specks) and closing (fills pinholes), and
 returns its connected components as frozen :class:`Region` records, largest
 first.  :func:`label_regions` marks each region *expected* when it overlaps a
-region a perceptual schema already monitors, and *unexpected* otherwise.
+region a perceptual schema already monitors, and *unexpected* otherwise
+(:func:`best_overlap` says which monitored box explains it).
 
 The smallest area and the cleaning kernel are given for a 640x480 image and
 scaled with the difference image's size (:mod:`~adapt.vision.scale`), so the
@@ -40,6 +41,7 @@ __all__ = [
     "Region",
     "find_regions",
     "label_regions",
+    "best_overlap",
     "to_input",
     "THRESHOLD",
     "MIN_AREA",
@@ -113,6 +115,7 @@ def find_regions(
     threshold: float = THRESHOLD,
     min_area: int | None = None,
     open_size: int | None = None,
+    close: bool = True,
 ) -> tuple[Region, ...]:
     """Connected regions of ``difference > threshold``, largest first.
 
@@ -128,6 +131,10 @@ def find_regions(
     open_size : int, optional
         Opening kernel side; 0 or 1 disables cleaning; :data:`OPEN_SIZE`
         scaled with the image by default.
+    close : bool
+        Also close the opened image (fills pinholes; joins parts less than
+        about ``open_size`` apart).  An object schema looking for one blob in
+        a small window opens only.
     """
     d = np.asarray(difference)
     if d.ndim != 2:
@@ -141,8 +148,9 @@ def find_regions(
     if open_size > 1:
         k = cv2.getStructuringElement(cv2.MORPH_RECT, (open_size, open_size))
         binary = cv2.morphologyEx(binary, cv2.MORPH_OPEN, k)  # type: ignore[assignment]
-        k2 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * open_size + 1,) * 2)
-        binary = cv2.morphologyEx(binary, cv2.MORPH_CLOSE, k2)  # type: ignore[assignment]
+        if close:
+            k2 = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * open_size + 1,) * 2)
+            binary = cv2.morphologyEx(binary, cv2.MORPH_CLOSE, k2)  # type: ignore[assignment]
     n, labels, stats, centroids = cv2.connectedComponentsWithStats(binary, connectivity=8)
     found = []
     for i in range(1, n):
@@ -163,6 +171,26 @@ def _overlap(region: BBox, box: BBox) -> float:
     ix = max(0, min(x + w, bx + bw) - max(x, bx))
     iy = max(0, min(y + h, by + bh) - max(y, by))
     return ix * iy / max(w * h, 1)
+
+
+def best_overlap(bbox: BBox, boxes: Sequence[BBox], *,
+                 min_overlap: float = MIN_OVERLAP) -> int | None:
+    """The index of the box in ``boxes`` that holds the largest fraction of ``bbox`` (the
+    first of equals), when that fraction is at least ``min_overlap``; None otherwise.
+
+    Examples
+    --------
+    >>> best_overlap((0, 0, 10, 10), [(8, 0, 10, 10), (5, 0, 10, 10)])
+    1
+    >>> best_overlap((0, 0, 10, 10), [(8, 0, 10, 10)]) is None
+    True
+    """
+    best, found = 0.0, None
+    for i, box in enumerate(boxes):
+        share = _overlap(bbox, box)
+        if share > best:
+            best, found = share, i
+    return found if best >= min_overlap else None
 
 
 def label_regions(
@@ -188,7 +216,7 @@ def label_regions(
         if len(b) != 4:
             raise ValueError(f"a monitored region must be (x, y, w, h), got {b}")
     return tuple(
-        replace(r, expected=any(_overlap(r.bbox, b) >= min_overlap for b in boxes))  # type: ignore[arg-type]
+        replace(r, expected=best_overlap(r.bbox, boxes, min_overlap=min_overlap) is not None)  # type: ignore[arg-type]
         for r in regions
     )
 

@@ -43,15 +43,17 @@ from typing import Callable, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from adapt.geometry import Camera, rotation_log
+from adapt.errors import VisionError
+from adapt.geometry import Camera
 from adapt.vision.camera_correction import correct_pose, correct_rotation
 from adapt.vision.homography import corner_error
 from adapt.vision.images import check_image
-from adapt.vision.matching import prepare
+from adapt.vision.matching import PreparedImage, prepare
 from adapt.vision.mmd import MMDResult, mmd
 from adapt.vision.scale import image_scale
 
-__all__ = ["Render", "SyncStep", "SyncResult", "synchronise", "TOLERANCE", "MAX_ITERATIONS", "GAIN"]
+__all__ = ["Render", "SyncStep", "SyncResult", "synchronise", "sync_step", "correction",
+           "TOLERANCE", "MAX_ITERATIONS", "GAIN", "MIN_PLANE_POINTS"]
 
 #: Stop when H_e moves the image corners by less than this, pixels at 640x480
 #: (scaled with the image).
@@ -60,6 +62,8 @@ TOLERANCE = 0.5
 MAX_ITERATIONS = 10
 #: Default g.
 GAIN = 0.5
+#: Fewest inlier matches on the floor the full pose is corrected from (fewer: the rotation).
+MIN_PLANE_POINTS = 12
 
 Render = Callable[[Camera], NDArray]
 
@@ -83,6 +87,11 @@ class SyncStep:
         The rendered image.
     result : MMDResult
         The MMD of the real image against ``synthetic``.
+    corrected : Camera or None
+        The camera after this step's correction; None when there is none (no
+        alignment, within the tolerance, not trusted, or no rotation to be had).
+    trusted : bool
+        Aligned, and the caller's ``trust`` filter took the alignment.
     """
 
     iteration: int
@@ -92,6 +101,8 @@ class SyncStep:
     correction_deg: float
     synthetic: NDArray = field(repr=False)
     result: MMDResult = field(repr=False)
+    corrected: Camera | None = field(default=None, repr=False)
+    trusted: bool = True
 
     def as_dict(self) -> dict[str, object]:
         """JSON form: iteration, pixel_error, inliers, correction_deg, camera rotation/position."""
@@ -199,27 +210,109 @@ def synchronise(
     cam = camera
     for it in range(max_iterations):
         synthetic = render(cam)
-        res = mmd(r, synthetic)
-        if not res.aligned:
-            done(SyncStep(it, cam, math.nan, 0, 0.0, synthetic, res))
-            return SyncResult(
-                tuple(steps), cam, False, f"no alignment at iteration {it}: {res.alignment.reason}"
-            )
-        h = res.homography
-        assert h is not None
-        err = corner_error(h, np.eye(3), real.shape)
-        if err < tolerance:
-            done(SyncStep(it, cam, err, res.n_inliers, 0.0, synthetic, res))
-            return SyncResult(tuple(steps), cam, True, f"pixel error {err:.3f} < {tolerance:g}")
-        if full_pose:
-            pts = res.matches.synthetic_points[res.alignment.inliers]
-            new = correct_pose(cam, h, pts, gain=gain)
-        else:
-            new = correct_rotation(cam, h, gain=gain)
-        turn = float(np.degrees(np.linalg.norm(rotation_log(new.rotation @ cam.rotation.T))))
-        done(SyncStep(it, cam, err, res.n_inliers, turn, synthetic, res))
-        cam = new
+        step = sync_step(r, synthetic, cam, gain=gain, tolerance=tolerance, full_pose=full_pose,
+                         iteration=it, shape=real.shape)
+        done(step)
+        if not step.result.aligned:
+            return SyncResult(tuple(steps), cam, False,
+                              f"no alignment at iteration {it}: {step.result.alignment.reason}")
+        if step.corrected is None:
+            if step.pixel_error <= tolerance:
+                return SyncResult(tuple(steps), cam, True,
+                                  f"pixel error {step.pixel_error:.3f} < {tolerance:g}")
+            return SyncResult(tuple(steps), cam, False,
+                              f"no correction at iteration {it}: the homography gives no rotation")
+        cam = step.corrected
     return SyncResult(
         tuple(steps), cam, False, f"pixel error still {steps[-1].pixel_error:.3f} after {max_iterations} renders"
     )
 
+
+def correction(camera: Camera, result: MMDResult, *, gain: float = GAIN, full_pose: bool = False,
+               on_plane: NDArray[np.bool_] | None = None) -> Camera | None:
+    """The camera corrected from an aligned MMD ``result``: the one rule for the full pose
+    and the rotation.
+
+    With ``full_pose``, the position is corrected too, from the inlier matches on the
+    floor (``on_plane`` marks them among the inliers; all of them when None): with at
+    least :data:`MIN_PLANE_POINTS` of them and a homography that is the floor's
+    (:func:`~adapt.vision.camera_correction.correct_pose`).  Otherwise, or when the
+    pose cannot be solved, the rotation alone (eq. 3,
+    :func:`~adapt.vision.camera_correction.correct_rotation`); None when even that
+    cannot be computed (a degenerate homography).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from adapt.geometry import rotation_exp
+    >>> from adapt.vision.mmd import mmd
+    >>> rng = np.random.default_rng(0)
+    >>> img = (rng.random((240, 320)) * 255).astype(np.uint8)
+    >>> cam = Camera(300, 300, 159.5, 119.5, 320, 240, np.eye(3), np.zeros(3))
+    >>> res = mmd(img, img)
+    >>> correction(cam, res, gain=0.5).angle_to(cam) < 1e-6
+    True
+    """
+    h = result.homography
+    if h is None:
+        return None
+    if full_pose:
+        pts = result.matches.synthetic_points[result.alignment.inliers]
+        if on_plane is not None:
+            pts = pts[on_plane]
+        if len(pts) >= MIN_PLANE_POINTS:
+            try:
+                return correct_pose(camera, h, pts, gain=gain)
+            except VisionError:
+                pass
+    try:
+        return correct_rotation(camera, h, gain=gain)
+    except VisionError:
+        return None
+
+
+def sync_step(
+    real: NDArray | PreparedImage,
+    synthetic: NDArray | PreparedImage,
+    camera: Camera,
+    *,
+    gain: float = GAIN,
+    tolerance: float,
+    full_pose: bool = False,
+    on_plane: Callable[[NDArray[np.float64]], NDArray[np.bool_]] | None = None,
+    trust: Callable[[float], bool] | None = None,
+    max_pixels: int | None = None,
+    iteration: int = 0,
+    shape: tuple[int, ...] | None = None,
+) -> SyncStep:
+    """One step of the camera loop: the MMD of ``real`` and ``synthetic`` (rendered from
+    ``camera``), its pixel error, and the corrected camera.
+
+    The pixel error is how far ``H_e`` moves the corners of the real image (its pixels;
+    ``shape`` is the real image's when ``real`` is prepared at a reduced resolution).
+    The camera is corrected (:func:`correction`) when the images are aligned, the error
+    is above ``tolerance``, and ``trust(error)`` allows it (a caller's filter of false
+    alignments; ``SyncStep.trusted`` says what it said).  ``on_plane`` marks, among the
+    inlier matches' synthetic points, those on the floor (for ``full_pose``).
+
+    This is the step both :func:`synchronise` and the Scene Background schema take.
+    """
+    res = mmd(real, synthetic, max_pixels=max_pixels)
+    image = synthetic.image if isinstance(synthetic, PreparedImage) else synthetic
+    if not res.aligned:
+        return SyncStep(iteration, camera, math.nan, 0, 0.0, image, res, None, False)
+    h = res.homography
+    assert h is not None
+    if shape is None:
+        shape = real.shape
+    err = corner_error(h, np.eye(3), shape)
+    if trust is not None and not trust(err):
+        return SyncStep(iteration, camera, err, res.n_inliers, 0.0, image, res, None, False)
+    new = None
+    if err > tolerance:
+        plane = None
+        if full_pose and on_plane is not None:
+            plane = on_plane(res.matches.synthetic_points[res.alignment.inliers])
+        new = correction(camera, res, gain=gain, full_pose=full_pose, on_plane=plane)
+    turn = 0.0 if new is None else camera.angle_to(new)
+    return SyncStep(iteration, camera, err, res.n_inliers, turn, image, res, new, True)

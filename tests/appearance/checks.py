@@ -23,6 +23,7 @@ from adapt.reality import open_reality
 from adapt.scenario import Scenario, load_scenario
 from adapt.schemas import SchemaNetwork
 from adapt.schemas.background import AppearanceStage, SceneBackground
+from adapt.schemas.percepts import BackgroundPercept
 from adapt.seeds import Streams
 from adapt.vision.regions import find_regions
 from adapt.vision.scale import image_scale
@@ -121,7 +122,7 @@ def run_background(scenario: Scenario, *, frames: int | None = None, keep: tuple
         mirror.load_appearance(scenario.appearance)
     network = SchemaNetwork(mirror, settings=scenario.schemas,
                             models={m.name: m for m in scenario.objects},
-                            frame_interval=1.0 / fps, reality=scenario.reality.kind.value)
+                            frame_interval=1.0 / fps, reality=scenario.reality.kind)
     params = {"appearance": appearance, **(parameters or {})}
     bg = network.instantiate("scene-background", parameters=params)
     assert isinstance(bg, SceneBackground)
@@ -145,10 +146,10 @@ def run_background(scenario: Scenario, *, frames: int | None = None, keep: tuple
                 if obj is not None:
                     ball, radius = _seen_at(true_cam, obj.position,
                                             scenario.model("ball").ball.radius)
+            seen = network.published(BackgroundPercept)[0]
             trial.frames.append(FrameCheck(
-                frame.index, bg.stage.value, bg.result is not None and bg.result.aligned,
-                bg.pixel_error, [(r.bbox, r.area) for r in bg.regions if not r.expected],
-                ball, radius, bg.learn_ms, ms))
+                frame.index, seen.stage.value, seen.aligned, seen.pixel_error,
+                [(r.bbox, r.area) for r in seen.unexpected], ball, radius, seen.learn_ms, ms))
             if frame.index in keep:
                 trial.images[frame.index] = frame.image
                 trial.renders[frame.index] = mirror.render().image

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from adapt.cli import main
-from adapt.errors import RunError, ScenarioError
+from adapt.errors import OutputError, ScenarioError
 from adapt.runner import Runner
 from adapt.scenario import OutputSettings, load_scenario
 
@@ -114,5 +114,6 @@ def test_world_appearance_must_name_a_saved_look(tmp_path: Path) -> None:
 
 def test_a_run_never_writes_over_the_look_it_starts_from(first_run: Path, tmp_path: Path) -> None:
     path = video_scenario(tmp_path, extra=f"  appearance: {first_run / 'appearance'}\n")
-    with pytest.raises(RunError, match="appearance output .* would replace an input"):
+    with pytest.raises(OutputError, match="appearance output .* is the scenario's world.appearance"
+                                          ".* never replaces an input"):
         Runner(load_scenario(path), out=first_run)

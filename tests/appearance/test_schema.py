@@ -4,6 +4,7 @@ see, how often it learns, what it never learns, the trace record, re-acquisition
 from __future__ import annotations
 
 import base64
+import dataclasses
 
 import cv2
 import numpy as np
@@ -14,9 +15,10 @@ from adapt.frames import Frame
 from adapt.mirror import Mirror
 from adapt.reality import open_reality
 from adapt.reality.camera import offset_camera
-from adapt.scenario import Scenario, load_scenario
+from adapt.runner.trace import APPEARANCE_EVERY, AppearanceTrace
+from adapt.scenario import RealityKind, Scenario, load_scenario
 from adapt.schemas import SchemaNetwork
-from adapt.schemas.background import REACQUIRE_AFTER, TRACE_EVERY, AppearanceStage, SceneBackground
+from adapt.schemas.background import REACQUIRE_AFTER, AppearanceStage, SceneBackground
 from adapt.seeds import Streams
 
 from . import checks as C
@@ -37,7 +39,7 @@ def frames(sc: Scenario, n: int) -> list[Frame]:
 
 def network(sc: Scenario, reality: str, camera=None) -> SchemaNetwork:
     return SchemaNetwork(Mirror(sc.scene, camera or sc.camera), frame_interval=1 / 15,
-                         models={m.name: m for m in sc.objects}, reality=reality)
+                         models={m.name: m for m in sc.objects}, reality=RealityKind(reality))
 
 
 @pytest.mark.parametrize("reality, mode, stage", [
@@ -145,7 +147,10 @@ def test_the_trace_record_is_rate_limited_and_shows_previews(video) -> None:
     bg = net.instantiate("scene-background")
     for f in frames(video, 2):
         net.perceive(f)
-    first = bg.appearance_record(1)
+    looks = AppearanceTrace(net.mirror.appearance)
+    percept = bg.percept
+    assert percept is not None and percept.frame == 1
+    first = looks.record(percept)
     assert first is not None and first["stage"] == "learned" and first["passes"] == 1
     names = [s["name"] for s in first["surfaces"]]
     assert names[0] == "floor" and "north" in names and "sky/+y" in names
@@ -156,13 +161,15 @@ def test_the_trace_record_is_rate_limited_and_shows_previews(video) -> None:
         assert img.shape[2] == 4 and max(img.shape[:2]) <= 160 and 0 < s["coverage"] <= 1
     # later records: only when the look changed, and ever more rarely
     recorded = []
-    for frame in range(2, 2 + 8 * TRACE_EVERY):
+    passes = percept.learn_passes
+    for frame in range(2, 2 + 8 * APPEARANCE_EVERY):
         if frame % 10 == 0:
-            bg.learn_passes += 1  # a refinement pass, as every 10 frames
-        if bg.appearance_record(frame) is not None:
+            passes += 1  # a refinement pass, as every 10 frames
+        if looks.record(dataclasses.replace(percept, frame=frame, learn_passes=passes)):
             recorded.append(frame - 1)
-    assert recorded == [TRACE_EVERY, 3 * TRACE_EVERY, 7 * TRACE_EVERY]  # waits 30, 60, 120
-    assert bg.appearance_record(2 + 8 * TRACE_EVERY) is None  # nothing new
+    assert recorded == [APPEARANCE_EVERY, 3 * APPEARANCE_EVERY, 7 * APPEARANCE_EVERY]  # 30, 60, 120
+    last = dataclasses.replace(percept, frame=2 + 8 * APPEARANCE_EVERY, learn_passes=passes)
+    assert looks.record(last) is None  # nothing new
 
 
 def blank(f: Frame) -> Frame:

@@ -12,10 +12,11 @@ import pytest
 
 from adapt.geometry import Camera, rotation_exp
 from adapt.imagination import LABEL_OBSTACLE, Renderer
-from adapt.mirror.structure import align_structure, face_labels, flat_look, structure_homography
+from adapt.mirror.structure import face_labels
 from adapt.reality.surfaces import shift_textures
 from adapt.vision.camera_correction import correct_rotation
 from adapt.vision.homography import corner_error
+from adapt.vision.registration import align_structure, flat_look, structure_homography
 
 from .test_model import CAMERA, SCENE
 

@@ -4,7 +4,8 @@
   constant and variable attributes, ``+`` tests, negated conditions,
   conjunctive negations (nested), disjunctions, relational tests against
   constants and bound variables, conjunctive tests, ints and floats that are
-  numerically equal (``2`` and ``2.0``), identifiers as values.
+  numerically equal (``2`` and ``2.0``), identifiers as values, the goal
+  test of ``(state <s> ...)`` (S1 is a state, A1 and A2 are not).
 * :func:`scenarios` -- productions plus batches of operations (WME adds and
   removes, production adds and removes), replayed by :class:`Replay`.
 * :func:`cond`, :func:`prod` -- terse constructors for hand-written examples.
@@ -33,7 +34,7 @@ from adapt.engine.production import (
 from adapt.engine.symbols import Float, Identifier, Symbol
 from adapt.engine.wme import WME
 
-IDS = [Identifier("S", 1), Identifier("A", 1), Identifier("A", 2), Identifier("B", 1)]
+IDS = [Identifier("S", 1, goal=True), Identifier("A", 1), Identifier("A", 2), Identifier("B", 1)]
 #: Identifiers that random WMEs use (B1 only appears in the examples).
 WME_IDS = IDS[:3]
 ATTRS = ["a", "b", "c"]
@@ -86,6 +87,7 @@ def prod(name: str, *elements: ConditionElement) -> Production:
 # -- random productions ------------------------------------------------------
 
 _plus = st.sampled_from([False, False, False, False, True])
+_goal = st.sampled_from([False, False, False, True])
 
 
 def _eq_vars(c: Condition) -> set[Variable]:
@@ -126,7 +128,7 @@ def _skeleton(draw: st.DrawFn, bound: Sequence[Variable], first_id: Variable | N
         st.lists(st.sampled_from(CONSTANTS), min_size=1, max_size=3, unique=True)
         .map(lambda v: DisjunctionTest(tuple(v))),
     ))
-    return Condition(ident, attr, value, draw(_plus))
+    return Condition(ident, attr, value, draw(_plus), goal=draw(_goal))
 
 
 @st.composite
@@ -148,8 +150,8 @@ def _with_relations(draw: st.DrawFn, c: Condition, bound: set[Variable]) -> Cond
     else:
         new = ConjunctiveTest((old, rt))
     if field == "attr":
-        return Condition(c.id, new, c.value, c.acceptable, c.negated)
-    return Condition(c.id, c.attr, new, c.acceptable, c.negated)
+        return Condition(c.id, new, c.value, c.acceptable, c.negated, goal=c.goal)
+    return Condition(c.id, c.attr, new, c.acceptable, c.negated, goal=c.goal)
 
 
 @st.composite
@@ -172,7 +174,7 @@ def _conjunction(
         else:
             c = draw(_skeleton(sorted(bound, key=lambda v: v.name), None))
             c = draw(_with_relations(c, bound | _eq_vars(c)))
-            negations.append(Condition(c.id, c.attr, c.value, c.acceptable, True))
+            negations.append(Condition(c.id, c.attr, c.value, c.acceptable, True, goal=c.goal))
     elements: list[ConditionElement] = list(positives)
     for n in negations:
         elements.insert(draw(st.integers(0, len(elements))), n)
@@ -332,11 +334,13 @@ EXAMPLES: list[tuple[str, list[Production], list[tuple[Any, ...]], set[MatchKey]
      [prod("p", cond("<s>", "a", "<o>", plus=True)), prod("q", cond("<s>", "a", "<o>"))],
      [(S1, "a", A1, True), (S1, "a", A2, False)],
      {("p", (1,)), ("q", (2,))}),
-    ("relation against a variable bound earlier",
+    # Soar joins ^b first (of two tied conditions the last written) and checks
+    # the relation at ^a turned round: 2 < z holds (another type is less)
+    ("relation against a variable written earlier, joined later",
      [prod("p", cond("<s>", "a", "<x>"), cond("<s>", "b", rel(">", "<x>")))],
      [(S1, "a", 2, False), (S1, "b", 3, False), (S1, "b", 2, False),
       (S1, "b", Float(2.5), False), (S1, "b", "z", False)],
-     {("p", (1, 2)), ("p", (1, 4))}),
+     {("p", (1, 2)), ("p", (1, 4)), ("p", (1, 5))}),
     ("relation against a variable bound later",
      [prod("p", cond("<s>", "b", rel(">", "<x>")), cond("<s>", "a", "<x>"))],
      [(S1, "a", 2, False), (S1, "b", 3, False), (S1, "b", 2, False),

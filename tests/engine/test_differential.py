@@ -16,7 +16,7 @@ from typing import Any
 
 import pytest
 
-from soar_harness import (
+from .soar_harness import (
     DEFAULT_MAX_DECISIONS,
     Report,
     first_difference,
@@ -48,6 +48,12 @@ requires_soar = pytest.mark.skipif(
 )
 
 
+def _orders_like_soars_rete(path: Path) -> bool:
+    """The agent says (``# order: Soar's Rete``) that its run depends on the
+    order in which Soar's Rete finds matches."""
+    return "# order: Soar's Rete" in path.read_text(encoding="utf-8")
+
+
 def _file_id(path: Path) -> str:
     return f"{path.parent.name}/{path.stem}"
 
@@ -72,6 +78,10 @@ def test_agent_behaves_as_in_real_soar(agent_file: Path, matcher: str, trace_lev
                                        soar_reports: dict[Path, Report]) -> None:
     """Every agent, with both matchers, with and without a (full) trace: a
     trace is a listener and must not change the run."""
+    if matcher == "naive" and _orders_like_soars_rete(agent_file):
+        pytest.skip("the run depends on the order Soar's Rete finds matches in (a random "
+                    "choice, identifier numbers), which only adapt's Rete reproduces; the "
+                    "brute-force matcher is the reference for what matches, not for its order")
     soar = soar_reports[agent_file]
     adapt = run_adapt(agent_file, matcher=matcher, trace_level=trace_level)
     difference = first_difference(soar, adapt)

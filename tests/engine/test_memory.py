@@ -20,7 +20,7 @@ class Recorder:
 
 def setup():
     ids = IdentifierFactory()
-    s1 = ids.new("S")
+    s1 = ids.state()
     rec = Recorder()
     wm = WorkingMemory(rec)
     wm.add_root(s1)
@@ -34,7 +34,8 @@ def test_timetags_in_request_order_and_buffering() -> None:
     assert len(wm) == 0 and wm.pending
     added, removed = wm.commit()
     assert [w.timetag for w in added] == [1, 2] and removed == []
-    assert rec.log == [("+", 1), ("+", 2)]
+    # the matcher meets them as Soar's Rete does: the newest first
+    assert rec.log == [("+", 2), ("+", 1)]
 
 
 def test_set_semantics_and_multi_valued() -> None:

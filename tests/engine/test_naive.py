@@ -10,7 +10,7 @@ from adapt.engine.symbols import Float, Identifier
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
-from strategies import EXAMPLES, S1, cond, make_wmes, prod, rel
+from .strategies import EXAMPLES, S1, cond, make_wmes, prod, rel
 
 
 @pytest.mark.parametrize("name,productions,rows,expected", EXAMPLES, ids=[e[0] for e in EXAMPLES])

@@ -78,14 +78,12 @@ CASES = [
     ("sp {<x> (state <s>) -->}", SYN, "1:5", "expected a production name, found '<x>'"),
     ("sp {t :chunk (state <s>) -->}", SEM, "1:7",
      "the flag ':chunk' is not supported: chunking is not implemented"),
-    ("sp {t :interrupt (state <s>) -->}", SEM, "1:7",
-     "the flag ':interrupt' is not supported: stopping the run when a rule fires is not "
-     "implemented; call (interrupt)"),
     ("sp {t :template (state <s>) -->}", SEM, "1:7",
      "the flag ':template' is not supported: Soar-RL templates need reinforcement learning, "
      "which is not implemented"),
     ("sp {t :foo (state <s>) -->}", SYN, "1:7",
-     "unknown production flag ':foo' (expected :o-support, :i-support or :default)"),
+     "unknown production flag ':foo' (expected :o-support, :i-support, :default or "
+     ":interrupt)"),
     ("sp {t :o-support :i-support (state <s>) -->}", SEM, "1:18",
      "a production cannot be both :o-support and :i-support"),
     # --- lexing

@@ -30,7 +30,7 @@ JOIN = """sp {j (state <s> ^a <x> ^b <y>) (<x> ^v <v>) (<y> ^w <v>) --> (<x> ^p 
 
 def test_written_order_kept_when_good() -> None:
     conds = _conditions("sp {t (state <s> ^item <x>) (<x> ^kind k) --> (<x> ^seen yes)}")
-    assert _fresh(conds) == [0, 1, 2]
+    assert _fresh(conds) == [0, 1]
 
 
 def test_hints_change_the_order_and_the_cache_keeps_them_apart() -> None:
@@ -87,17 +87,19 @@ def test_a_negations_variables_decide_a_tie() -> None:
     # negation can be tested
     on_z = _conditions("sp {g (state <s> ^a <x> ^b <z>) -(<z> ^v 1) --> (halt)}")
     on_x = _conditions("sp {g (state <s> ^a <x> ^b <z>) -(<x> ^v 1) --> (halt)}")
-    assert join_order(on_z) == [0, 2, 1]
-    assert join_order(on_x) == [0, 1, 2]
-    assert join_order(on_z) == [0, 2, 1]
+    assert join_order(on_z) == [1, 0]
+    assert join_order(on_x) == [0, 1]
+    assert join_order(on_z) == [1, 0]
 
 
 def test_a_relational_test_alone_is_not_a_constant() -> None:
-    relational = _conditions("sp {r (state <s> ^a <x>) (<x> ^v > 2) (<x> ^w 3) --> (halt)}")
-    constant = _conditions("sp {r (state <s> ^a <x>) (<x> ^v 2) (<x> ^w 3) --> (halt)}")
-    assert join_order(relational) == [0, 1, 3, 2]
-    assert join_order(constant) == [0, 1, 2, 3]
-    assert join_order(relational) == [0, 1, 3, 2]
+    relational = _conditions("sp {r (state <s> ^a <x>) (<x> ^w 3) (<x> ^v > 2) --> (halt)}")
+    constant = _conditions("sp {r (state <s> ^a <x>) (<x> ^w 3) (<x> ^v 2) --> (halt)}")
+    # ^v > 2 costs 8 (it binds nothing), ^w 3 costs 1; two constants tie at 1
+    # and Soar takes the last written
+    assert join_order(relational) == [0, 1, 2]
+    assert join_order(constant) == [0, 2, 1]
+    assert join_order(relational) == [0, 1, 2]
 
 
 def test_outer_variables_are_part_of_the_key() -> None:
@@ -106,3 +108,77 @@ def test_outer_variables_are_part_of_the_key() -> None:
     inner = conds[2:] + conds[:2]
     assert join_order(inner, [Variable("<y>")]) == _fresh(inner, [Variable("<y>")])
     assert join_order(inner) == _fresh(inner)
+
+
+def test_ties_go_to_the_latest_constant_then_the_last_written() -> None:
+    """Soar's canonical order: among tied conditions the one whose constant
+    attribute (then value) Soar's symbol table made last, then the last
+    written; Soar's own symbols (``name``) come before the rules' constants."""
+    first = _conditions("sp {t (state <s> ^x <o>) (<o> ^colour red ^shape box) --> (halt)}")
+    second = _conditions("sp {t (state <s> ^x <o>) (<o> ^shape box ^colour red) --> (halt)}")
+    # constants never seen: a tie, the last written first
+    assert _fresh(first) == [0, 2, 1] and _fresh(second) == [0, 2, 1]
+    constants = reorder.ConstantOrder()
+    constants.add("colour")
+    constants.add("shape")
+    assert join_order(first, constants=constants) == [0, 2, 1]
+    assert join_order(second, constants=constants) == [0, 1, 2]
+    # Soar's own symbol ^name comes before any constant of the rules
+    named = _conditions("sp {t (state <s> ^x <o>) (<o> ^colour red ^name go) --> (halt)}")
+    assert join_order(named, constants=constants) == [0, 1, 2]
+    # the same attribute: the value decides
+    values = _conditions("sp {t (state <s> ^x <o>) (<o> ^colour blue ^colour red) --> (halt)}")
+    constants.add("red")
+    constants.add("blue")
+    assert join_order(values, constants=constants) == [0, 1, 2]
+
+
+def test_a_negation_wins_a_tie_of_cost_one() -> None:
+    conds = _conditions("sp {t (state <s> ^x <o>) -(<o> ^done yes) (<o> ^size 3) --> (halt)}")
+    # the order of positives only: the negation goes right after ^x anyway
+    assert _fresh(conds) == [0, 2]
+
+
+@pytest.mark.parametrize("shape", ["^a{i} <v{i}>", "^a{i} {i}", "^a <v{i}>"])
+def test_two_thousand_conditions_on_one_identifier_are_ordered_without_lookahead(
+        shape: str) -> None:
+    """The lookahead is bounded (issue 21): 2,000 tied conditions on one
+    identifier take the tie rule; the order is complete and deterministic."""
+    text = " ".join(shape.format(i=i) for i in range(2000))
+    conds = _conditions(f"sp {{big (state <s> {text}) --> (halt)}}")
+    order = _fresh(conds)
+    assert sorted(order) == list(range(2000))
+    assert order == _fresh(conds)
+
+
+@pytest.mark.parametrize("shape", ["^a{i} <v{i}>", "^a{i} {i}", "^a <v{i}>",
+                                   "^a{i} <v{i}> ^b{i} <v{i}>"])
+def test_the_reorderers_work_grows_linearly_with_the_conditions(
+        shape: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 21: the lookahead grew as N^3 (a production of 800 conditions on
+    one identifier took over 120 s to load).  Costs are computed a bounded
+    number of times per condition, and lookahead steps stop at the budget."""
+    counts = {"cost": 0, "lookahead": 0}
+    cost, lookahead = reorder._cost, reorder._lookahead
+
+    def counted_cost(*args, **kwargs):  # type: ignore[no-untyped-def]
+        counts["cost"] += 1
+        return cost(*args, **kwargs)
+
+    def counted_lookahead(*args, **kwargs):  # type: ignore[no-untyped-def]
+        counts["lookahead"] += 1
+        return lookahead(*args, **kwargs)
+
+    monkeypatch.setattr(reorder, "_cost", counted_cost)
+    monkeypatch.setattr(reorder, "_lookahead", counted_lookahead)
+    work = {}
+    for n in (1000, 2000):
+        text = " ".join(shape.format(i=i) for i in range(n))
+        conds = _conditions(f"sp {{big (state <s> {text}) --> (halt)}}")
+        counts.update(cost=0, lookahead=0)
+        assert sorted(_fresh(conds)) == list(range(len(conds)))
+        work[n] = dict(counts)
+        assert counts["cost"] <= 5 * len(conds)
+        assert counts["lookahead"] <= reorder.LOOKAHEAD_BUDGET
+    assert work[2000]["cost"] <= 2.2 * work[1000]["cost"]
+    assert work[2000]["lookahead"] <= work[1000]["lookahead"] + 1

@@ -12,7 +12,7 @@ from adapt.engine.rete import Rete
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
-from strategies import (
+from .strategies import (
     A1,
     A2,
     EXAMPLES,
@@ -168,7 +168,7 @@ def test_remove_production_cleans_up_unshared_nodes() -> None:
     join_b = m.root.children[0].children[0]
     assert len(join_b.children) == 1  # only p's production node
     m.remove_production("p")
-    assert m.root.children == [] and m._alpha_by_sig == {} and m._wme_alphas == {}
+    assert m.root.children == [] and m._alpha_by_sig == {} and m._wme_groups == {}
     assert m.state.tokens_by_wme == {}
 
 

@@ -17,7 +17,7 @@ from adapt.engine.naive import NaiveMatcher
 from adapt.engine.rete import Rete
 from adapt.engine.wme import WME
 
-from strategies import A1, A2, S1, cond, keys, make_wmes, ncc, prod
+from .strategies import A1, A2, S1, cond, keys, make_wmes, ncc, prod
 
 
 def _bench() -> ModuleType:

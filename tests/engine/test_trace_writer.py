@@ -60,6 +60,29 @@ def test_level_1_has_no_phase_records(tmp_path: Path) -> None:
     assert {r["kind"] for r in records(path)} == {"header", "decision", "footer"}
 
 
+@pytest.mark.parametrize("level", [1, 2, 3, 4, 5])
+def test_a_level_listens_only_to_what_it_writes(tmp_path: Path, level: int) -> None:
+    # level 1 must cost what it shows: no firing bindings, WME lists or
+    # candidate lists are built for records the level does not write
+    from adapt.engine.events import Event
+
+    path = tmp_path / "t.jsonl"
+    agent = Agent(trace=str(path), trace_level=level)
+    agent.load_text(COUNTER)
+    report = agent.run()
+    heard = {event for event in Event if agent.events.listeners(event)}
+    agent.close()
+    assert (Event.FIRE in heard) == (Event.RETRACT in heard) == (level >= 3)
+    assert (Event.WM_CHANGES in heard) == (level >= 4)
+    assert (Event.WRITE in heard) == (level >= 2)
+    decisions = [r for r in records(path) if r["kind"] == "decision"]
+    assert len(decisions) == report.decisions
+    assert [r["selected"]["name"] for r in decisions] == ["init", "count", "count", "count"]
+    assert all(("candidates" in r) == (level == 5) for r in decisions)
+    assert list(decisions[0]) == (["kind", "d", "level"] + ["candidates"] * (level == 5)
+                                  + ["selected", "impasse"])
+
+
 def test_footer_written_when_a_user_function_raises(tmp_path: Path) -> None:
     path = tmp_path / "t.jsonl"
     agent = Agent(trace=str(path), trace_level=2)

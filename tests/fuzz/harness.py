@@ -158,6 +158,15 @@ class Pool:
         }.items():
             self._add(name, cv2.imencode(".png", image)[1].tobytes())
         self._add("truncated.png", self.files["real.png"].read_bytes()[:100])
+        # a scenario whose floor texture is where a run into inputs/ would draw its floor plan,
+        # and whose rules source another file (issue 21: inputs a run reads indirectly)
+        (self.inputs / "figures").mkdir()
+        self.files["figures/floor.png"] = self.inputs / "figures" / "floor.png"
+        self.files["figures/floor.png"].write_bytes(self.files["real.png"].read_bytes())
+        self._add("sources.soar", "source perception.soar\n")
+        textured = small_scenario(rules="sources.soar")
+        textured["world"]["floor"]["texture"] = "figures/floor.png"
+        self._add("textured.yaml", yaml.safe_dump(textured, sort_keys=False))
         (self.inputs / "folder").mkdir()
         self.files["folder"] = self.inputs / "folder"
         for level in (5, 3, 1):

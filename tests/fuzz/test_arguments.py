@@ -46,7 +46,7 @@ TEXT = st.lists(st.characters(blacklist_categories=("Cc", "Cs"))
 #: Which pool files fit which positional argument (the others are tried too, less often).
 FITS = {
     "files": ["count.soar", "wj.soar", "broken.soar", "empty.txt"],
-    "scenario": ["scene.yaml", "plain.yaml"],
+    "scenario": ["scene.yaml", "plain.yaml", "textured.yaml"],
     "real": ["real.png", "grey16.png", "tiny.png", "other-size.png"],
     "synthetic": ["synth.png", "real.png", "grey16.png"],
     "trace": ["wj5.jsonl", "wj3.jsonl", "wj1.jsonl"],
@@ -54,7 +54,7 @@ FITS = {
     "b": ["wj5.jsonl", "wj3.jsonl"],
     "rules": ["wj.soar", "count.soar", "broken.soar"],
 }
-BAD_INPUTS = ["missing.yaml", "folder", "empty.txt", "garbage.bin", "truncated.png", "/dev/null", "-",
+BAD_INPUTS = ["missing.yaml", "folder", "empty.txt", "garbage.bin", "truncated.png", "/dev/null", "/dev/zero", "-",
               "x" * 300, "\udcff.yaml", "inputs/count.soar/x"]
 OUTPUT_NAMES = ["a.png", "a.jpg", "a.tif", "a.txt", "a.html", "a.jsonl", "a.mp4", "a.avi", "noext",
                 "new/deeper/a.png", "new/deeper/t.jsonl", "new/page.html", "out-dir", ""]
@@ -65,7 +65,8 @@ WME_TEXT = ["57", "0", "(S1 ^count 3)", "(S1 ^steps 2)", "S1 ^io", "(S1 ^operato
 
 
 #: Files a pool input reads in turn (a scenario's rule file).
-INDIRECT = {"scene.yaml": ["perception.soar"]}
+INDIRECT = {"scene.yaml": ["perception.soar"],
+            "textured.yaml": ["sources.soar", "perception.soar", "figures/floor.png"]}
 INPUT_OPTIONS = {"real", "rules"}
 
 
@@ -167,10 +168,25 @@ def test_every_subcommand_is_fuzzed() -> None:
     ["render", "{scene.yaml}", "--out", "same.png", "--labels", "same.png"],
     ["mmd", "{tiny.png}", "{tiny.png}"],
     ["mmd", "{real.png}", "{synth.png}"],
+    # issue 21
+    ["trace", "stats", "/dev/zero"],
+    ["trace", "html", "/dev/zero"],
+    ["rules", "run", "/dev/zero"],
+    ["check", "/dev/zero"],
+    ["run", "{scene.yaml}", "--seed", "-1"],
+    ["run", "{scene.yaml}", "--out", ""],
+    ["sweep", "{scene.yaml}", "--out", ""],
+    ["check", "{scene.yaml}", "--set", "run..fps=3"],
+    ["sweep", "{scene.yaml}", "--workers", "64"],
+    ["run", "{textured.yaml}", "--out", "inputs", "--no-video"],
+    ["render", "{textured.yaml}", "--out", "inputs/figures/floor.png"],
+    ["sweep", "{textured.yaml}", "--out", "inputs", "--workers", "1"],
+    ["rules", "run", "{sources.soar}", "--trace", "{perception.soar}"],
 ])
 def test_the_reported_command_lines(pool: Pool, argv: list[str]) -> None:
     refused = {"nosuch", "Z99", "-5", "{wj.soar}", "", "--nosuch", "{wj5.jsonl}", "1e9", "100000000",
-               "same.png", "{tiny.png}", "{synth.png}"} & set(argv[2:] + argv[:1])
+               "same.png", "{tiny.png}", "{synth.png}", "/dev/zero", "-1", "run..fps=3", "64",
+               "inputs", "inputs/figures/floor.png", "{perception.soar}"} & set(argv[2:] + argv[:1])
     argv = [pool.path(a[1:-1]) if a.startswith("{") else a for a in argv]
     outcome = run_checked(pool, argv)
     if refused:

@@ -134,7 +134,7 @@ def test_no_output_replaces_an_input(tmp_path: Path, capsys: pytest.CaptureFixtu
     scenario.write_text(BUNDLED.read_text().replace("texture: gravel", "texture: g.png"))
     before = scenario.read_bytes(), (tmp_path / "g.png").read_bytes()
     assert main(["render", str(scenario), "--out", str(tmp_path / "g.png")]) == 1
-    assert "is a texture of the scenario" in capsys.readouterr().err
+    assert "is the scenario's world.floor.texture" in capsys.readouterr().err
     assert main(["imagine", str(scenario), "--horizon", "1", "--video",
                  str(tmp_path / "s.yaml")]) == 1
     assert main(["render", str(scenario), "--out", str(tmp_path / "x.png"), "--labels",

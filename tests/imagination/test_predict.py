@@ -10,6 +10,7 @@ import pytest
 from adapt.errors import ImaginationError
 from adapt.imagination import (
     Ball,
+    RobotShape,
     SceneSpec,
     Trajectory,
     Wall,
@@ -121,8 +122,8 @@ def test_intercept_reach_is_the_ball_radius_plus_the_robots_half_width() -> None
     from adapt.imagination import RobotSpec, intercept_reach
 
     ball = Ball("b", radius=0.11)
-    assert intercept_reach(ball, RobotSpec(shape="disc", radius=0.25)) == pytest.approx(0.36)
-    assert intercept_reach(ball, RobotSpec(shape="box", size=(0.6, 0.4))) == pytest.approx(0.31)
+    assert intercept_reach(ball, RobotSpec(shape=RobotShape.DISC, radius=0.25)) == pytest.approx(0.36)
+    assert intercept_reach(ball, RobotSpec(shape=RobotShape.BOX, size=(0.6, 0.4))) == pytest.approx(0.31)
 
 
 def test_rollouts_and_ensembles_refuse_unbounded_work() -> None:

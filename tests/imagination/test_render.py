@@ -19,6 +19,7 @@ from adapt.imagination import (
     Floor,
     Obstacle,
     Renderer,
+    RobotShape,
     RobotSpec,
     SceneSpec,
     Wall,
@@ -135,7 +136,7 @@ def test_with_camera_renders_a_new_background(bundled: Scenario) -> None:
 
 
 def test_robot_is_drawn_when_in_view() -> None:
-    scene = SceneSpec(robot=RobotSpec(position=(0.0, 1.0), shape="box", size=(0.5, 0.3)))
+    scene = SceneSpec(robot=RobotSpec(position=(0.0, 1.0), shape=RobotShape.BOX, size=(0.5, 0.3)))
     r = Renderer(scene, camera())
     assert (r.render().labels == LABEL_ROBOT).sum() > 500
     moved = WorldState(0.0, 0, (BodyState("robot", (5.0, -5.0), (0.0, 0.0)),))
@@ -192,7 +193,7 @@ def test_boxes_give_the_visible_part_of_each_moving_object(bundled: Scenario) ->
 def test_a_partly_hidden_ball_has_the_box_of_its_visible_part() -> None:
     box = Obstacle("box", ((-0.3, 0.4), (0.3, 0.4), (0.3, 0.6), (-0.3, 0.6)), height=0.2)
     scene = SceneSpec(obstacles=(box,), balls=(Ball("b", radius=0.15),),
-                      robot=RobotSpec(position=(0.8, 0.2), shape="box", size=(0.4, 0.3)))
+                      robot=RobotSpec(position=(0.8, 0.2), shape=RobotShape.BOX, size=(0.4, 0.3)))
     r = Renderer(scene, camera(position=(0.0, -2.0, 0.4), look_at=(0.0, 1.0, 0.2)))
     whole = r.render(WorldState(0.0, 0, (BodyState("b", (0.0, -0.2), (0.0, 0.0)),
                                           BodyState("robot", (0.8, 0.2), (0.0, 0.0)))))

@@ -15,7 +15,7 @@ from typing import Any
 
 import pytest
 
-from adapt.runner import Runner
+from adapt.runner import FrameRecord, Runner
 from adapt.scenario import OutputSettings, Scenario, load_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -132,24 +132,26 @@ def test_a_ball_out_of_view_is_predicted_on_and_the_input_link_says_not_seen() -
         ids &= {w.id for w in wm if str(w.attr) == "object" and str(w.value) == "ball"}
         seen.extend(str(w.value) for w in wm if w.id in ids and str(w.attr) == "seen")
 
-    runner = Runner(sc, out=None, outputs=QUIET, on_progress=on_progress)
-    records: list[dict] = []
-    original = runner._record
+    records: list[FrameRecord] = []
 
-    def keep(frame):  # type: ignore[no-untyped-def]
-        rec = original(frame)
-        records.append(rec)
-        return rec
+    class Keep:
+        def frame(self, record: FrameRecord) -> None:
+            truth = runner.evaluation.score(record.index) if runner is not None else None
+            records.append(record)
+            truths.append(None if truth is None else truth.truth.get("ball"))
 
-    runner._record = keep  # type: ignore[method-assign]
+    truths: list[tuple[float, float] | None] = []
+    runner = Runner(sc, out=None, outputs=QUIET, on_progress=on_progress, listeners=(Keep(),))
     runner.run()
     assert "yes" in seen and seen[-1] == "no"
-    unseen = [r for r in records if r["objects"]["ball"]["observed"] is None
-              and r["objects"]["ball"]["imagined"] is not None]
+    unseen = [(r, t) for r, t in zip(records, truths)
+              if r.tracked_object("ball").observed is None  # type: ignore[union-attr]
+              and r.tracked_object("ball").imagined is not None]  # type: ignore[union-attr]
     assert len(unseen) > 10                     # out of view for a while, still imagined
-    assert all(r["predictions"]["ball"] for r in unseen)   # and predicted on
+    assert all(r.percept_of("ball").prediction is not None for r, _ in unseen)  # predicted on
     # while unseen the imagination keeps within a few radii of the truth (no sightings to follow)
-    errors = [math.dist(r["objects"]["ball"]["imagined"], r["truth"]["ball"]) for r in unseen]
+    errors = [math.dist(r.tracked_object("ball").imagined, t)  # type: ignore[arg-type, union-attr]
+              for r, t in unseen]
     assert max(errors) < 0.3, max(errors)
 
 

@@ -9,7 +9,7 @@ import pytest
 from adapt.imagination import LABEL_BALL, LABEL_FLOOR, LABEL_OBSTACLE, LABEL_ROBOT, LABEL_WALL, Renderer
 from adapt.reality.appearance import MARKER_DARKNESS, Look, draw_spin_marker, lighting_gain
 from adapt.reality.surfaces import phased_image, shift_textures
-from adapt.scenario import Appearance
+from adapt.scenario import RealAppearance
 
 from .conftest import scenario, source
 
@@ -24,7 +24,7 @@ def labels_of(label: int) -> np.ndarray:
     return np.full((H, W), label, np.int32)
 
 
-def apply(appearance: Appearance, image: np.ndarray | None = None, labels: np.ndarray | None = None,
+def apply(appearance: RealAppearance, image: np.ndarray | None = None, labels: np.ndarray | None = None,
           seed: int = 0) -> np.ndarray:
     img = flat() if image is None else image
     lab = labels_of(LABEL_FLOOR) if labels is None else labels
@@ -34,22 +34,22 @@ def apply(appearance: Appearance, image: np.ndarray | None = None, labels: np.nd
 def test_a_neutral_appearance_changes_nothing() -> None:
     rng = np.random.default_rng(1)
     img = rng.integers(0, 256, (H, W, 3)).astype(np.uint8)
-    assert np.array_equal(apply(Appearance(), img), img)
+    assert np.array_equal(apply(RealAppearance(), img), img)
 
 
 def test_brightness_contrast_and_colour_shift() -> None:
-    out = apply(Appearance(brightness=12.0))
+    out = apply(RealAppearance(brightness=12.0))
     assert np.all(out == 112)
-    out = apply(Appearance(contrast=1.5), flat(160))
+    out = apply(RealAppearance(contrast=1.5), flat(160))
     assert np.all(out == 128 + 1.5 * 32)
-    out = apply(Appearance(color_shift=(5.0, 0.0, -7.0)))
+    out = apply(RealAppearance(color_shift=(5.0, 0.0, -7.0)))
     assert out[..., 0].mean() == 105 and out[..., 1].mean() == 100 and out[..., 2].mean() == 93
 
 
 def test_values_are_clipped_to_the_pixel_range() -> None:
-    out = apply(Appearance(brightness=90.0, contrast=2.0), flat(200))
+    out = apply(RealAppearance(brightness=90.0, contrast=2.0), flat(200))
     assert out.max() == 255
-    out = apply(Appearance(brightness=-90.0), flat(20))
+    out = apply(RealAppearance(brightness=-90.0), flat(20))
     assert out.min() == 0
 
 
@@ -60,7 +60,7 @@ def test_values_are_clipped_to_the_pixel_range() -> None:
 ])
 def test_the_lighting_gradient_falls_off_across_the_image(deg: float, bright: tuple,  # type: ignore[type-arg]
                                                           dark: tuple) -> None:  # type: ignore[type-arg]
-    out = apply(Appearance(gradient=0.4, gradient_deg=deg), flat(200))
+    out = apply(RealAppearance(gradient=0.4, gradient_deg=deg), flat(200))
     assert out[bright].mean() == pytest.approx(200, abs=0.5)
     assert out[dark].mean() == pytest.approx(120, abs=0.5)
     gain = lighting_gain((W, H), 0.4, deg)
@@ -72,7 +72,7 @@ def test_the_tint_falls_on_the_surfaces_only() -> None:
     parts = [0, LABEL_FLOOR, LABEL_WALL + 2, LABEL_OBSTACLE, LABEL_BALL + 1, LABEL_ROBOT]
     for i, lab in enumerate(parts):
         labels[:, i * 10:(i + 1) * 10] = lab
-    out = apply(Appearance(tint=(1.2, 1.0, 0.5)), labels=labels)
+    out = apply(RealAppearance(tint=(1.2, 1.0, 0.5)), labels=labels)
     for i, lab in enumerate(parts):
         px = out[0, i * 10]
         surface = lab in (LABEL_FLOOR, LABEL_WALL + 2, LABEL_OBSTACLE)
@@ -82,7 +82,7 @@ def test_the_tint_falls_on_the_surfaces_only() -> None:
 def test_blur_smooths_edges() -> None:
     img = flat(0)
     img[:, W // 2:] = 200
-    out = apply(Appearance(blur=2.0), img)
+    out = apply(RealAppearance(blur=2.0), img)
     row = out[H // 2, :, 0]
     assert row[0] == 0 and row[-1] == 200
     assert 0 < row[W // 2 - 2] < 100 < row[W // 2 + 1] < 200
@@ -90,16 +90,16 @@ def test_blur_smooths_edges() -> None:
 
 
 def test_sensor_noise_has_its_sigma_and_a_zero_mean() -> None:
-    out = apply(Appearance(noise=4.0), flat(128), seed=3)
+    out = apply(RealAppearance(noise=4.0), flat(128), seed=3)
     d = out - 128
     assert abs(d.mean()) < 0.1 and d.std() == pytest.approx(4.0, rel=0.05)
     assert np.abs(d).max() < 6 * 4.0
-    again = apply(Appearance(noise=4.0), flat(128), seed=3)
+    again = apply(RealAppearance(noise=4.0), flat(128), seed=3)
     assert np.array_equal(out, again)
 
 
 def test_all_effects_together_stay_within_their_bounds() -> None:
-    a = Appearance(brightness=10.0, contrast=1.1, color_shift=(3.0, -3.0, 0.0), gradient=0.3,
+    a = RealAppearance(brightness=10.0, contrast=1.1, color_shift=(3.0, -3.0, 0.0), gradient=0.3,
                    blur=1.0, noise=2.0, tint=(0.9, 1.0, 1.1))
     rng = np.random.default_rng(7)
     img = rng.integers(40, 216, (H, W, 3)).astype(np.uint8)

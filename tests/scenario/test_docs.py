@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from adapt.imagination.scene import Ball, Floor, Obstacle, RobotSpec, Wall
-from adapt.scenario import TOP_KEYS, Appearance, OutputSettings, PredictSettings, RunSettings
+from adapt.scenario import TOP_KEYS, OutputSettings, PredictSettings, RealAppearance, RunSettings
 from adapt.scenario import reality as R
 from adapt.scenario import run as RUN
 from adapt.scenario import world as W
@@ -29,7 +29,7 @@ TABLES = {
     "`world.objects[i]` (balls)": (W.OBJECT_KEYS, Ball, {}),
     "`world.robot`": (W.ROBOT_KEYS, RobotSpec, {}),
     "`reality` with `kind: synthetic` (the default)": (R.SYNTHETIC_KEYS, None, {}),
-    "`reality.appearance`": (R.APPEARANCE_KEYS, Appearance, {}),
+    "`reality.appearance`": (R.APPEARANCE_KEYS, RealAppearance, {}),
     "`reality.robot`": (R.REALITY_ROBOT_KEYS, None, {}),
     "`reality.objects[i]`": (R.TRUE_OBJECT_KEYS, None, {}),
     "`reality.objects[i].throw`": (R.THROW_KEYS, None, {}),

@@ -147,3 +147,37 @@ def test_the_example_in_docs_scenario_md_loads() -> None:
     assert example is not None
     sc = loads_scenario(example.group(1))
     assert sc.scene.walls[0].name == "north" and sc.scene.robot is not None
+
+
+@pytest.mark.parametrize("block", [False, True], ids=["flow", "block"])
+def test_yaml_nested_too_deeply_is_refused_at_its_place(tmp_path: Path, block: bool) -> None:
+    """Issue 21: 500 levels used to end in a RecursionError (status 70)."""
+    n = 500
+    if block:
+        deep = "".join(" " * i + f"k{i}:\n" for i in range(n)) + " " * n + "v: 1\n"
+    else:
+        deep = "x: " + "[" * n + "]" * n + "\n"
+    path = write(tmp_path, "  walls: []\n", deep)
+    err = error_of(path)
+    assert "nests deeper than 64 levels" in str(err), err
+    assert err.file == str(path) and err.line == (CAMERA + "world:\n").count("\n") + 2 + (
+        63 if block else 0), err  # the 65th node down: a key in block style
+
+
+def test_a_set_value_nested_too_deeply_is_refused_at_its_column(bundled: Scenario) -> None:
+    value = "[" * 500 + "]" * 500
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(bundled.path, overrides=[f"seed={value}"])
+    err = info.value
+    assert err.file == "--set" and err.col == len("seed=") + 65, err
+    assert "nests deeper than 64 levels" in str(err)
+
+
+@pytest.mark.parametrize("key, col", [("run..fps", 5), (".run.fps", 1), ("run.fps.", 8),
+                                      ("world..objects[0].mass", 7)])
+def test_an_empty_step_of_a_set_key_is_refused_at_its_column(bundled: Scenario, key: str,
+                                                             col: int) -> None:
+    """Issue 21: ``run..fps=3`` was taken as ``run.fps=3``."""
+    with pytest.raises(ScenarioError, match="an empty key between dots") as info:
+        load_scenario(bundled.path, overrides=[f"{key}=3"])
+    assert (info.value.file, info.value.col) == ("--set", col), info.value

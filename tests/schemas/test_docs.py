@@ -76,3 +76,22 @@ def test_every_attribute_a_schema_writes_is_documented() -> None:
         if kind == "intercept":
             missing -= documented_attributes("drive")
         assert not missing, (kind, sorted(missing))
+
+
+def test_the_schema_type_written_against_the_contract_runs(capsys) -> None:  # type: ignore[no-untyped-def]
+    import os
+    import sys
+    import types
+
+    section = DOC.split("## Adding a schema type", 1)[1]
+    code = section.split("```python\n", 1)[1].split("```", 1)[0]
+    module = types.ModuleType("docs_schemas_example")
+    here = os.getcwd()
+    os.chdir(ROOT)
+    sys.modules[module.__name__] = module
+    try:
+        exec(compile(code, "docs/schemas.md", "exec"), module.__dict__)
+    finally:
+        os.chdir(here)
+        del sys.modules[module.__name__]
+    assert capsys.readouterr().out.strip() == "Strangers(frame=45, count=1)"

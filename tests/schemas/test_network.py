@@ -13,7 +13,7 @@ from adapt.geometry import Camera
 from adapt.imagination import RobotSpec, SceneSpec
 from adapt.mirror import Mirror
 from adapt.scenario import SchemaSettings, Source
-from adapt.schemas import REGISTRY, Origin, SchemaNetwork, Status, check_settings
+from adapt.schemas import REGISTRY, EventKind, Origin, SchemaNetwork, Status, check_settings
 
 CAM = Camera.look_at(fx=200, fy=200, cx=80, cy=60, width=160, height=120,
                      position=(0, -2, 1), look_at=(0, 1, 0))
@@ -35,14 +35,14 @@ def test_instantiation_connects_ports_and_orders_providers_first() -> None:
     # the provider comes first, then the consumers in creation order
     assert net.names == [bg.name, drive.name, fo.name] == ["scene-background", "drive-1",
                                                            "foreground-object-1"]
-    edges = {(a, b, d["port"]) for a, b, d in net.graph.edges(data=True)}
+    edges = {(a, b, port) for a, b, d in net.graph.edges(data=True) for port in d["ports"]}
     assert edges == {(bg.name, drive.name, "camera"), (bg.name, fo.name, "regions")}
-    assert [e.kind for e in events] == ["instantiated", "spawned", "instantiated"]
+    assert [e.kind.value for e in events] == ["instantiated", "spawned", "instantiated"]
     assert fo.origin is Origin.BOTTOM_UP and drive.status is Status.IDLE
     sub = net.subscene()
     assert {n["name"] for n in sub["nodes"]} == {bg.name, drive.name, fo.name}
     net.remove(fo.name)
-    assert fo.name not in net and events[-1].kind == "removed"
+    assert fo.name not in net and events[-1].kind is EventKind.REMOVED
 
 
 @pytest.mark.parametrize("call, message", [
@@ -202,3 +202,54 @@ def test_an_object_is_never_created_where_another_body_is() -> None:
     fo.kf.step(0.0, (1.0, 1.0))
     fo._create_body(None)  # type: ignore[arg-type]
     assert fo.in_imagination
+
+
+def test_a_consumer_reads_its_providers_percepts_through_its_edges() -> None:
+    from dataclasses import dataclass
+
+    from adapt.schemas import Port, Schema, SchemaKind, SchemaSpec
+    from adapt.schemas.percepts import BackgroundPercept
+
+    @dataclass(frozen=True)
+    class Note:
+        text: str
+
+    def spec(name: str, provides: tuple[str, ...] = (), consumes: tuple[str, ...] = ()) -> SchemaSpec:
+        return SchemaSpec(name, SchemaKind.PERCEPTUAL, "a test type",
+                          factory=lambda n, p, net: Schema(n, specs[name], p, net),
+                          provides=tuple(Port(x) for x in provides),
+                          consumes=tuple(Port(x) for x in consumes), singleton=False)
+
+    specs = {"writer": spec("writer", provides=("note",)),
+             "reader": spec("reader", consumes=("note",)),
+             "bystander": spec("bystander", consumes=("other",))}
+    registry = REGISTRY.copy()
+    for s in specs.values():
+        registry.register(s)
+    net = SchemaNetwork(Mirror(SceneSpec(), CAM), registry=registry)
+    writer, reader = net.instantiate("writer"), net.instantiate("reader")
+    bystander = net.instantiate("bystander")
+    assert net.percepts(reader, "note", Note) == []
+    net.publish(writer, Note("hello"))
+    assert net.percepts(reader, "note", Note) == [Note("hello")]
+    assert net.percept(reader, "note", BackgroundPercept) is None     # typed: another kind
+    assert net.percepts(bystander, "note", Note) == []                 # no edge, no percept
+    assert net.published(Note) == [Note("hello")]
+    with pytest.raises(SchemaError, match="does not provide a port 'other'"):
+        net.publish(writer, Note("x"), port="other")
+    net.remove(writer.name)
+    assert net.percepts(reader, "note", Note) == [] and net.published(Note) == []
+
+
+def test_a_region_has_one_owner_and_an_object_one_monitor() -> None:
+    from adapt.imagination import Ball
+    from adapt.scenario import ObjectModel
+
+    net = SchemaNetwork(Mirror(SceneSpec(), CAM), models={"ball": ObjectModel(Ball("ball"))})
+    net.instantiate("foreground-object", parameters={"object": "ball"})
+    assert net.monitor_of("ball") == "foreground-object-1"
+    with pytest.raises(SchemaError, match="object 'ball' is already monitored"):
+        net.instantiate("foreground-object", parameters={"object": "ball"})
+    # spawned for a region no provider reports: it claims nothing
+    fo = net.instantiate("foreground-object", parameters={"region": 7}, origin=Origin.BOTTOM_UP)
+    assert fo.claimed_regions() == () and net.claims() == {}

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from adapt.errors import SweepError
+from adapt.errors import OutputError, SweepError
 from adapt.sweep.aggregate import cell_stats, csv_text, deterministic
 from adapt.sweep.grid import parse_axis
 from adapt.sweep.metrics import metrics_of
@@ -171,7 +171,19 @@ def test_a_bad_line_inside_is_an_error_naming_it(tmp_path: Path) -> None:
 
 def test_two_sweeps_cannot_write_one_folder(tmp_path: Path) -> None:
     with RunLog(tmp_path / "runs.jsonl"):
-        with pytest.raises(SweepError, match="another sweep is writing"):
+        with pytest.raises(OutputError, match="another adapt command .* is writing"):
             RunLog(tmp_path / "runs.jsonl").open()
     with RunLog(tmp_path / "runs.jsonl"):  # released
         pass
+
+
+def test_a_sweep_removes_the_temporary_files_a_killed_sweep_left(tmp_path: Path) -> None:
+    (tmp_path / "figures").mkdir()
+    stale = [tmp_path / ".adapt-tmp-sweep.json.k2j3.tmp",
+             tmp_path / "figures" / ".adapt-tmp-rates.png.x8y9.png"]
+    for path in stale:
+        path.write_text("half")
+    (tmp_path / ".hidden-of-the-user").write_text("mine")
+    with RunLog(tmp_path / "runs.jsonl"):
+        assert not any(p.exists() for p in stale)
+    assert (tmp_path / ".hidden-of-the-user").read_text() == "mine"

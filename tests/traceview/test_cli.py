@@ -58,7 +58,7 @@ def test_why_wme_and_rule(capsys, counter_trace, counter_rules) -> None:
     assert status == 0
     assert out.startswith("(18: S1 ^count 3)  added in decision cycle 3 (apply phase) by apply*count")
     status, out, _ = run(capsys, "trace", "why", path, "--rule", "check*done", "--at", "5")
-    assert status == 0 and "condition 2 has no match" in out
+    assert status == 0 and "condition 1 has no match" in out
 
 
 def test_why_needs_a_question(capsys, counter_trace) -> None:

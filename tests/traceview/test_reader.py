@@ -96,3 +96,53 @@ def test_no_warning_for_a_complete_trace(counter_trace) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert sum(1 for _ in Trace(counter_trace(5)).records()) > 5
+
+
+# -- issue 21: bounded work on any file, and one trace per file ---------------------------------
+
+@pytest.mark.parametrize("command", [["trace", "stats"], ["trace", "html"], ["trace", "show"]])
+def test_a_device_is_refused_at_once(command: list[str], tmp_path: Path, capsys) -> None:
+    """``adapt trace stats /dev/zero`` used to run past 60 s and grow to 12 GB."""
+    import time
+
+    from adapt.cli import main
+
+    started = time.monotonic()
+    argv = [*command, "/dev/zero"] + (["--out", str(tmp_path / "p.html")]
+                                      if command[1] == "html" else [])
+    assert main(argv) == 1
+    assert time.monotonic() - started < 5
+    err = capsys.readouterr().err
+    assert err.startswith("adapt: error: /dev/zero: not a regular file"), err
+
+
+def test_a_huge_line_is_refused_in_bounded_memory(counter_trace, tmp_path: Path, capsys) -> None:
+    """A 400 MB line used 812 MB before it was refused."""
+    import tracemalloc
+
+    from adapt.cli import main
+
+    path = tmp_path / "huge.jsonl"
+    head = Path(counter_trace(2)).read_text().splitlines(keepends=True)[0]
+    with open(path, "wb") as f:
+        f.write(head.encode())
+        f.seek(len(head) + 400 * 1024 * 1024)  # a hole: 400 MB of zeros, no disk used
+        f.write(b"\n")
+    tracemalloc.start()
+    try:
+        status = main(["trace", "stats", str(path)])
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 100 * 1024 * 1024, f"{peak / 2**20:.0f} MiB"
+    assert status == 1
+    assert "huge.jsonl:2: the line is longer than 32 MiB" in capsys.readouterr().err
+
+
+def test_two_traces_one_after_the_other_are_refused(counter_trace, tmp_path: Path) -> None:
+    one = Path(counter_trace(3)).read_text()
+    path = tmp_path / "two.jsonl"
+    path.write_text(one + one)
+    with pytest.raises(TraceError, match=r"two\.jsonl:(\d+): a second header record: this file "
+                       "holds two traces one after the other"):
+        list(Trace(path).records())

@@ -77,7 +77,7 @@ def test_unknown_timetag(traced) -> None:
 def test_why_not_names_the_failing_condition(traced) -> None:
     trace, productions = traced
     text = format_why_not(why_not(trace, "check*done", 7, productions))
-    assert "condition 2 has no match: " in text and "(<s> ^count { <c> >= 10 })" in text
+    assert "condition 1 has no match: " in text and "(state <s> ^count { <c> >= 10 })" in text
     assert "no WME matches it at all" in text
     assert "counter.soar:" in text  # the condition's position in the rule file
 
@@ -85,7 +85,7 @@ def test_why_not_names_the_failing_condition(traced) -> None:
 def test_why_not_consistency(traced) -> None:
     trace, productions = traced
     result = why_not(trace, "watch*substate", 7, productions)
-    assert result.failure is not None and result.failure.index == 2
+    assert result.failure is not None and result.failure.index == 1
     assert [repr(w) for w in result.failure.alone] == ["(37: S2 ^impasse tie)"]
     assert "<s>=S2, <ss>=S1" in format_why_not(result)
 

@@ -11,8 +11,8 @@ of the variables it shares with the conjunction's positive conditions.
 
 * the alpha key (constant equality tests on the attribute and the value,
   and ``acceptable``),
-* alpha tests (relations and disjunctions against constants, a variable met
-  twice in the condition),
+* alpha tests (the goal test of ``(state <s> ...)``, relations and
+  disjunctions against constants, a variable met twice in the condition),
 * join equality tests (variables bound at an earlier level) -- the hash key,
 * join tests (relations against variables bound at an earlier level),
 * new bindings, and *deferred* relations: a relation against a variable that
@@ -47,8 +47,8 @@ from adapt.engine.production import (
     Variable,
     simple_tests,
 )
-from adapt.engine.reorder import join_order
-from adapt.engine.rete.alpha import ANY, AlphaKey, AlphaTest
+from adapt.engine.reorder import ConstantOrder, join_order
+from adapt.engine.rete.alpha import ANY, GOAL_TEST, AlphaKey, AlphaTest
 from adapt.engine.rete.join import JoinTest
 
 __all__ = ["ConditionSpec", "compile_condition", "order_elements", "is_positive"]
@@ -84,6 +84,8 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> Condition
     wme_fields: list[int] = []
     tests: list[JoinTest] = []
     relations: list[tuple[str, int, Term]] = []
+    if cond.goal:
+        alpha.append(GOAL_TEST)
     for field, test in ((FIELD_ID, EqualityTest(cond.id)), (FIELD_ATTR, cond.attr),
                         (FIELD_VALUE, cond.value)):
         for t in simple_tests(test):
@@ -128,10 +130,12 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> Condition
 
 
 def order_elements(elements: Sequence[ConditionElement], outer: set[Variable],
-                   multi_attributes: Mapping[str, int] | None = None) -> list[int]:
+                   multi_attributes: Mapping[str, int] | None = None,
+                   constants: ConstantOrder | None = None) -> list[int]:
     """Indexes of ``elements`` in the order their nodes are built: the positive
     conditions as Soar's reorderer orders them (:func:`adapt.engine.reorder.join_order`,
     with the ``multi-attributes`` hints), each negation after the positive
     condition that binds the last of its variables; ``outer`` are the
     variables bound above."""
-    return evaluation_order(elements, outer, join_order(elements, outer, multi_attributes))
+    return evaluation_order(elements, outer,
+                            join_order(elements, outer, multi_attributes, constants))

@@ -98,3 +98,11 @@ class NccNode(BetaNode):
 
     def left_remove(self, token: Token) -> None:
         self.owners.pop(token, None)
+
+    def up(self) -> BetaNode | None:
+        """The bottom of the subnetwork (Soar goes up through it)."""
+        return self.partner.parent
+
+    def tokens(self) -> list[Token]:
+        """This node's owner tokens."""
+        return list(self.owners.values())

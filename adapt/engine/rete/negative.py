@@ -23,6 +23,8 @@ class NegativeNode(TwoInputNode):
     __slots__ = ()
 
     def left_add(self, token: Token) -> None:
+        if not self.r_linked:
+            self.relink_right()
         mine = Token(token, token.wmes, self, self.state.epoch)
         key = self.left_key(token.wmes)
         self.index_left(mine, key)
@@ -41,16 +43,23 @@ class NegativeNode(TwoInputNode):
         """Nothing to do: this node's token is a child of ``token`` and is
         deleted with it."""
 
+    def tokens(self) -> list[Token]:
+        """This node's tokens: its left memory."""
+        out: list[Token] = []
+        for bucket in self.left.values():
+            out.extend(left_bucket(bucket))
+        return out
+
     def drop(self, token: Token) -> None:
         self.unindex_left(token)
 
-    def right_add(self, wme: WME) -> None:
-        """``wme`` entered the alpha memory: it blocks the tokens it matches."""
-        key = self.index_right(wme)
-        tokens = self.left.get(key)
+    def right_join(self, wme: WME) -> None:
+        """``wme`` (filed already) entered the alpha memory: it blocks the
+        tokens it matches, the newest first."""
+        tokens = self.left.get(self.right_key(wme))
         if tokens is not None:
             tests = self.tests
-            for token in left_bucket(tokens):
+            for token in reversed(list(left_bucket(tokens))):
                 if tests and not self.check(token.wmes, wme):
                     continue
                 token.count += 1
@@ -64,7 +73,7 @@ class NegativeNode(TwoInputNode):
         if tokens is not None:
             epoch = self.state.epoch
             tests = self.tests
-            for token in left_bucket(tokens):
+            for token in reversed(list(left_bucket(tokens))):
                 if token.epoch == epoch or token.dead:
                     continue
                 if tests and not self.check(token.wmes, wme):

@@ -45,16 +45,18 @@ from __future__ import annotations
 
 from typing import Sequence
 
+from adapt.engine.conditions import REVERSED
 from adapt.engine.matcher import Match
 from adapt.engine.production import ConditionElement, ConjunctiveNegation, Production, Variable
-from adapt.engine.rete.alpha import ANY, AlphaKey, AlphaMemory, AlphaTest
+from adapt.engine.reorder import ConstantOrder
+from adapt.engine.rete.alpha import ANY, AlphaGroup, AlphaKey, AlphaMemory, AlphaTest
 from adapt.engine.rete.build import compile_condition, is_positive, order_elements
 from adapt.engine.rete.join import JoinNode, JoinTest, TwoInputNode
 from adapt.engine.rete.ncc import NccNode, NccPartner
 from adapt.engine.rete.negative import NegativeNode
 from adapt.engine.rete.pnode import ProductionNode
 from adapt.engine.rete.state import FlatKey, NetworkState
-from adapt.engine.rete.token import BetaNode, RootNode, delete_token, unlink
+from adapt.engine.rete.token import BetaNode, RootNode, Successor, delete_token, unlink
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
 
@@ -67,70 +69,101 @@ class Rete:
     """A Rete network implementing :class:`adapt.engine.matcher.Matcher`."""
 
     __slots__ = (
-        "state", "root", "_wmes", "_alpha", "_alpha_by_sig", "_wme_alphas", "_pnodes",
-        "_shapes", "multi_attributes",
+        "state", "root", "_wmes", "_alpha", "_alpha_by_sig", "_wme_groups", "_pnodes",
+        "_shapes", "multi_attributes", "constants",
     )
 
     def __init__(self) -> None:
         self.state = NetworkState()
         self.root = RootNode(self.state)
         self._wmes: dict[int, WME] = {}
-        #: alpha key -> memories with that key (differing in their tests)
-        self._alpha: dict[AlphaKey, tuple[AlphaMemory, ...]] = {}
+        #: alpha key -> its group: the memories with that key (differing in
+        #: their tests), Soar's one alpha memory
+        self._alpha: dict[AlphaKey, AlphaGroup] = {}
         self._alpha_by_sig: dict[tuple[AlphaKey, tuple[AlphaTest, ...]], AlphaMemory] = {}
-        #: timetag -> the WME's alpha memories (tuples, shared: never mutated)
-        self._wme_alphas: dict[int, tuple[AlphaMemory, ...]] = {}
+        #: timetag -> the groups of the WME's key (tuples, never mutated)
+        self._wme_groups: dict[int, tuple[AlphaGroup, ...]] = {}
         self._pnodes: dict[str, ProductionNode] = {}
-        #: how many alpha memories have a constant attribute/value: the
+        #: how many alpha groups have a constant attribute/value: the
         #: key shapes (attr, value), (attr, ANY), (ANY, value), (ANY, ANY)
         self._shapes = [0, 0, 0, 0]
         #: ``multi-attributes`` hints for ordering the conditions of productions
         #: added from now on (attribute -> expected number of values)
         self.multi_attributes: dict[str, int] = {}
+        #: the order of constants that breaks the join order's last ties
+        self.constants = ConstantOrder()
 
     # -- working memory -----------------------------------------------------
 
-    def _alphas_of(self, wme: WME) -> tuple[AlphaMemory, ...]:
-        """The alpha memories ``wme`` belongs in (the shapes' order)."""
-        alpha = self._alpha
+    def _groups_of(self, wme: WME) -> tuple[AlphaGroup, ...]:
+        """The alpha groups (Soar's alpha memories) of ``wme``'s key, in the
+        order of Soar's alpha hash tables: no constant, attribute, value, both."""
+        groups = self._alpha
         both, attr_only, value_only, neither = self._shapes
         attr, value, acceptable = wme[1], wme[2], wme[3]
-        found: tuple[AlphaMemory, ...] = ()
-        if attr_only:
-            found = alpha.get((attr, ANY, acceptable), ())
-        if both:
-            memories = alpha.get((attr, value, acceptable))
-            if memories:
-                found = found + memories if found else memories
-        if value_only:
-            memories = alpha.get((ANY, value, acceptable))
-            if memories:
-                found = found + memories if found else memories
+        found: list[AlphaGroup] = []
         if neither:
-            memories = alpha.get((ANY, ANY, acceptable))
-            if memories:
-                found = found + memories if found else memories
-        for am in found:
-            if am.check is not None:
-                return tuple([m for m in found if m.check is None or m.check(wme)])
-        return found
+            group = groups.get((ANY, ANY, acceptable))
+            if group is not None:
+                found.append(group)
+        if attr_only:
+            group = groups.get((attr, ANY, acceptable))
+            if group is not None:
+                found.append(group)
+        if value_only:
+            group = groups.get((ANY, value, acceptable))
+            if group is not None:
+                found.append(group)
+        if both:
+            group = groups.get((attr, value, acceptable))
+            if group is not None:
+                found.append(group)
+        return tuple(found)
 
     def add_wme(self, wme: WME) -> None:
-        """Add a WME (a timetag already present is ignored)."""
+        """Add a WME (a timetag already present is ignored).
+
+        As Soar's ``add_wme_to_rete``: alpha memory by alpha memory, the WME
+        is filed, then the linked nodes are activated in their order (see
+        :class:`~adapt.engine.rete.alpha.AlphaGroup`).
+        """
         timetag = wme[4]
         wmes = self._wmes
         if timetag in wmes:
             return
         wmes[timetag] = wme
         self.state.epoch += 1
-        memories = self._alphas_of(wme)
-        if not memories:
+        groups = self._groups_of(wme)
+        if not groups:
             return
-        self._wme_alphas[timetag] = memories
-        for am in memories:
-            am.items[timetag] = wme
-            for node in am.successors:
-                node.right_add(wme)
+        self._wme_groups[timetag] = groups
+        for group in groups:
+            group.count += 1
+            for am in group.memories:
+                check = am.check
+                if check is None or check(wme):
+                    am.items[timetag] = wme
+                    for node in am.successors:
+                        node.index_right(wme)
+            linked = group.linked
+            if not linked:
+                continue
+            # an activation may link or unlink nodes of this list: go on
+            # from the node that came next before it (Soar's saved pointer)
+            i = 0
+            while i < len(linked):
+                node = linked[i]
+                after = linked[i + 1] if i + 1 < len(linked) else None
+                if timetag in node.alpha.items:
+                    node.right_join(wme)
+                if after is None:
+                    break
+                if i + 1 < len(linked) and linked[i + 1] is after:
+                    i += 1
+                elif after in linked:
+                    i = linked.index(after)
+                elif node in linked:
+                    i = linked.index(node) + 1
 
     def remove_wme(self, wme: WME) -> None:
         """Remove a WME (a timetag not present is ignored)."""
@@ -141,17 +174,27 @@ class Rete:
         wme = known
         state = self.state
         state.epoch += 1
-        memories = self._wme_alphas.pop(timetag, None)
-        if memories is None:
+        groups = self._wme_groups.pop(timetag, None)
+        if groups is None:
             return
-        for am in memories:
-            del am.items[timetag]
-            for node in am.successors:
-                node.right_remove(wme)
+        memories: list[AlphaMemory] = []
+        for group in groups:
+            group.count -= 1
+            for am in group.memories:
+                if am.items.pop(timetag, None) is not None:
+                    memories.append(am)
+                    for node in am.successors:
+                        node.right_remove(wme)
+            if not group.count:
+                # an empty alpha memory left-unlinks its linked joins (Soar)
+                for node in group.linked:
+                    if not node.blocks:
+                        node.l_linked = False
         tokens = state.tokens_by_wme.pop(timetag, None)
         if tokens is not None:
             if isinstance(tokens, dict):
-                for token in tokens:
+                # the newest token first, as Soar's tree-based removal goes
+                for token in reversed(tokens):
                     if not token.dead:
                         unlink(token)
                         delete_token(token)
@@ -159,7 +202,7 @@ class Rete:
                 unlink(tokens)
                 delete_token(tokens)
         for am in memories:
-            for negative in am.negatives:
+            for negative in reversed(am.negatives):
                 negative.unblock(wme)
 
     # -- match set ------------------------------------------------------------
@@ -194,6 +237,7 @@ class Rete:
         if production.name in self._pnodes:
             raise EngineError(f"production {production.name} is already in the matcher")
         elements = production.conditions
+        self.constants.add_production(production)
         try:
             bottom, _, _, levels = self._build(self.root, elements, {}, 0)
         except _Unbound as err:
@@ -205,7 +249,7 @@ class Rete:
         pnode = ProductionNode(
             self.state, bottom, production, None if order == tuple(range(len(order))) else order
         )
-        bottom.children.append(pnode)
+        bottom.children.insert(0, pnode)
         self._pnodes[production.name] = pnode
         self.state.pnodes[production.name] = pnode
         for token in bottom.emitted():
@@ -242,7 +286,7 @@ class Rete:
         levels: dict[int, int] = {}
         hops = 0
         node = parent
-        for i in order_elements(elements, set(bound), self.multi_attributes):
+        for i in order_elements(elements, set(bound), self.multi_attributes, self.constants):
             element = elements[i]
             hops += 1
             if isinstance(element, ConjunctiveNegation):
@@ -254,16 +298,19 @@ class Rete:
                 if spec.deferred:
                     raise _Unbound(spec.deferred[0][2])
                 node = self._two_input(NegativeNode, node, spec.alpha_key, spec.alpha_tests,
-                                       spec.token_fields, spec.wme_fields, spec.tests)
+                                       spec.token_fields, spec.wme_fields, spec.tests,
+                                       bound.get(element.id))
                 continue
             tests = list(spec.tests)
             for var, field in spec.binds.items():
                 for relation, level, other in deferred.pop(var, ()):
-                    tests.append((relation, level, other, -1, field))
+                    # turned round, as Soar's reorderer moves the test here
+                    tests.append((REVERSED[relation], -1, field, level, other))
             for relation, field, var in spec.deferred:
                 deferred.setdefault(var, []).append((relation, depth, field))
             node = self._two_input(JoinNode, node, spec.alpha_key, spec.alpha_tests,
-                                   spec.token_fields, spec.wme_fields, tuple(tests))
+                                   spec.token_fields, spec.wme_fields, tuple(tests),
+                                   bound.get(element.id))
             for var, field in spec.binds.items():
                 bound[var] = (depth, field)
             levels[i] = depth
@@ -279,13 +326,23 @@ class Rete:
             return am
         am = AlphaMemory(key, tests)
         self._alpha_by_sig[sig] = am
-        self._alpha[key] = self._alpha.get(key, ()) + (am,)
-        self._shapes[_shape(key)] += 1
-        wme_alphas = self._wme_alphas
+        group = self._alpha.get(key)
+        if group is None:
+            group = am.group
+            self._alpha[key] = group
+            self._shapes[_shape(key)] += 1
+            wme_groups = self._wme_groups
+            probe = AlphaMemory(key, ())
+            for timetag, wme in self._wmes.items():
+                if probe.accepts(wme):
+                    group.count += 1
+                    wme_groups[timetag] = wme_groups.get(timetag, ()) + (group,)
+        else:
+            am.group = group
+        group.memories += (am,)
         for timetag, wme in self._wmes.items():
             if am.accepts(wme):
                 am.items[timetag] = wme
-                wme_alphas[timetag] = wme_alphas.get(timetag, ()) + (am,)
         return am
 
     def _two_input(
@@ -297,6 +354,7 @@ class Rete:
         token_fields: tuple[Site, ...],
         wme_fields: tuple[int, ...],
         tests: tuple[JoinTest, ...],
+        group: Site | None = None,
     ) -> TwoInputNode:
         am = self._alpha_memory(key, alpha_tests)
         sig = (cls, am, token_fields, wme_fields, tests)
@@ -305,7 +363,17 @@ class Rete:
             assert isinstance(shared, TwoInputNode)
             return shared
         node = cls(self.state, parent, am, token_fields, wme_fields, tests)
-        parent.children.append(node)
+        node.group = group
+        # Soar lists a node's children newest first; the joins that hash on
+        # the same variable share a memory node, whose place is the first one's
+        children = parent.children
+        at = 0
+        if cls is JoinNode:
+            for i, child in enumerate(children):
+                if isinstance(child, JoinNode) and child.group == group:
+                    at = i
+                    break
+        children.insert(at, node)
         parent.shared[sig] = node
         am.add_successor(node)
         node.fill_right()
@@ -320,11 +388,25 @@ class Rete:
             assert isinstance(shared, NccNode)
             return shared
         partner = NccPartner(bottom, depth)
-        bottom.children.append(partner)
+        bottom.children.insert(0, partner)
         for token in bottom.emitted():
             partner.left_add(token)
         node = NccNode(self.state, parent, partner)
-        parent.children.append(node)
+        # Soar moves the top of the subnetwork (with the joins that share its
+        # memory node) to the head of the parent's children, the CN node
+        # right after it
+        top: object = bottom
+        while isinstance(top, BetaNode) and top.parent is not parent and top.parent is not None:
+            top = top.parent
+        children = parent.children
+        moved: list[Successor] = []
+        if isinstance(top, JoinNode):
+            group = top.group
+            moved = [c for c in children if isinstance(c, JoinNode) and c.group == group]
+        else:
+            moved = [c for c in children if c is top]
+        rest = [c for c in children if all(c is not m for m in moved)]
+        children[:] = moved + [node] + rest
         parent.shared[sig] = node
         for token in parent.emitted():
             node.left_add(token)
@@ -357,19 +439,20 @@ class Rete:
 
     def _drop_alpha(self, am: AlphaMemory) -> None:
         del self._alpha_by_sig[(am.key, am.tests)]
-        memories = tuple([m for m in self._alpha[am.key] if m is not am])
-        if memories:
-            self._alpha[am.key] = memories
-        else:
-            del self._alpha[am.key]
+        group = am.group
+        group.memories = tuple([m for m in group.memories if m is not am])
+        if group.memories:
+            return
+        del self._alpha[am.key]
         self._shapes[_shape(am.key)] -= 1
-        wme_alphas = self._wme_alphas
-        for timetag in am.items:
-            memories = tuple([m for m in wme_alphas[timetag] if m is not am])
-            if memories:
-                wme_alphas[timetag] = memories
-            else:
-                del wme_alphas[timetag]
+        wme_groups = self._wme_groups
+        for timetag, groups in list(wme_groups.items()):
+            if group in groups:
+                rest = tuple([g for g in groups if g is not group])
+                if rest:
+                    wme_groups[timetag] = rest
+                else:
+                    del wme_groups[timetag]
 
 
 class _Unbound(Exception):

@@ -118,6 +118,11 @@ class BetaNode:
         """Forget ``token``, one of this node's own tokens, which is being
         deleted (the base class keeps no index of its tokens)."""
 
+    def up(self) -> BetaNode | None:
+        """The node above in Soar's sense (a conjunctive negation's node:
+        the bottom of its subnetwork)."""
+        return self.parent
+
     def tokens(self) -> list[Token]:
         """All of this node's tokens, emitted or not (for building and pruning)."""
         parent = self.parent

@@ -1,0 +1,376 @@
+"""Percepts: what a schema publishes on the ports it provides, frame by frame.
+
+Schemas meet each other only here.  A provider publishes one frozen record on
+each port it provides (:meth:`SchemaNetwork.publish
+<adapt.schemas.network.SchemaNetwork.publish>`); a consumer reads the records
+of its providers through the graph's edges that carry the port
+(:meth:`SchemaNetwork.percepts <adapt.schemas.network.SchemaNetwork.percepts>`),
+never through another schema's members.  So a user's own schema type is
+written against these records and the base class, not against our classes
+(``docs/schemas.md``).
+
+* :class:`BackgroundPercept` -- on ``regions`` and ``camera``, from the Scene
+  Background schema: this frame's match-mediated difference, whether its
+  alignment can be believed, the pixel error, the synthetic camera before and
+  after this frame's correction, the render (image, static background,
+  labels), and the tracked difference regions.  Its methods map pixels
+  between the real frame and the render and take differences through the
+  frame's ``H_e``: pure functions of the record.
+* :class:`ObjectPercept` -- on ``object``, from a foreground object schema:
+  the object's sighting in this frame, its filtered position and velocity,
+  the imagined body's position, the prediction, the parameter estimates.
+
+A percept describes one frame (``frame``, ``time``) and is replaced by the
+next; nothing in it changes after it is published.
+
+Examples
+--------
+>>> import numpy as np
+>>> from adapt.geometry import Camera
+>>> cam = Camera(100, 100, 40, 30, 80, 60, np.eye(3), np.zeros(3))
+>>> p = BackgroundPercept(frame=3, time=0.1, camera_before=cam, camera_after=cam)
+>>> p.aligned, p.to_real((10.0, 20.0)), p.region(1) is None
+(False, (10.0, 20.0), True)
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, Mapping
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from adapt.geometry import Camera
+from adapt.imagination.surface import LABEL_BALL, LABEL_ROBOT
+
+if TYPE_CHECKING:  # pragma: no cover
+    from adapt.imagination import Ball
+    from adapt.imagination.predict import Trajectory
+    from adapt.schemas.estimator import Estimate
+    from adapt.schemas.predictor import Prediction
+    from adapt.vision.mmd import MMDResult
+    from adapt.vision.regions import Region
+
+__all__ = ["BackgroundPercept", "ObjectPercept", "RegionReport", "Sighting", "FirstLook",
+           "AppearanceStage", "BBox", "Vec2"]
+
+BBox = tuple[int, int, int, int]
+Vec2 = tuple[float, float]
+
+class AppearanceStage(enum.Enum):
+    """Where the Scene Background's appearance learning is (``docs/appearance.md``)."""
+
+    OFF = "off"              # the scenario's look (or a loaded one), never changed
+    STRUCTURE = "structure"  # aligning the camera to the scene's structure first
+    LEARNED = "learned"      # the look is learned and refined
+
+
+@dataclass(frozen=True, slots=True)
+class RegionReport:
+    """One tracked difference region as the input-link reports it.
+
+    ``bbox`` and ``centroid`` are real-image pixels; ``floor`` is the bottom of
+    the box back-projected onto the floor and ``size`` its width there
+    (metres); ``owner`` the schema that explains it (``expected``);
+    ``imagined`` the imagined moving object it shows.
+    """
+
+    id: int
+    bbox: BBox
+    centroid: tuple[float, float]
+    area: int
+    age: int
+    expected: bool
+    owner: str | None
+    floor: Vec2 | None
+    size: float | None
+    imagined: str | None = None
+    at_edge: bool = False
+
+    def as_json(self) -> dict[str, Any]:
+        """JSON form (trace and report)."""
+        return {"id": self.id, "bbox": list(self.bbox),
+                "centroid": [round(self.centroid[0], 2), round(self.centroid[1], 2)],
+                "area": self.area, "age": self.age, "expected": self.expected,
+                "owner": self.owner,
+                "floor": None if self.floor is None else [round(v, 4) for v in self.floor],
+                "size": None if self.size is None else round(self.size, 4),
+                "imagined": self.imagined, "at_edge": self.at_edge}
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class FirstLook:
+    """The frame the surfaces' look was first learned from: the real image and the
+    render before and after (references, for ``figures/appearance.png``)."""
+
+    frame: int
+    time: float
+    real: NDArray[np.uint8]
+    before: NDArray[np.uint8]
+    after: NDArray[np.uint8]
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class BackgroundPercept:
+    """What the Scene Background schema perceived in one frame (see the module docstring).
+
+    Attributes
+    ----------
+    frame, time : int, float
+        The frame it describes.
+    camera_before, camera_after : Camera
+        The synthetic camera the frame was rendered from, and after this
+        frame's correction (the same camera when there was none).
+    mmd : MMDResult or None
+        The match-mediated difference of the frame against the render (None
+        while the camera is aligned to the scene's structure first).
+    trusted : bool
+        Aligned, and not a sudden false jump: what depends on ``H_e`` may be
+        believed.
+    pixel_error : float
+        How far ``H_e`` moves the image corners, real pixels (nan without
+        alignment).
+    threshold : float
+        The difference (grey levels) that counts as a difference.
+    synthetic, background : ndarray or None
+        The render of the imagination through ``camera_before``, and its static
+        background (no moving objects).
+    labels : ndarray or None
+        The render's label image; ``drawn`` maps each moving body drawn in it to
+        its label.
+    warped_labels : ndarray or None
+        ``labels`` warped into the real frame by ``H_e`` (nearest neighbour),
+        when the frame is trusted and a ball is drawn.
+    regions : tuple of RegionReport
+        The tracked difference regions (empty while the provider is still
+        perceiving: it publishes once its camera step is done, then again with
+        the regions).
+    ms : float
+        Milliseconds the provider took for the frame.
+    stage : AppearanceStage
+    learn_passes : int
+        Learning passes of the surfaces' look so far; ``learn_ms`` this frame's.
+    first_look : FirstLook or None
+    structure_error : float
+        While aligning the structure: how far it is from aligned, pixels.
+    """
+
+    frame: int
+    time: float
+    camera_before: Camera
+    camera_after: Camera
+    mmd: "MMDResult | None" = None
+    trusted: bool = False
+    pixel_error: float = math.nan
+    threshold: float = 30.0
+    synthetic: NDArray[np.uint8] | None = None
+    background: NDArray[np.uint8] | None = None
+    labels: NDArray[np.int32] | None = None
+    drawn: Mapping[str, int] = field(default_factory=lambda: MappingProxyType({}))
+    warped_labels: NDArray[np.uint16] | None = None
+    regions: tuple[RegionReport, ...] = ()
+    ms: float = 0.0
+    stage: AppearanceStage = AppearanceStage.OFF
+    learn_passes: int = 0
+    learn_ms: float = 0.0
+    first_look: FirstLook | None = None
+    structure_error: float = math.nan
+
+    # -- what it says -----------------------------------------------------------------
+
+    @property
+    def aligned(self) -> bool:
+        """The MMD found ``H_e`` this frame."""
+        return self.mmd is not None and self.mmd.aligned
+
+    @property
+    def homography(self) -> NDArray[np.float64] | None:
+        """``H_e`` (synthetic pixels to real pixels), or None without alignment."""
+        return self.mmd.homography if self.aligned else None  # type: ignore[union-attr]
+
+    @property
+    def unexpected(self) -> tuple[RegionReport, ...]:
+        """The regions no schema explains."""
+        return tuple(r for r in self.regions if not r.expected)
+
+    def region(self, region_id: int) -> RegionReport | None:
+        """The tracked region ``region_id`` of this frame, or None."""
+        for r in self.regions:
+            if r.id == region_id:
+                return r
+        return None
+
+    # -- pixels between the render and the real frame ---------------------------------
+
+    def to_real(self, pixel: tuple[float, float]) -> tuple[float, float]:
+        """A synthetic pixel in the real frame (through ``H_e``; unchanged without it)."""
+        h = self.homography
+        if h is None:
+            return pixel
+        p = h @ np.array([pixel[0], pixel[1], 1.0])
+        return (float(p[0] / p[2]), float(p[1] / p[2]))
+
+    def to_synthetic(self, pixels: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Real pixels ``(N, 2)`` in the synthetic frame (through ``H_e^-1``; unchanged
+        without it)."""
+        h = self.homography
+        if h is None:
+            return np.asarray(pixels, float)
+        p = np.c_[pixels, np.ones(len(pixels))] @ np.linalg.inv(h).T
+        return p[:, :2] / p[:, 2:]
+
+    # -- differences through H_e -------------------------------------------------------
+
+    def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[Any] | None:
+        """How much ``real`` differs from the imagination's *background* (no moving
+        objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels (the largest
+        over the channels), with the frame's gain and bias; None without alignment.
+
+        This is the difference an object schema looks for its object in: the object
+        wherever it really is, whatever the imagination shows of it.  The MMD mask is not
+        applied: its Gaussians, centred on background corners matched next to the object,
+        would eat into the object's outline and bias its fitted position.
+        """
+        if self.background is None:
+            return None
+        return self._difference(real, self.background, window)
+
+    def difference_with(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8]
+                        ) -> NDArray[Any] | None:
+        """The whole frame's difference (grey levels, no mask) between ``real`` and another
+        synthetic image of ``camera_before`` (an uncorrected imagination, say), through
+        this frame's ``H_e``, gain and bias; None without alignment."""
+        h, w = real.shape[:2]
+        return self._difference(real, synthetic, (0, 0, w, h))
+
+    def _difference(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8],
+                    window: BBox) -> NDArray[Any] | None:
+        res = self.mmd
+        if res is None or not res.aligned:
+            return None
+        x, y, w, h = window
+        shift = np.array([[1.0, 0.0, -x], [0.0, 1.0, -y], [0.0, 0.0, 1.0]])
+        warped = cv2.warpPerspective(synthetic, shift @ res.homography, (w, h),  # type: ignore[operator]
+                                     flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+        part = np.ascontiguousarray(real[y:y + h, x:x + w])
+        if warped.ndim == 3:
+            c = warped.shape[2]
+            m = np.zeros((c, c + 1))
+            m[np.arange(c), np.arange(c)] = res.gain
+            m[:, -1] = res.bias
+            diff = cv2.absdiff(part, cv2.transform(warped, m))
+            out = diff[:, :, 0]
+            for k in range(1, c):
+                out = cv2.max(out, diff[:, :, k])
+            return out
+        adjusted = cv2.convertScaleAbs(warped, alpha=float(res.gain[0]), beta=float(res.bias[0]))
+        return cv2.absdiff(part, adjusted)
+
+    # -- the imagined objects in the real frame ----------------------------------------
+
+    def balls_except(self, name: str) -> list[int]:
+        """Label ids of the moving balls drawn this frame, but ``name``'s."""
+        return [lab for n, lab in self.drawn.items()
+                if n != name and LABEL_BALL <= lab < LABEL_ROBOT]
+
+    def imagined_mask(self, label: int) -> NDArray[np.bool_] | None:
+        """Pixels of the real frame where the imagination shows the object of ``label``,
+        or None (no alignment, or no ball drawn)."""
+        return None if self.warped_labels is None else self.warped_labels == label
+
+    def imagined_in(self, region: "Region") -> str | None:
+        """The imagined moving ball that covers the most of ``region`` (at least a tenth of
+        it), or None: the imagination's label image says which difference belongs to which
+        imagined object."""
+        balls = {lab: n for n, lab in self.drawn.items()
+                 if LABEL_BALL <= lab < LABEL_ROBOT}
+        warped = self.warped_labels if balls else None
+        if warped is None:
+            return None
+        x, y, w, h = region.bbox
+        patch = warped[y:y + h, x:x + w][region.silhouette[:h, :w]]
+        best, count = None, 0
+        for label, name in balls.items():
+            c = int(np.count_nonzero(patch == label))
+            if c > count:
+                best, count = name, c
+        return best if count >= 0.1 * max(region.area, 1) else None
+
+
+@dataclass(frozen=True, slots=True)
+class Sighting:
+    """An object found in one frame: its blob in the real image and the floor position
+    the fit gives."""
+
+    frame: int
+    time: float
+    bbox: BBox
+    centroid: tuple[float, float]
+    area: int
+    position: Vec2
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ObjectPercept:
+    """What a foreground object schema perceived of its object (see the module docstring).
+
+    Attributes
+    ----------
+    frame, time : int, float
+        The frame it describes (``frame`` -1: published when the schema joined,
+        before it looked at a frame).
+    object : str
+        The world object (the imagined body's name).
+    declared : bool
+        The world declares it.
+    ball : Ball or None
+        What it is like: the model, its size measured for an object the
+        scenario does not declare (None until then), its parameters as adapted.
+    sighting : Sighting or None
+        Where it was found in this frame (None: not seen).
+    position, velocity : (x, y) or None
+        The filtered floor position and velocity (None before the first
+        sighting).
+    imagined : (x, y) or None
+        The imagined body's position (None while the imagination has no body).
+    prediction : Prediction or None
+        The latest prediction.
+    estimates : mapping of str to Estimate
+        The parameter estimates (restitution, friction, rolling resistance).
+    rollouts : (float, float)
+        Seconds of imagination rolled out for predictions so far, and the wall
+        seconds that took.
+    """
+
+    frame: int
+    time: float
+    object: str
+    declared: bool = False
+    ball: "Ball | None" = None
+    sighting: Sighting | None = None
+    position: Vec2 | None = None
+    velocity: Vec2 | None = None
+    imagined: Vec2 | None = None
+    prediction: "Prediction | None" = None
+    estimates: Mapping[str, "Estimate"] = field(default_factory=lambda: MappingProxyType({}))
+    rollouts: tuple[float, float] = (0.0, 0.0)
+
+    @property
+    def seen(self) -> bool:
+        """Found in this frame."""
+        return self.sighting is not None
+
+    @property
+    def observed(self) -> Vec2 | None:
+        """The filtered position when the object is seen in this frame, else None."""
+        return self.position if self.sighting is not None else None
+
+    @property
+    def trajectory(self) -> "Trajectory | None":
+        """The prediction's dense path, or None."""
+        return None if self.prediction is None else self.prediction.trajectory
