@@ -113,6 +113,15 @@ MAX_ITERATIONS = 3
 REFIT_CHI2 = 4.0
 #: Least sightings before a fit.
 MIN_SIGHTINGS = 4
+#: A sighting further than this from the path (in noise sigmas) pulls on it linearly, not
+#: quadratically (Huber's loss): a wild sighting moves the fit little, while many sightings
+#: off the path (an unmodelled bounce) still pull it over.
+HUBER = 3.0
+#: The gate: a sighting further than this from the fitted path (noise sigmas) is an outlier;
+#: up to :data:`MAX_OUTLIERS` of them are left out of the fit's chi-square (more are the
+#: path not fitting, and count).
+OUTLIER = 8.0
+MAX_OUTLIERS = 1
 
 
 @dataclass(frozen=True, slots=True)
@@ -121,10 +130,11 @@ class Fit:
 
     ``parameters`` and ``std`` are the fitted parameters' means and standard
     deviations; ``residual`` the RMS distance of the window's sightings from
-    the fitted path (metres); ``contact`` whether that path meets a surface;
-    ``chi2`` the sightings' chi-square per degree of freedom, at least 1 (about 1:
-    the path passes as close as the noise allows; much more: it does not fit
-    them yet, and its state is not to be trusted).
+    the fitted path (metres, outliers left out); ``contact`` whether that path
+    meets a surface; ``chi2`` the sightings' chi-square per degree of freedom, at
+    least 1 (about 1: the path passes as close as the noise allows; much more: it
+    does not fit them yet, and its state is not to be trusted); ``outliers`` the
+    sightings the gate left out of it (:data:`OUTLIER`).
     """
 
     time: float
@@ -137,6 +147,7 @@ class Fit:
     sightings: int
     contact: bool
     chi2: float
+    outliers: int = 0
 
 
 #: A state on a path: position, velocity, slip.
@@ -361,7 +372,8 @@ class Identifier:
             free.append(i)
 
         def residuals(pos: FloatArray, v: FloatArray) -> FloatArray:
-            return np.concatenate([((pos - obs) / self.noise).ravel(), (v - prior_x) / prior_std])
+            return np.concatenate([_huber((pos - obs) / self.noise).ravel(),
+                                   (v - prior_x) / prior_std])
 
         best = _Best(x, None, {}, math.inf, math.inf, math.inf)
         jtj = np.eye(len(free))
@@ -385,7 +397,13 @@ class Identifier:
         self._moving = any(math.hypot(*st[1]) > MIN_SPEED for st in best.states.values())
         # the fit's uncertainty, widened by how much worse than the noise the path fits (a
         # fit not yet converged, or a model that does not fit, is not to be trusted more)
-        scale = math.sqrt(max(1.0, best.chi2 / max(obs.size - len(free), 1)))
+        sigmas = np.hypot(*(best.positions - obs).T) / self.noise
+        out = sigmas > OUTLIER
+        if out.sum() > MAX_OUTLIERS:
+            out[:] = False
+        inliers = ~out
+        chi2 = float(np.sum(sigmas[inliers] ** 2)) / max(2 * int(inliers.sum()) - len(free), 1)
+        scale = math.sqrt(max(1.0, chi2))
         std = np.concatenate([prior_std[:ns], self.theta_std])
         try:
             std[free] = scale * np.sqrt(np.clip(np.diag(np.linalg.inv(jtj)), 0.0, None))
@@ -403,12 +421,12 @@ class Identifier:
             self._retire(tuple(k for k in self.names if k not in CONTACT_PARAMETERS
                                and k != "floor_friction"))
             self._retired = now
-        resid = best.positions - obs
+        resid = (best.positions - obs)[inliers]
         p, v, u = best.states[len(window) - 1]
         return Fit(now, p, v, u, dict(zip(self.names, (float(t) for t in self.theta))),
                    dict(zip(self.names, (float(s) for s in self.theta_std))),
                    float(np.sqrt((resid ** 2).sum(axis=1).mean())), len(window),
-                   best.contact < math.inf, scale * scale)
+                   best.contact < math.inf, scale * scale, int(out.sum()))
 
     def _iterate(self, start: "_Best", free: list[int], keys: tuple[str, ...], ns: int,
                  residuals: Callable[[FloatArray, FloatArray], FloatArray],
@@ -466,3 +484,20 @@ class Identifier:
                 self.prior[i] = self.theta[i]
                 self.prior_std[i] = math.hypot(float(self.theta_std[i]), DRIFT[k])
                 self.theta_std[i] = self.prior_std[i]
+
+
+def _huber(r: FloatArray) -> FloatArray:
+    """Residuals ``(N, 2)`` in noise sigmas, rescaled so that their squares sum to Huber's
+    loss (a sighting's squared distance up to :data:`HUBER`, linear beyond).
+
+    Examples
+    --------
+    >>> _huber(np.array([[0.0, 2.0], [0.0, 5.0]])).tolist()
+    [[0.0, 2.0], [0.0, 4.58257569495584]]
+    """
+    d = np.hypot(r[:, 0], r[:, 1])
+    far = d > HUBER
+    scale = np.ones_like(d)
+    scale[far] = np.sqrt(2.0 * HUBER * d[far] - HUBER * HUBER) / d[far]
+    return r * scale[:, None]
+
