@@ -124,10 +124,14 @@ class RuleEngine(Protocol):
     """
 
     halted: bool
-    decisions: int
     stop_reason: StopReason | None
     warnings: list[str]
     files: list[str]
+
+    @property
+    def decisions(self) -> int:
+        """Decision phases run so far."""
+        ...
 
     @property
     def operator_count(self) -> int:
@@ -136,6 +140,10 @@ class RuleEngine(Protocol):
 
     def load_file(self, path: str | os.PathLike[str]) -> LoadedRules:
         """Load an agent file (and the files it sources)."""
+        ...
+
+    def load_text(self, text: str, file: str = "<string>") -> LoadedRules:
+        """Load agent text; errors name ``file``."""
         ...
 
     def run(self, max_decisions: int | None = None, *, footer: bool = True) -> RunReport:
@@ -164,6 +172,11 @@ class RuleEngine(Protocol):
 
     def on_write(self, callback: Callable[[str], None]) -> None:
         """Call ``callback(text)`` with the text of every ``(write ...)``."""
+        ...
+
+    @property
+    def goals(self) -> list[Identifier]:
+        """The goal stack's state identifiers, top first."""
         ...
 
     def print_state(self, ident: object = None, depth: int = 1) -> str:

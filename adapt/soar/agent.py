@@ -40,10 +40,14 @@ True
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
+import signal
+import tempfile
+import threading
 import time
-from typing import Any, Callable
+from typing import Any, Callable, Iterator
 
 from adapt.engine.io import OutputView
 from adapt.engine.report import RunReport
@@ -108,6 +112,11 @@ def _shown(path: str, top: str, given: str) -> str:
     return path if rel.startswith("..") else rel
 
 
+def _line_of(text: str, line: int) -> str | None:
+    lines = text.splitlines()
+    return lines[line - 1] if 1 <= line <= len(lines) else None
+
+
 def _source_line(path: str, line: int) -> str | None:
     try:
         with open(path, encoding="utf-8", errors="replace") as f:
@@ -151,7 +160,6 @@ class SoarAgent:
         self.seed = seed
         self.history = history
         self.halted = False
-        self.decisions = 0
         self.stop_reason: StopReason | None = None
         self.warnings: list[str] = []
         self.files: list[str] = []
@@ -167,6 +175,7 @@ class SoarAgent:
         self._inputs: list[Callable[[Any], None]] = []
         self._outputs: list[Callable[[OutputView], None]] = []
         self._last_output: dict[tuple[Any, ...], WME] = {}
+        self._interrupted = 0
         reply = self.process.request(("config", [f"decide set-random-seed {seed}", "trace 1",
                                                  "trace --wmes", "init-soar",
                                                  *self._trace_commands]))
@@ -188,6 +197,11 @@ class SoarAgent:
         return found if isinstance(found, Identifier) else self.symbols.identifier(default)
 
     # -- what the interface asks -----------------------------------------------------------
+
+    @property
+    def decisions(self) -> int:
+        """Decision phases run so far (while a run is being read: as far as it has been read)."""
+        return self.recorder.d
 
     @property
     def operator_count(self) -> int:
@@ -218,6 +232,9 @@ class SoarAgent:
         if not os.path.isfile(top):
             why = "is a directory" if os.path.isdir(top) else "No such file or directory"
             raise RuleError(f"cannot read rule file: {why}", file=given)
+        return self._source(top, given)
+
+    def _source(self, top: str, given: str) -> SoarRules:
         reply = self.process.request(("source", f"source {_quote(top)}", self._trace_commands))
         _kind, ok, text, added, xml = reply
         for x in xml:
@@ -229,6 +246,24 @@ class SoarAgent:
         self.warnings.extend(warnings)
         self.files.append(given)
         return SoarRules(tuple(added), (given,), warnings)
+
+    def load_text(self, text: str, file: str = "<string>") -> SoarRules:
+        """Load agent text (productions and commands), as :meth:`load_file` loads a file;
+        errors name ``file``.  (The kernel reads it from a temporary file: a
+        ``source`` in it is relative to that file's folder.)"""
+        with tempfile.TemporaryDirectory(prefix="adapt-soar-") as folder:
+            path = os.path.join(folder, "agent.soar")
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(text)
+            try:
+                rules = self._source(path, file)
+            except RuleError as exc:
+                if os.path.abspath(exc.file) != path and exc.file != file:
+                    raise
+                raise RuleError(exc.message, file=file, line=exc.line, col=exc.col,
+                                source_line=_line_of(text, exc.line)) from None
+        self.files.pop()
+        return SoarRules(rules.productions, (), rules.warnings)
 
     def _load_error(self, text: str, top: str, given: str) -> RuleError:
         where = _LOCATION.search(text)
@@ -261,6 +296,12 @@ class SoarAgent:
         if not ok:
             raise EngineError(f"the Soar kernel refused {line!r}: {text.strip()}")
         return str(text)
+
+    @property
+    def goals(self) -> list[Identifier]:
+        """The goal stack's state identifiers, top first (the kernel's ``print --stack``)."""
+        text = self.command("print --stack --states")
+        return [self.symbols.identifier(m) for m in re.findall(r"==>S: (\S+)", text)]
 
     def print_state(self, ident: object = None, depth: int = 1) -> str:
         """Working memory under ``ident`` (the top state by default), as Soar's ``print --depth``."""
@@ -318,14 +359,43 @@ class SoarAgent:
 
     def _run(self, n: int | None) -> None:
         self.recorder.goal_depth_exceeded = False
+        self._interrupted = 0
         self.process.send(("run", None if n is None else max(n, 1), bool(self._inputs),
                            bool(self._outputs)))
+        with self._ctrl_c():
+            try:
+                info = self._pump(stopping=False)
+            except BaseException:
+                self._stop()
+                raise
+        self._finish(info, n)
+        if self._interrupted:
+            raise KeyboardInterrupt
+
+    @contextlib.contextmanager
+    def _ctrl_c(self) -> Iterator[None]:
+        """While the kernel runs, Ctrl-C asks it to stop (a second one ends its process);
+        the run ends, everything it reported is read, then KeyboardInterrupt is raised."""
+        if threading.current_thread() is not threading.main_thread():
+            yield
+            return
+
+        def interrupt(_signum: int, _frame: object) -> None:
+            self._interrupted += 1
+            if self._interrupted == 1:
+                self.process.stop()
+            else:
+                self.process.kill()
+
+        previous = signal.signal(signal.SIGINT, interrupt)
         try:
-            info = self._pump(stopping=False)
-        except BaseException:
-            self._stop()
-            raise
-        self.decisions = int(info["decisions"])
+            yield
+        finally:
+            signal.signal(signal.SIGINT, previous)
+
+    def _finish(self, info: dict[str, Any], n: int | None) -> None:
+        """What the kernel said when its run ended: decisions, halt, counters, stop reason."""
+        self.recorder.d = int(info["decisions"])
         self.halted = bool(info["halted"])
         self._stats = {k: int(v) for k, v in info.items() if k in
                        ("production_firings", "elaboration_cycles", "wm_size")}
@@ -349,9 +419,8 @@ class SoarAgent:
             if kind == "xml":
                 for xml in message[1]:
                     recorder.feed(xml)
-                self.decisions = recorder.d
             elif kind == "input":
-                if stopping:
+                if stopping or self._interrupted:
                     process.send(("abort",))
                 else:
                     self._input(int(message[1]))
@@ -361,28 +430,28 @@ class SoarAgent:
                     if ident is not None:
                         self.symbols.bind(ident, name)
             elif kind == "output":
-                self._output(int(message[1]), message[2], call=not stopping)
+                self._output(int(message[1]), message[2], call=not (stopping or self._interrupted))
             elif kind == "done":
                 return dict(message[1])
             elif kind == "error":
                 raise EngineError(f"the Soar engine failed: {message[1]}")
 
     def _stop(self) -> None:
-        """After an error or Ctrl-C here: stop the kernel's run and read what it did."""
+        """After an error here (a callback raised): stop the kernel's run and read what it did."""
         if self.process.dead is not None:
             return
         self.process.stop()
         try:
             info = self._pump(stopping=True)
-        except (EngineError, KeyboardInterrupt):
+        except EngineError:
             return
-        self.decisions = int(info["decisions"])
-        self.halted = bool(info["halted"])
+        self._finish(info, None)
+        self.stop_reason = "interrupted"
 
     def _input(self, decision: int) -> None:
         writer = self.writer
         writer.begin(decision)
-        self.decisions = decision
+        self.recorder.d = decision
         try:
             for callback in self._inputs:
                 callback(writer)

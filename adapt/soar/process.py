@@ -27,7 +27,10 @@ from typing import Any, BinaryIO
 
 from adapt.errors import AdaptError, EngineError
 
-__all__ = ["KernelProcess", "KernelCrash", "require_soar", "INSTALL_HINT"]
+__all__ = ["KernelProcess", "KernelCrash", "require_soar", "INSTALL_HINT", "WORKER"]
+
+#: The worker script (:mod:`adapt.soar.worker`), run as ``python -I WORKER FD_IN FD_OUT``.
+WORKER = Path(__file__).resolve().with_name("worker.py")
 
 #: What to install for ``--engine soar``.
 INSTALL_HINT = "pip install 'adapt[soar]' (the soar-sml package, Soar 9.6)"
@@ -90,15 +93,12 @@ class KernelProcess:
         require_soar()
         r_child, w_parent = os.pipe()
         r_parent, w_child = os.pipe()
-        root = str(Path(__file__).resolve().parents[2])
-        env = dict(os.environ)
-        env["PYTHONPATH"] = os.pathsep.join([root] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
         self.log: BinaryIO = tempfile.TemporaryFile()  # noqa: SIM115 (closed by close())
-        try:
+        try:  # the worker is a script of the standard library and soar_sml: run it by its path
             self.proc = subprocess.Popen(
-                [sys.executable, "-m", "adapt.soar.worker", str(r_child), str(w_child)],
+                [sys.executable, "-I", str(WORKER), str(r_child), str(w_child)],
                 pass_fds=(r_child, w_child), stdin=subprocess.DEVNULL, stdout=self.log,
-                stderr=self.log, env=env, start_new_session=True)
+                stderr=self.log, start_new_session=True)
         finally:
             os.close(r_child)
             os.close(w_child)
@@ -139,6 +139,11 @@ class KernelProcess:
         """Ask a running agent to stop (after its current phase)."""
         if self.dead is None and self.proc.poll() is None:
             os.kill(self.pid, signal.SIGUSR1)
+
+    def kill(self) -> None:
+        """End the process at once (a second Ctrl-C)."""
+        if self.proc.poll() is None:
+            self.proc.kill()
 
     def _died(self) -> KernelCrash:
         try:

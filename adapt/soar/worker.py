@@ -1,7 +1,8 @@
 """The Soar kernel's process: the only module that imports ``soar_sml``.
 
-:class:`adapt.soar.SoarAgent` starts ``python -m adapt.soar.worker FD_IN
-FD_OUT`` and talks to it over two pipes (:mod:`multiprocessing.connection`:
+:class:`adapt.soar.SoarAgent` runs this file as a script (``python -I
+worker.py FD_IN FD_OUT``: it imports only the standard library and
+``soar_sml``) and talks to it over two pipes (:mod:`multiprocessing.connection`:
 length-prefixed pickles of plain tuples).  The worker makes one kernel in its
 own thread (``Kernel.CreateKernelInCurrentThread``, no listener port) and one
 agent, and answers requests one at a time:
@@ -321,9 +322,22 @@ class Worker:
         self.send(("done", info))
 
 
+def _die_with_parent() -> None:
+    """On Linux, have the kernel's process killed when adapt's process ends."""
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None)
+        libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
 def main(argv: list[str]) -> int:
-    """``python -m adapt.soar.worker FD_IN FD_OUT``."""
+    """``python -I worker.py FD_IN FD_OUT``."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        _die_with_parent()
     rx = Connection(int(argv[1]), writable=False)
     tx = Connection(int(argv[2]), readable=False)
     try:
