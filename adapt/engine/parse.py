@@ -45,6 +45,7 @@ from adapt.engine.commands import (
     Chunking,
     Command,
     CommandSyntaxError,
+    ON_SOAR,
     Popd,
     Pushd,
     Refusal,
@@ -336,7 +337,8 @@ class _Parser:
             flag = self.advance()
             if flag.text in _UNSUPPORTED_FLAGS and flag.text not in self.flags:
                 raise self.semantic(
-                    f"the flag '{flag.text}' is not supported: {_UNSUPPORTED_FLAGS[flag.text]}",
+                    f"the flag '{flag.text}' is not supported: {_UNSUPPORTED_FLAGS[flag.text]}; "
+                    f"{ON_SOAR}",
                     flag,
                 )
             known = self.flags.get(flag.text)
