@@ -57,7 +57,7 @@ from adapt.engine.vocabulary import StopReason
 from adapt.engine.wme import WME
 from adapt.errors import EngineError, RuleError
 from adapt.soar.inputlink import SoarInputWriter
-from adapt.soar.process import KernelProcess
+from adapt.soar.process import KernelCrash, KernelProcess
 from adapt.soar.recorder import KernelRecorder, Symbols, trace_header
 
 __all__ = ["SoarAgent", "SoarRules", "trace_commands"]
@@ -337,6 +337,8 @@ class SoarAgent:
         """
         if max_decisions is not None and max_decisions < 0:
             raise EngineError("max_decisions must be >= 0")
+        if self.process.dead is not None:
+            raise KernelCrash(self.process.dead)
         self._open_trace()
         started = time.perf_counter()
         if not self.halted:

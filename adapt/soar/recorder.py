@@ -184,6 +184,7 @@ class KernelRecorder:
         self._decision: dict[str, Any] | None = None
         self._items: list[WME] = []
         self._inst: _Instantiation | None = None
+        self._ended = False  # a phase ended, its record not yet written
         self._wme_for: str | None = None  # "add"/"remove": the next <wme> is that change
         self._prefs_seen: set[tuple[tuple[str, str], ...]] = set()
 
@@ -230,15 +231,22 @@ class KernelRecorder:
             self._items = []
         self.phase = phase
         if self.writer is not None:
+            if self._ended:
+                self.writer.end_phase()
+            self._ended = False
             self.writer.begin_phase(self.d, phase)
 
     def _end_phase(self, phase: str) -> None:
+        """A phase ended.  Its record is written when the next phase begins (or the
+        trace ends): what the kernel reports between the two -- the messages and
+        printed errors of a halt -- belongs to it."""
         self.phase = None
         writer = self.writer
         if writer is None:
             return
-        writer.end_phase()
+        self._ended = True
         if phase == "decision":
+            self._ended = False
             record = self._decision or {"d": self.d, "level": None, "selected": None,
                                         "impasse": None}
             impasse = record.get("impasse")

@@ -27,7 +27,8 @@ request                         reply
 ==============================  ===============================================
 
 The XML trace (``smlEVENT_XML_TRACE_OUTPUT``) is passed on as the raw strings
-the kernel sends -- :mod:`adapt.soar.recorder` reads them -- in batches: at
+the kernel sends (with the ``Error`` lines of the printed trace, which the XML
+trace lacks, as ``<error>`` elements) -- :mod:`adapt.soar.recorder` reads them -- in batches: at
 most :data:`FLUSH_S` seconds old, and always before an input request and at
 the end of a run.  ``SIGUSR1`` asks a running agent to stop
 (``StopSelf``); ``SIGINT`` is ignored (the parent handles Ctrl-C).  When the
@@ -60,6 +61,11 @@ _STATS = {
 }
 
 
+def _escape(text: str) -> str:
+    return (text.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
+            .replace(">", "&gt;"))
+
+
 def _stats(text: str) -> dict[str, int]:
     out = {}
     for key, pattern in _STATS.items():
@@ -86,6 +92,7 @@ class Worker:
         if self.agent is None:
             raise RuntimeError("could not create a Soar agent: " + self.kernel.GetLastErrorDescription())
         self.xml: list[str] = []
+        self.errors: list[str] = []
         self.last_flush = time.perf_counter()
         self.stop_requested = False
         self.running = False
@@ -100,6 +107,7 @@ class Worker:
         self.output: dict[int, tuple[Any, ...]] = {}
         agent = self.agent
         agent.RegisterForXMLEvent(soar_sml.smlEVENT_XML_TRACE_OUTPUT, self.on_xml, None)
+        agent.RegisterForPrintEvent(soar_sml.smlEVENT_PRINT, self.on_print, None)
         agent.RegisterForRunEvent(soar_sml.smlEVENT_BEFORE_INPUT_PHASE, self.on_input, None)
         agent.RegisterForRunEvent(soar_sml.smlEVENT_AFTER_INPUT_PHASE, self.after_input, None)
         agent.RegisterForRunEvent(soar_sml.smlEVENT_AFTER_DECISION_CYCLE, self.after_cycle, None)
@@ -124,10 +132,28 @@ class Worker:
 
     def on_xml(self, _event: int, _data: object, _agent: object, xml: Any) -> None:
         self.xml.append(xml.GenerateXMLString(True))
+        self.attach_errors()
         if time.perf_counter() - self.last_flush > FLUSH_S:
             self.flush()
         if self.stop_requested and self.running:
             self.agent.StopSelf()
+
+    def on_print(self, _event: int, _data: object, _agent: object, text: str) -> None:
+        """The printed trace: only its errors are kept, those the XML trace lacks (an RHS
+        function's ``Error: ...``), as ``<error>`` elements after the cycle's XML."""
+        if "Error" not in text:
+            return
+        for line in text.splitlines():
+            if line.startswith("Error"):
+                self.errors.append(f'<trace><error string="{_escape(line)}"></error></trace>')
+
+    def attach_errors(self) -> None:
+        """Put the printed errors after the XML of their decision cycle (the kernel flushes
+        the printed trace after the XML at the end of a cycle, but before it when a run
+        stops: both reach here before the next cycle's XML)."""
+        if self.errors:
+            self.xml.extend(self.errors)
+            self.errors = []
 
     def on_stop(self, _signum: int, _frame: object) -> None:
         self.stop_requested = True
@@ -165,6 +191,7 @@ class Worker:
         self.send(("ids", names))
 
     def after_cycle(self, _event: int, _data: object, agent: Any, _phase: object) -> None:
+        self.attach_errors()
         if self.want_output and agent.GetNumberOutputLinkChanges() > 0:
             agent.ClearOutputLinkChanges()
             self.send_output(agent)
@@ -310,6 +337,7 @@ class Worker:
         finally:
             self.running = False
         seconds = time.perf_counter() - started
+        self.attach_errors()
         if want_output and agent.GetNumberOutputLinkChanges() > 0:
             agent.ClearOutputLinkChanges()
             self.send_output(agent)

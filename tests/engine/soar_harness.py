@@ -126,6 +126,11 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float,
             elif el.tag in ("message", "warning", "error"):
                 events.append({"t": "msg", "text": a.get("string", el.text or "")})
 
+    def on_print(_eid: int, _data: object, _agent: object, text: str) -> None:
+        # a rule's run-time errors are printed only (not in the XML trace)
+        events.extend({"t": "msg", "text": line} for line in text.splitlines()
+                      if line.startswith("Error"))
+
     def on_halt(*_args: object) -> None:
         flags["halted"] = True
 
@@ -135,6 +140,7 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float,
             ag.StopSelf()
 
     agent.RegisterForXMLEvent(soar_sml.smlEVENT_XML_TRACE_OUTPUT, on_xml, None)
+    agent.RegisterForPrintEvent(soar_sml.smlEVENT_PRINT, on_print, None)
     agent.RegisterForRunEvent(soar_sml.smlEVENT_AFTER_HALTED, on_halt, None)
     agent.RegisterForRunEvent(soar_sml.smlEVENT_AFTER_DECISION_CYCLE, on_after_dc, None)
     # XML trace events arrive in batches; phase markers in the stream date the writes.

@@ -11,6 +11,7 @@ always what Soar does in the same test run, never a stored answer.
 from __future__ import annotations
 
 import warnings
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
@@ -102,7 +103,9 @@ def test_the_soar_engine_gives_the_kernels_own_report(agent_file: Path, trace_le
     difference = first_difference(soar, ours)
     assert difference is None, f"{_file_id(agent_file)} (soar engine): {difference}"
     assert ours["production_firings"] == soar["production_firings"]
-    assert ours["messages"] == soar["messages"]
+    # the same messages (a printed error and the XML trace's messages of one decision
+    # cycle may reach the two in another order)
+    assert Counter(ours["messages"]) == Counter(soar["messages"])
 
 
 @requires_soar
