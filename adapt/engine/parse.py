@@ -42,10 +42,10 @@ from dataclasses import dataclass
 from typing import Union
 
 from adapt.engine.commands import (
+    ON_SOAR,
     Chunking,
     Command,
     CommandSyntaxError,
-    ON_SOAR,
     Popd,
     Pushd,
     Refusal,

@@ -8,6 +8,7 @@ from typing import Any, Callable, Iterator
 import pytest
 
 from adapt.engines import make_agent
+
 from both_engines import ENGINES
 
 

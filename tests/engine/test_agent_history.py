@@ -8,7 +8,6 @@ from typing import Any, Callable
 
 import pytest
 
-from adapt.engine import Agent
 from adapt.errors import EngineError
 
 Make = Callable[..., Any]

@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import Any, Callable
 
 from adapt.engine import Agent
+
 from both_engines import values_of
 
 Make = Callable[..., Any]

@@ -13,6 +13,7 @@ import pytest
 from adapt.engine import OutputView
 from adapt.engine.interface import InputLink
 from adapt.errors import EngineError
+
 from both_engines import values_of
 
 Make = Callable[..., Any]
