@@ -363,7 +363,7 @@ class SoarAgent:
         self.recorder.goal_depth_exceeded = False
         self._interrupted = 0
         self.process.send(("run", None if n is None else max(n, 1), bool(self._inputs),
-                           bool(self._outputs)))
+                           bool(self._outputs), self.tracer is not None))
         with self._ctrl_c():
             try:
                 info = self._pump(stopping=False)

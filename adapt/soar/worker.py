@@ -7,28 +7,25 @@ length-prefixed pickles of plain tuples).  The worker makes one kernel in its
 own thread (``Kernel.CreateKernelInCurrentThread``, no listener port) and one
 agent, and answers requests one at a time:
 
-==============================  ===============================================
-request                         reply
-==============================  ===============================================
-``("config", commands)``        runs each command (``decide set-random-seed``,
-                                ``trace ...``, ``init-soar`` so that the top
-                                state's WMEs appear in the XML trace):
-                                ``("ready", info, xml)``
-``("source", path, trace)``     ``source "path"``, then the trace commands
-                                again (an agent's own ``watch 0`` must not
-                                hide what the report needs):
-                                ``("sourced", ok, text, added names, xml)``
-``("command", line)``           ``("result", ok, text)``
-``("run", n, input, output)``   streams ``("xml", [raw, ...])``, ``("input",
-                                d)`` (then waits for ``("ops", ops)``),
-                                ``("ids", {client: kernel})``, ``("output", d,
-                                wmes)``; ends with ``("done", info)``
-``("quit",)``                   exits
-==============================  ===============================================
+* ``("config", commands)``: runs each command (``decide set-random-seed``,
+  ``trace ...``, ``init-soar`` so that the top state's WMEs appear in the XML
+  trace); replies ``("ready", info, xml)``;
+* ``("source", line, trace commands)``: ``source "path"``, then the trace
+  commands again (an agent's own ``watch 0`` must not hide what the report
+  needs); replies ``("sourced", ok, text, added names, xml)``;
+* ``("command", line)``: replies ``("result", ok, text)``;
+* ``("run", n, input, output, tracing)``: streams ``("xml", [raw, ...])``,
+  ``("input", d)`` (then waits for ``("ops", ops)`` or ``("abort",)``),
+  ``("ids", {number: kernel name})``, ``("output", d, wmes)``; ends with
+  ``("done", info)``.  The run-event callbacks a run does not need (input,
+  output-link change tracking, the end of each cycle) are not registered:
+  each costs every decision;
+* ``("quit",)``: exits.
 
 The XML trace (``smlEVENT_XML_TRACE_OUTPUT``) is passed on as the raw strings
 the kernel sends (with the ``Error`` lines of the printed trace, which the XML
-trace lacks, as ``<error>`` elements) -- :mod:`adapt.soar.recorder` reads them -- in batches: at
+trace lacks, as ``<error>`` elements) -- :mod:`adapt.soar.recorder` reads
+them -- in batches: at
 most :data:`FLUSH_S` seconds old, and always before an input request and at
 the end of a run.  ``SIGUSR1`` asks a running agent to stop
 (``StopSelf``); ``SIGINT`` is ignored (the parent handles Ctrl-C).  When the
@@ -108,10 +105,9 @@ class Worker:
         agent = self.agent
         agent.RegisterForXMLEvent(soar_sml.smlEVENT_XML_TRACE_OUTPUT, self.on_xml, None)
         agent.RegisterForPrintEvent(soar_sml.smlEVENT_PRINT, self.on_print, None)
-        agent.RegisterForRunEvent(soar_sml.smlEVENT_BEFORE_INPUT_PHASE, self.on_input, None)
-        agent.RegisterForRunEvent(soar_sml.smlEVENT_AFTER_INPUT_PHASE, self.after_input, None)
-        agent.RegisterForRunEvent(soar_sml.smlEVENT_AFTER_DECISION_CYCLE, self.after_cycle, None)
-        agent.SetOutputLinkChangeTracking(True)
+        agent.SetOutputLinkChangeTracking(False)
+        #: the callbacks registered only while a run needs them (each costs every decision)
+        self.registered: dict[str, list[int]] = {}
         signal.signal(signal.SIGUSR1, self.on_stop)
 
     # -- sending ---------------------------------------------------------------------
@@ -318,13 +314,38 @@ class Worker:
                 ok, text = self.command(request[1])
                 self.send(("result", ok, text))
             elif kind == "run":
-                self.run(request[1], request[2], request[3])
+                self.run(request[1], request[2], request[3], request[4])
             else:
                 self.send(("error", f"unknown request {kind!r}"))
 
-    def run(self, n: int | None, want_input: bool, want_output: bool) -> None:
+    def need(self, what: str, wanted: bool) -> None:
+        """Register the callbacks of ``what`` (``input``, ``output``, ``cycle``) when a run
+        needs them, unregister them when it does not."""
+        sml, agent = self.sml, self.agent
+        if wanted == (what in self.registered):
+            return
+        if not wanted:
+            for ident in self.registered.pop(what):
+                agent.UnregisterForRunEvent(ident)
+            if what == "output":
+                agent.SetOutputLinkChangeTracking(False)
+            return
+        if what == "input":
+            self.registered[what] = [
+                agent.RegisterForRunEvent(sml.smlEVENT_BEFORE_INPUT_PHASE, self.on_input, None),
+                agent.RegisterForRunEvent(sml.smlEVENT_AFTER_INPUT_PHASE, self.after_input, None)]
+        else:  # output, and the end of each cycle (printed errors after the cycle's XML)
+            self.registered[what] = [
+                agent.RegisterForRunEvent(sml.smlEVENT_AFTER_DECISION_CYCLE, self.after_cycle, None)]
+            if what == "output":
+                agent.SetOutputLinkChangeTracking(True)
+
+    def run(self, n: int | None, want_input: bool, want_output: bool, tracing: bool) -> None:
         agent = self.agent
         self.want_input, self.want_output = want_input, want_output
+        self.need("input", want_input)
+        self.need("output", want_output)
+        self.need("cycle", tracing and not want_output)
         self.stop_requested = False
         self.running = True
         before = agent.GetDecisionCycleCounter()
