@@ -91,3 +91,28 @@ def test_diff_finds_where_two_soar_runs_part(tmp_path: Path,
     out = capsys.readouterr().out
     assert "the traces diverge at decision cycle 2: apply phase, output" in out
     assert "^epmem" not in out and "engine" not in out  # one engine: all of memory compared
+
+
+@pytest.mark.browser
+def test_the_viewer_names_the_engine_and_what_its_trace_lacks(
+        water_jug: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import os
+
+    if not os.path.exists("/usr/bin/chromium"):
+        pytest.skip("/usr/bin/chromium is missing (apt-get install chromium)")
+    sync_api = pytest.importorskip("playwright.sync_api")
+    page_path = tmp_path / "wj.html"
+    assert main(["trace", "html", str(water_jug), "--out", str(page_path)]) == 0
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path="/usr/bin/chromium",
+                                    args=["--headless", "--no-sandbox", "--disable-gpu"])
+        page = browser.new_page()
+        page.goto(page_path.as_uri())
+        page.wait_for_selector("#run-summary b")
+        summary = page.inner_text("#run-summary")
+        notice = page.inner_text("#notices")
+        firings = page.inner_text("body")
+        browser.close()
+    assert "engine soar (Soar 9.6" in summary
+    assert notice.startswith("Not in this trace (the engine does not report them): firings.bindings")
+    assert "water-jug*propose*initialize" in firings
