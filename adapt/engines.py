@@ -80,7 +80,7 @@ def soar_status() -> str:
     try:
         require_soar()
     except AdaptError:
-        return f"not installed ({INSTALL_HINT})"
+        return f"not installed: {INSTALL_HINT}"
     try:
         return f"soar-sml {metadata.version('soar-sml')}"
     except metadata.PackageNotFoundError:

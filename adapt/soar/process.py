@@ -33,7 +33,7 @@ __all__ = ["KernelProcess", "KernelCrash", "require_soar", "INSTALL_HINT", "WORK
 WORKER = Path(__file__).resolve().with_name("worker.py")
 
 #: What to install for ``--engine soar``.
-INSTALL_HINT = "pip install 'adapt[soar]' (the soar-sml package, Soar 9.6)"
+INSTALL_HINT = "pip install 'adapt[soar]' (soar-sml, Soar 9.6)"
 
 
 class KernelCrash(EngineError):

@@ -62,7 +62,7 @@ def test_without_soar_sml_it_says_which_extra_to_install(
     assert main(["rules", "run", str(WATER_JUG), "--engine", "soar"]) == 1
     err = capsys.readouterr().err
     assert err == ("adapt: error: the Soar engine needs the Soar kernel, which is not installed: "
-                   "pip install 'adapt[soar]' (the soar-sml package, Soar 9.6)\n")
+                   "pip install 'adapt[soar]' (soar-sml, Soar 9.6)\n")
 
 
 def test_a_rule_the_kernel_rejects_is_an_error_with_file_and_line(

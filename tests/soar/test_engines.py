@@ -40,4 +40,4 @@ def test_the_soar_engine_is_a_rule_engine() -> None:
 
 def test_soar_status_says_what_to_install_when_it_is_missing(monkeypatch: Any) -> None:
     monkeypatch.setitem(sys.modules, "soar_sml", None)
-    assert soar_status() == "not installed (pip install 'adapt[soar]' (the soar-sml package, Soar 9.6))"
+    assert soar_status() == "not installed: pip install 'adapt[soar]' (soar-sml, Soar 9.6)"
