@@ -176,12 +176,10 @@ class SoarAgent:
         self._outputs: list[Callable[[OutputView], None]] = []
         self._last_output: dict[tuple[Any, ...], WME] = {}
         self._interrupted = 0
-        reply = self.process.request(("config", [f"decide set-random-seed {seed}", "trace 1",
-                                                 "trace --wmes", "init-soar",
+        reply = self.process.request(("config", [f"decide set-random-seed {seed}",
                                                  *self._trace_commands]))
         self.kernel = f"Soar {reply[1]['kernel']}"
-        for xml in reply[2]:
-            self.recorder.feed(xml)
+        self.recorder.existing(reply[2])
         self.recorder.track_wmes = trace is not None and trace_level >= 3
         top = next((w.id for w in self.recorder.wm.values() if w.attr == "superstate"
                     and w.value == "nil"), None)

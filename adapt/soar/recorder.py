@@ -195,6 +195,19 @@ class KernelRecorder:
         """Everything ``(write)`` printed (the most recent ``history`` writes)."""
         return "".join(self._output)
 
+    def existing(self, xml: str) -> None:
+        """The WMEs that exist before the first phase, as ``<wme>`` elements (the kernel's
+        ``print --internal``); the state with ``^superstate nil`` is the top state."""
+        s = self.symbols
+        for name, a in tags(xml):
+            if name != "wme" or "id" not in a:
+                continue
+            w = WME(s.identifier(a["id"]), a.get("attr", ""), s.value(a.get("value", ""), a.get("valtype")),
+                    a.get("preference") == "+", _int(a.get("tag"), 0))
+            self.wm[w.timetag] = w
+            if w.attr == "superstate" and w.value == "nil" and type(w.id) is Identifier:
+                self.levels[w.id] = 0
+
     def attach(self, writer: TraceWriter) -> None:
         """Write the trace to ``writer`` from now on; the WMEs that exist are the
         first phase's adds."""

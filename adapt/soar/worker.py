@@ -8,8 +8,8 @@ own thread (``Kernel.CreateKernelInCurrentThread``, no listener port) and one
 agent, and answers requests one at a time:
 
 * ``("config", commands)``: runs each command (``decide set-random-seed``,
-  ``trace ...``, ``init-soar`` so that the top state's WMEs appear in the XML
-  trace); replies ``("ready", info, xml)``;
+  ``trace ...``); replies ``("ready", info, xml)`` with the WMEs that exist
+  (the top state's structure) as ``<wme>`` elements;
 * ``("source", line, trace commands)``: ``source "path"``, then the trace
   commands again (an agent's own ``watch 0`` must not hide what the report
   needs); replies ``("sourced", ok, text, added names, xml)``;
@@ -281,6 +281,14 @@ class Worker:
         text = self.agent.ExecuteCommandLine(line)
         return bool(self.agent.GetLastCommandLineResult()), text
 
+    def state_xml(self) -> str:
+        """The WMEs that exist (the top state's structure) as the kernel's XML: ``<wme>``
+        elements of ``print --internal``, read without running ``init-soar`` (which would
+        change what the kernel names its chunks)."""
+        response = self.sml.ClientAnalyzedXML()
+        self.agent.ExecuteCommandLineXML("print --internal --depth 1000 S1", response)
+        return str(response.GenerateXMLString(True))
+
     def productions(self) -> list[str]:
         _ok, text = self.command("print --all")
         return [line.split()[0] for line in text.splitlines() if line.strip()]
@@ -300,8 +308,8 @@ class Worker:
                 link = self.agent.GetInputLink()
                 self.ids = {link.GetValueAsString(): link}
                 info = {"kernel": self.kernel.GetSoarKernelVersion(), "pid": os.getpid()}
-                xml, self.xml = self.xml, []
-                self.send(("ready", info, xml))
+                self.xml = []
+                self.send(("ready", info, self.state_xml()))
             elif kind == "source":
                 before = set(self.productions())
                 ok, text = self.command(request[1])

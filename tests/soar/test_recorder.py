@@ -169,3 +169,13 @@ def test_symbols_are_one_object_per_name_and_typed_values() -> None:
     assert s.identifier("O3") is s.identifier("O3")
     assert s.value("3", "int") == 3 and type(s.value("3.5", "double")).__name__ == "Float"
     assert s.value("abc", "string") == "abc" and s.value("x", "int") == "x"
+
+
+def test_the_existing_wmes_come_from_the_kernels_print() -> None:
+    rec = KernelRecorder(Symbols())
+    rec.existing('<sml><result><wme attr="superstate" id="S1" tag="2" valtype="string" '
+                 'value="nil"></wme><wme attr="io" id="S1" tag="11" valtype="id" value="I1">'
+                 '</wme><arg param="message" type="string">(2: S1 ^superstate nil)</arg>'
+                 '</result></sml>')
+    assert sorted(rec.wm) == [2, 11] and rec.wm[11].value is rec.symbols.identifier("I1")
+    assert rec.levels == {rec.symbols.identifier("S1"): 0}
