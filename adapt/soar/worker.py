@@ -39,11 +39,13 @@ WMEs it made so that it can remove them.
 
 from __future__ import annotations
 
+import html
 import os
 import re
 import signal
 import sys
 import time
+from collections import deque
 from multiprocessing.connection import Connection
 from typing import Any
 
@@ -56,6 +58,10 @@ _STATS = {
     "production_firings": re.compile(r"^(\d+) production firings", re.MULTILINE),
     "wm_size": re.compile(r"^WM size: (\d+) current", re.MULTILINE),
 }
+
+
+_ERROR = re.compile(r"Error:[^\n]*")
+_WRITE = re.compile(r'<rhs_write string="([^"]*)"')
 
 
 def _escape(text: str) -> str:
@@ -90,6 +96,7 @@ class Worker:
             raise RuntimeError("could not create a Soar agent: " + self.kernel.GetLastErrorDescription())
         self.xml: list[str] = []
         self.errors: list[str] = []
+        self.writes: deque[str] = deque(maxlen=256)  # the latest (write) texts
         self.last_flush = time.perf_counter()
         self.stop_requested = False
         self.running = False
@@ -127,7 +134,10 @@ class Worker:
     # -- kernel callbacks ----------------------------------------------------------------
 
     def on_xml(self, _event: int, _data: object, _agent: object, xml: Any) -> None:
-        self.xml.append(xml.GenerateXMLString(True))
+        raw = xml.GenerateXMLString(True)
+        self.xml.append(raw)
+        if "rhs_write" in raw:
+            self.writes.extend(html.unescape(w) for w in _WRITE.findall(raw))
         self.attach_errors()
         if time.perf_counter() - self.last_flush > FLUSH_S:
             self.flush()
@@ -136,20 +146,23 @@ class Worker:
 
     def on_print(self, _event: int, _data: object, _agent: object, text: str) -> None:
         """The printed trace: only its errors are kept, those the XML trace lacks (an RHS
-        function's ``Error: ...``), as ``<error>`` elements after the cycle's XML."""
-        if "Error" not in text:
-            return
-        for line in text.splitlines():
-            if line.startswith("Error"):
-                self.errors.append(f'<trace><error string="{_escape(line)}"></error></trace>')
+        function's ``Error: ...``, printed wherever the line then stands), as ``<error>``
+        elements after the cycle's XML."""
+        if "Error:" in text:
+            self.errors.extend(_ERROR.findall(text))
 
     def attach_errors(self) -> None:
         """Put the printed errors after the XML of their decision cycle (the kernel flushes
         the printed trace after the XML at the end of a cycle, but before it when a run
-        stops: both reach here before the next cycle's XML)."""
-        if self.errors:
-            self.xml.extend(self.errors)
-            self.errors = []
+        stops: both reach here before the next cycle's XML).  A line that is the text of
+        one of the latest ``(write)`` calls (the printed trace holds the writes too) is no
+        error."""
+        if not self.errors:
+            return
+        for line in self.errors:
+            if not any(line in w for w in self.writes):
+                self.xml.append(f'<trace><error string="{_escape(line)}"></error></trace>')
+        self.errors = []
 
     def on_stop(self, _signum: int, _frame: object) -> None:
         self.stop_requested = True

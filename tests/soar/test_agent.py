@@ -112,3 +112,18 @@ def test_a_bad_history_or_trace_level_is_refused() -> None:
         SoarAgent(history=0)
     with pytest.raises(EngineError, match="trace level"):
         SoarAgent(trace="t.jsonl", trace_level=9)
+
+
+def test_a_printed_kernel_error_is_a_message_a_written_one_is_not(soar: SoarAgent) -> None:
+    # the kernel prints an RHS function's error only in its printed trace, right after the
+    # decision line; a (write) is in the printed trace too
+    soar.load_text("""
+sp {propose (state <s> ^superstate nil -^done) --> (<s> ^operator <o> +) (<o> ^name go)}
+sp {apply (state <s> ^operator.name go) --> (write |Error: only a write|) (<s> ^done yes)
+   (<s> ^x (/ 1 0))}
+sp {stop (state <s> ^done yes) --> (halt)}
+""")
+    report = soar.run(5)
+    assert report.output == "Error: only a write"
+    assert "Error: attempt to divide ('/') by zero." in report.messages
+    assert not any("only a write" in m for m in report.messages)
