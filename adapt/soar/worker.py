@@ -60,7 +60,7 @@ _STATS = {
 }
 
 
-_ERROR = re.compile(r"Error:[^\n]*")
+_ERROR = re.compile(r"Error:(?:(?!Error:)[^\n])*")
 _WRITE = re.compile(r'<rhs_write string="([^"]*)"')
 
 
