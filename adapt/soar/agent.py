@@ -176,6 +176,7 @@ class SoarAgent:
         self._outputs: list[Callable[[OutputView], None]] = []
         self._last_output: dict[tuple[Any, ...], WME] = {}
         self._interrupted = 0
+        self._failure: str | None = None  # an input operation the kernel refused
         reply = self.process.request(("config", [f"decide set-random-seed {seed}",
                                                  *self._trace_commands]))
         self.kernel = f"Soar {reply[1]['kernel']}"
@@ -371,6 +372,10 @@ class SoarAgent:
         self._finish(info, n)
         if self._interrupted:
             raise KeyboardInterrupt
+        if self._failure is not None:
+            failure, self._failure = self._failure, None
+            self.stop_reason = "interrupted"
+            raise EngineError(failure)
 
     @contextlib.contextmanager
     def _ctrl_c(self) -> Iterator[None]:
@@ -431,6 +436,9 @@ class SoarAgent:
                         self.symbols.bind(ident, name)
             elif kind == "output":
                 self._output(int(message[1]), message[2], call=not (stopping or self._interrupted))
+            elif kind == "input-error":  # the kernel stops its run: read to its end, then raise
+                self._failure = f"input-link: {message[1]}"
+                stopping = True
             elif kind == "done":
                 return dict(message[1])
             elif kind == "error":
@@ -460,9 +468,6 @@ class SoarAgent:
             self.process.send(("abort",))
             raise
         self.process.send(("ops", writer.end()))
-        reply = self.process.recv()
-        if reply[0] == "input-done" and reply[1]:
-            raise EngineError(f"input-link: {reply[1]}")
 
     def _output(self, decision: int, wmes: list[tuple[Any, ...]], call: bool) -> None:
         s = self.symbols

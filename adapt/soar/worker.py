@@ -15,7 +15,8 @@ agent, and answers requests one at a time:
   needs); replies ``("sourced", ok, text, added names, xml)``;
 * ``("command", line)``: replies ``("result", ok, text)``;
 * ``("run", n, input, output, tracing)``: streams ``("xml", [raw, ...])``,
-  ``("input", d)`` (then waits for ``("ops", ops)`` or ``("abort",)``),
+  ``("input", d)`` (then waits for ``("ops", ops)`` or ``("abort",)``; an op the
+  kernel refuses stops the run with ``("input-error", why)``),
   ``("ids", {number: kernel name})``, ``("output", d, wmes)``; ends with
   ``("done", info)``.  The run-event callbacks a run does not need (input,
   output-link change tracking, the end of each cycle) are not registered:
@@ -184,7 +185,10 @@ class Worker:
             return
         error = self.apply(request[1])
         agent.Commit()
-        self.send(("input-done", error))
+        if error is not None:  # no reply otherwise: the parent does not wait for one
+            self.stop_requested = True
+            agent.StopSelf()
+            self.send(("input-error", error))
 
     def after_input(self, _event: int, _data: object, agent: Any, _phase: object) -> None:
         if not self.unnamed:

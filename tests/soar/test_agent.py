@@ -127,3 +127,24 @@ sp {stop (state <s> ^done yes) --> (halt)}
     assert report.output == "Error: only a write"
     assert "Error: attempt to divide ('/') by zero." in report.messages
     assert not any("only a write" in m for m in report.messages)
+
+
+def test_writing_under_a_removed_input_structure_stops_the_run_with_an_error(
+        soar: SoarAgent) -> None:
+    made: dict[str, Any] = {}
+
+    def sense(w: Any) -> None:
+        if w.decision == 0:
+            made["thing"] = w.new_id("T")
+            w.add(w.input_link, "thing", made["thing"])
+        elif w.decision == 1:
+            w.remove(w.input_link, "thing", made["thing"])
+        elif w.decision == 2:
+            w.add(made["thing"], "late", 1)  # SML has no such identifier any more
+
+    soar.on_input(sense)
+    with pytest.raises(EngineError, match="input-link: identifier T1 is not on the input-link"):
+        soar.run(10)
+    report = soar.report()
+    assert report.stop_reason == "interrupted" and report.decisions >= 3
+    assert soar.run(1).decisions == report.decisions + 1  # the kernel is still there
