@@ -170,7 +170,7 @@ class SoarAgent:
         self.symbols = Symbols()
         self.recorder = KernelRecorder(self.symbols, history=history, track_wmes=True)
         self.process = KernelProcess()
-        self.kernel = ""
+        self.kernel_version = ""
         self._stats: dict[str, int] = {}
         self._inputs: list[Callable[[Any], None]] = []
         self._outputs: list[Callable[[OutputView], None]] = []
@@ -179,7 +179,7 @@ class SoarAgent:
         self._failure: str | None = None  # an input operation the kernel refused
         reply = self.process.request(("config", [f"decide set-random-seed {seed}",
                                                  *self._trace_commands]))
-        self.kernel = f"Soar {reply[1]['kernel']}"
+        self.kernel_version = f"Soar {reply[1]['kernel']}"
         self.recorder.existing(reply[2])
         self.recorder.track_wmes = trace is not None and trace_level >= 3
         top = next((w.id for w in self.recorder.wm.values() if w.attr == "superstate"
@@ -508,7 +508,7 @@ class SoarAgent:
 
     def trace_header(self) -> dict[str, Any]:
         """The header fields of this engine's traces (``engine``, ``kernel``, ``absent``)."""
-        return trace_header(self.kernel)
+        return trace_header(self.kernel_version)
 
     def _open_trace(self) -> None:
         if self.tracer is not None or self._trace_arg is None:
@@ -521,4 +521,4 @@ class SoarAgent:
 
     def __repr__(self) -> str:
         return (f"SoarAgent(decisions={self.decisions}, halted={self.halted}, "
-                f"kernel={self.kernel!r})")
+                f"kernel={self.kernel_version!r})")
