@@ -466,7 +466,7 @@ def child_adapt(path: str, max_decisions: int) -> dict[str, object]:
 def child_soar_engine(path: str, max_decisions: int) -> dict[str, object]:
     """adapt's Soar engine: the report of ``adapt rules run --engine soar`` without a trace."""
     sys.path.insert(0, adapt_root())
-    from adapt.soar import SoarAgent
+    from adapt.soar import KernelCrash, SoarAgent
 
     start = time.perf_counter()
     agent = SoarAgent(seed=1)
@@ -479,7 +479,10 @@ def child_soar_engine(path: str, max_decisions: int) -> dict[str, object]:
         return {"seconds": seconds, "rules": len(rules.productions), "startup": started}
     agent.load_file(path)
     start, cpu = time.perf_counter(), time.process_time()
-    report = agent.run(max_decisions=max_decisions).to_dict()
+    try:
+        report = agent.run(max_decisions=max_decisions).to_dict()
+    except KernelCrash as exc:  # reported as the kernel's failure, as real Soar's is
+        return {"error": f"the kernel crashed: {exc}"}
     seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     agent.close()
     return {"seconds": seconds, "cpu": cpu, "decisions": report["decisions"],
