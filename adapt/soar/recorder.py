@@ -58,14 +58,11 @@ from adapt.engine.trace import TraceWriter, symbol_json
 from adapt.engine.wme import WME
 from adapt.soar.xmltrace import tags
 
-__all__ = ["KernelRecorder", "Symbols", "ABSENT", "ARCHITECTURE", "trace_header", "GOAL_DEPTH"]
+__all__ = ["KernelRecorder", "Symbols", "ABSENT", "trace_header", "GOAL_DEPTH"]
 
 #: Fields of the trace format the Soar kernel does not report (the header's ``absent``).
 ABSENT = ("firings.bindings", "retractions.bindings", "retractions.o-support",
           "decision.candidates", "decision.removed_goals", "firings.support.none")
-#: Attributes of the structures the kernel adds to every state for its memories (epmem,
-#: smem, RL); adapt's own engine does not build them (the header's ``architecture``).
-ARCHITECTURE = ("epmem", "smem", "reward-link")
 #: The start of the kernel's warning when the goal stack grows too deep.
 GOAL_DEPTH = "Goal stack depth exceeded"
 
@@ -80,8 +77,7 @@ def trace_header(kernel: str) -> dict[str, Any]:
     >>> trace_header("Soar 9.6.5")["engine"]
     'soar'
     """
-    return {"engine": "soar", "kernel": kernel, "absent": list(ABSENT),
-            "architecture": list(ARCHITECTURE)}
+    return {"engine": "soar", "kernel": kernel, "absent": list(ABSENT)}
 
 
 class Symbols:

@@ -11,10 +11,7 @@ Two traces of different engines (the header's ``engine``: adapt's own, or
 ``soar``, the Soar kernel) are compared on what both report (:class:`Comparison`):
 what one trace's header names ``absent`` (the kernel reports no bindings,
 and no retraction of an instantiation whose preferences were all
-o-supported) is left out on both sides, and the structures one engine adds
-to every state for memories the other does not have (the header's
-``architecture``: Soar's ``^epmem``, ``^smem``, ``^reward-link`` and what
-hangs below them) are not compared.
+o-supported) is left out on both sides.
 
 Examples
 --------
@@ -28,7 +25,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterator
 from dataclasses import dataclass
 from itertools import zip_longest
 from typing import Any
@@ -36,9 +33,9 @@ from typing import Any
 from adapt.traceview.memory import LiveMemory
 from adapt.traceview.reader import Trace
 from adapt.traceview.show import decision_line
-from adapt.traceview.symbols import id_name, text_of, wme_text
+from adapt.traceview.symbols import text_of, wme_text
 
-__all__ = ["Divergence", "Comparison", "Hidden", "cycle_aspects", "first_difference", "diff_traces",
+__all__ = ["Divergence", "Comparison", "cycle_aspects", "first_difference", "diff_traces",
            "format_divergence"]
 
 Aspects = list[tuple[str, list[str]]]
@@ -80,11 +77,6 @@ class Comparison:
         if not retractions:
             notes.append("retractions not compared: the Soar kernel reports only those of "
                          "instantiations with i-supported preferences")
-        if _engine(a) != _engine(b):
-            hidden = sorted(set(_strings(a.get("architecture"))) | set(_strings(b.get("architecture"))))
-            if hidden:
-                notes.append("not compared: the structures the Soar kernel adds to every state "
-                             "under " + ", ".join(f"^{h}" for h in hidden))
         return Comparison(bindings, retractions, tuple(notes))
 
 
@@ -97,42 +89,6 @@ def _engine(header: dict[str, Any]) -> str:
     return engine if isinstance(engine, str) else "adapt"
 
 
-class Hidden:
-    """The WMEs of one trace that are not compared with another engine's: those
-    under its ``architecture`` attributes (``(S2 ^epmem E2)`` and all of ``E2``).
-
-    >>> h = Hidden(["epmem"])
-    >>> h.shown([[5, {"id": "E1"}, "x", 1, False], [4, {"id": "S1"}, "epmem", {"id": "E1"}, False],
-    ...          [6, {"id": "S1"}, "name", "x", False]])
-    [[6, {'id': 'S1'}, 'name', 'x', False]]
-    """
-
-    __slots__ = ("attrs", "ids")
-
-    def __init__(self, attrs: Iterable[str] = ()) -> None:
-        self.attrs = frozenset(attrs)
-        self.ids: set[str] = set()
-
-    def _hidden(self, wme: Sequence[Any]) -> bool:
-        return wme[2] in self.attrs or id_name(wme[1]) in self.ids
-
-    def shown(self, wmes: Iterable[Sequence[Any]]) -> list[Any]:
-        """The WMEs of one phase that are compared (in any order: what hangs below a
-        hidden WME is hidden, whichever comes first)."""
-        items = list(wmes)
-        if not self.attrs:
-            return items
-        grown = True
-        while grown:
-            grown = False
-            for w in items:
-                value = id_name(w[3])
-                if value is not None and value not in self.ids and self._hidden(w):
-                    self.ids.add(value)
-                    grown = True
-        return [w for w in items if not self._hidden(w)]
-
-
 def _firing(f: dict[str, Any], bindings: bool = True) -> str:
     if not bindings:
         return str(f.get("rule"))
@@ -141,11 +97,10 @@ def _firing(f: dict[str, Any], bindings: bool = True) -> str:
 
 
 def cycle_aspects(records: list[dict[str, Any]], wm: LiveMemory | None,
-                  compare: Comparison | None = None, hidden: Hidden | None = None) -> Aspects:
+                  compare: Comparison | None = None) -> Aspects:
     """What is compared of one cycle, as ``(aspect, sorted texts)`` pairs, in reading order."""
     out: Aspects = []
     how = compare if compare is not None else Comparison()
-    hide = hidden if hidden is not None else Hidden()
     for record in records:
         kind = record["kind"]
         if kind == "decision":
@@ -159,11 +114,11 @@ def cycle_aspects(records: list[dict[str, Any]], wm: LiveMemory | None,
                 out.append((f"{phase} phase, retractions",
                             sorted(_firing(f, how.bindings) for f in record.get("retractions") or ())))
             if wm is not None:
-                removed = sorted(wme_text(None, *w[1:]) for w in hide.shown(wm.removed(record)))
+                removed = sorted(wme_text(None, *w[1:]) for w in wm.removed(record))
                 wm.apply(record)
                 out.append((f"{phase} phase, WMEs removed", removed))
                 out.append((f"{phase} phase, WMEs added",
-                            sorted(wme_text(None, *a[1:]) for a in hide.shown(record.get("adds") or ()))))
+                            sorted(wme_text(None, *a[1:]) for a in record.get("adds") or ())))
             out.append((f"{phase} phase, output", [str(record["writes"])] if record.get("writes") else []))
         elif kind == "schema":
             out.append(("schema event", [f"{record.get('event')} {record.get('schema')}"]))
@@ -209,9 +164,6 @@ def diff_traces(a: Trace, b: Trace) -> Divergence:
     if engines[0] != engines[1]:
         headers += (f"engine: {engines[0]!r} vs {engines[1]!r}",)
     compare = Comparison.of(ha, hb)
-    other = engines[0] != engines[1]
-    hide_a = Hidden(_strings(ha.get("architecture")) if other else ())
-    hide_b = Hidden(_strings(hb.get("architecture")) if other else ())
     track = a.header.level >= 4 and b.header.level >= 4
     wm_a, wm_b = (LiveMemory(a.initial_wmes()), LiveMemory(b.initial_wmes())) if track else (None, None)  # type: ignore[arg-type]
     compared = 0
@@ -227,8 +179,8 @@ def diff_traces(a: Trace, b: Trace) -> Divergence:
                               (f"A has decision cycle {ca}",), (f"B has decision cycle {cb}",),
                               headers, notes)
         compared += 1
-        diff = first_difference(cycle_aspects(ra or [], wm_a, compare, hide_a),
-                                cycle_aspects(rb or [], wm_b, compare, hide_b))
+        diff = first_difference(cycle_aspects(ra or [], wm_a, compare),
+                                cycle_aspects(rb or [], wm_b, compare))
         if diff is not None:
             aspect, ta, tb = diff
             return Divergence(compared, ca, aspect, tuple(ta), tuple(tb), headers, notes)

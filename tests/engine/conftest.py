@@ -9,7 +9,7 @@ import pytest
 
 from adapt.engines import make_agent
 
-from both_engines import ENGINES
+from .both_engines import ENGINES
 
 
 @pytest.fixture(params=ENGINES)

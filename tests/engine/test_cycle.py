@@ -10,7 +10,7 @@ from typing import Any, Callable
 
 from adapt.engine import Agent
 
-from both_engines import values_of
+from .both_engines import values_of
 
 Make = Callable[..., Any]
 

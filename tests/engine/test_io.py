@@ -14,7 +14,7 @@ from adapt.engine import OutputView
 from adapt.engine.interface import InputLink
 from adapt.errors import EngineError
 
-from both_engines import values_of
+from .both_engines import values_of
 
 Make = Callable[..., Any]
 

@@ -61,7 +61,7 @@ def test_why_does_not_invent_which_firing_made_a_wme(water_jug: Path,
     assert main(["trace", "why", str(water_jug), "--wme", "(S1 ^steps 2)"]) == 0
     out = capsys.readouterr().out
     assert "by one of the firings of this phase" in out
-    assert "water-jug*apply*pour*some" in out and "architecture" not in out
+    assert "water-jug*apply*pour*some" in out
 
 
 @pytest.mark.parametrize("name", ["blocks-world", "towers-of-hanoi", "operator-no-change"])
@@ -74,7 +74,7 @@ def test_diff_between_the_engines_compares_what_both_report(
     out = capsys.readouterr().out
     assert "headers differ: engine: 'adapt' vs 'soar'" in out
     assert "note: firings compared by rule only" in out
-    assert "^epmem, ^reward-link, ^smem" in out
+    assert "^epmem" not in out  # both engines build Soar's memory structures: all compared
     assert out.rstrip().splitlines()[-1].startswith("the traces agree on all ")
 
 
