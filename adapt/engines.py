@@ -24,7 +24,7 @@ from typing import Any
 from adapt.engine.interface import EngineName, RuleEngine
 from adapt.errors import AdaptError
 
-__all__ = ["make_agent", "engine_name", "soar_status", "EngineName"]
+__all__ = ["make_agent", "engine_name", "require_engine", "soar_status", "EngineName"]
 
 
 def engine_name(value: str | EngineName) -> EngineName:
@@ -40,6 +40,24 @@ def engine_name(value: str | EngineName) -> EngineName:
     except ValueError:
         raise AdaptError(f"unknown engine {value!r}; expected adapt (adapt's own, the default) "
                          "or soar (the Soar kernel, soar-sml)") from None
+
+
+def require_engine(engine: str | EngineName) -> EngineName:
+    """The engine called ``engine``, when it can run here (the kernel is not loaded to
+    find out).
+
+    Raises
+    ------
+    AdaptError
+        For an unknown engine, or the Soar engine without soar-sml installed (the
+        message names the extra ``adapt[soar]``).
+    """
+    name = engine_name(engine)
+    if name is EngineName.SOAR:
+        from adapt.soar.process import require_soar
+
+        require_soar()
+    return name
 
 
 def make_agent(engine: str | EngineName = EngineName.ADAPT, *, seed: int = 1, trace: Any = None,

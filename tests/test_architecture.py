@@ -128,8 +128,9 @@ ALLOWED = {
     "kalman.py": (),
     "seeds.py": (),
     "frames.py": ("adapt.errors", "adapt.files"),
+    # scenario: of the engine, only its interface (the engine names a scenario's engine: takes)
     "scenario": ("adapt.scenario", "adapt.imagination", "adapt.geometry", "adapt.errors",
-                 "adapt.files"),
+                 "adapt.files", "adapt.engine.interface"),
     "schemas": ("adapt.schemas", "adapt.engine", "adapt.vision", "adapt.imagination",
                 "adapt.mirror", "adapt.geometry", "adapt.errors", "adapt.kalman",
                 "adapt.frames", "adapt.scenario"),

@@ -19,8 +19,12 @@ the output-link -- give the same :class:`~adapt.engine.report.RunReport`,
 and write the same trace records (``docs/trace-format.md``).  What each
 engine is, and when to choose which, is ``docs/engines.md``.
 
-This module holds only protocols and the engine names (standard library
-only); :func:`adapt.engines.make_agent` builds either engine.
+This module holds the one protocol of an engine (:class:`RuleEngine`, used
+by the runner, the schema network, the command line and the tests), what its
+callbacks get (:class:`InputLink`, :class:`~adapt.engine.io.OutputView`) and
+the engine names; like the rest of :mod:`adapt.engine` it imports only the
+standard library and :mod:`adapt.errors`.  :func:`adapt.engines.make_agent`
+builds either engine.
 
 Examples
 --------
@@ -40,9 +44,10 @@ from typing import Any, Callable, Protocol, Sequence, runtime_checkable
 from adapt.engine.io import OutputView
 from adapt.engine.report import RunReport
 from adapt.engine.symbols import Identifier, Symbol
+from adapt.engine.trace import TraceWriter
 from adapt.engine.vocabulary import StopReason
 
-__all__ = ["EngineName", "InputLink", "LoadedRules", "RuleEngine", "ENGINE_NAMES"]
+__all__ = ["EngineName", "InputLink", "LoadedRules", "OutputView", "RuleEngine", "ENGINE_NAMES"]
 
 
 class EngineName(str, Enum):
@@ -147,7 +152,12 @@ class RuleEngine(Protocol):
         ...
 
     def run(self, max_decisions: int | None = None, *, footer: bool = True) -> RunReport:
-        """Run until halt, interrupt, the goal-depth limit or ``max_decisions``."""
+        """Run until halt, interrupt, the goal-depth limit or ``max_decisions``.
+
+        ``footer=False``: this call writes no trace footer, even when it
+        raises; a caller running the agent in slices (the runner's frame
+        loop) ends the trace itself (:meth:`write_footer`).
+        """
         ...
 
     def report(self) -> RunReport:
@@ -160,6 +170,17 @@ class RuleEngine(Protocol):
 
     def close(self) -> None:
         """Release what the agent holds (its trace file; the Soar kernel)."""
+        ...
+
+    def trace_header(self) -> dict[str, Any]:
+        """The header fields this engine's traces carry besides the common ones (the
+        Soar engine's ``engine``, ``kernel``, ``absent``; none for the own engine)."""
+        ...
+
+    def attach_trace(self, writer: TraceWriter) -> None:
+        """Write this agent's trace records through ``writer`` (at ``writer.level``), from
+        its first run on: for a caller that writes its own records in the same file
+        (the runner) and made ``writer`` with :meth:`trace_header`."""
         ...
 
     def on_input(self, callback: Callable[[InputLink], None]) -> None:

@@ -354,7 +354,7 @@ class SoarAgent:
         finally:
             if self.halted:
                 self.stop_reason = "halt"
-            if self.tracer is not None and (footer or error is not None):
+            if self.tracer is not None and footer:
                 self.tracer.footer(self.report().to_dict(), time.perf_counter() - started, error)
         return self.report()
 
@@ -494,6 +494,24 @@ class SoarAgent:
             production_firings=self._stats.get("production_firings", 0),
             elaboration_cycles=self._stats.get("elaboration_cycles", 0),
             wm_size_final=self._stats.get("wm_size", 0), messages=list(r.messages))
+
+    def attach_trace(self, writer: TraceWriter) -> None:
+        """Write the trace through ``writer`` (at its level) from the first run on; the
+        kernel traces what that level needs from now.
+
+        Raises
+        ------
+        EngineError
+            When the agent already has a trace.
+        """
+        if self.tracer is not None or self._trace_arg is not None:
+            raise EngineError("the agent already writes a trace")
+        self._trace_arg = writer
+        self._trace_level = writer.level
+        self._trace_commands = trace_commands(writer.level)
+        for line in self._trace_commands:
+            self.command(line)
+        self.recorder.track_wmes = writer.level >= 3
 
     def write_footer(self, elapsed_s: float, error: str | None = None) -> None:
         """Write the trace's footer (for runs made of ``run(..., footer=False)`` slices)."""
