@@ -423,3 +423,20 @@ def test_nothing_but_the_engine_choice_imports_the_soar_engine() -> None:
         for name in imports_of(path):
             assert not name.startswith("adapt.soar"), (
                 f"{path} imports {name}: layers use adapt.engines.make_agent and the interface")
+
+
+#: What of the engine the runner and the schemas may use: its interface and records, the
+#: trace writer (the runner's trace holds the engine's records), the parser (the own
+#: engine's check of rule files).  Never an engine itself: agents come from
+#: adapt.engines.make_agent and are used through adapt.engine.interface.RuleEngine.
+ENGINE_SURFACE = ("adapt.engine.interface", "adapt.engine.symbols", "adapt.engine.trace",
+                  "adapt.engine.parse", "adapt.engine.functions")
+
+
+@pytest.mark.parametrize("path", modules_in("runner") + modules_in("schemas"),
+                         ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_the_runner_and_the_schemas_use_the_engine_interface_only(path: Path) -> None:
+    for name in imports_of(path):
+        if name == "adapt.engine" or name.startswith("adapt.engine."):
+            assert name in ENGINE_SURFACE, (
+                f"{path.parent.name}/{path.name} imports {name}: use adapt.engine.interface")
