@@ -165,3 +165,22 @@ def test_adapt_run_reports_a_kernel_crash(tmp_path: Path, monkeypatch: Any,
     report = json.loads((tmp_path / "report.json").read_text())
     assert report["summary"]["frames"] == 3 and report["summary"]["stopped"] == "error"
     assert list(Trace(tmp_path / "trace.jsonl").records())[-1]["kind"] == "footer"
+
+
+def test_a_sweep_refuses_the_soar_engine_without_the_kernel_at_its_column(monkeypatch: Any) -> None:
+    from adapt.sweep.plan import make_plan
+
+    monkeypatch.setitem(sys.modules, "soar_sml", None)
+    text = "engine=adapt,soar"
+    with pytest.raises(ScenarioError) as info:
+        make_plan(BALL, seeds="1-2", sets=[text])
+    assert (info.value.file, info.value.col) == ("--set", text.index("soar") + 1)
+    assert "adapt[soar]" in info.value.message
+
+
+@pytest.mark.soar
+def test_a_sweep_makes_the_engine_an_axis() -> None:
+    from adapt.sweep.plan import make_plan
+
+    plan = make_plan(BALL, seeds="1-2", sets=["engine=adapt,soar"])
+    assert [r.overrides for r in plan.runs] == [("engine=adapt",), ("engine=soar",)] * 2
