@@ -41,7 +41,7 @@ adapt.errors.ScenarioError: <string>:5:47: world.walls[0].height: expected a pos
 >>> loads_scenario(text + "sede: 3\\n")
 Traceback (most recent call last):
 ...
-adapt.errors.ScenarioError: <string>:8:1: sede: unknown key (did you mean 'seed'?); expected one of seed, camera, world, reality, goals, rules, schemas, run, predict, outputs
+adapt.errors.ScenarioError: <string>:8:1: sede: unknown key (did you mean 'seed'?); expected one of seed, camera, world, reality, goals, rules, engine, schemas, run, predict, outputs
 ...
 """
 
