@@ -102,3 +102,15 @@ def test_documented_defaults_are_the_records_defaults(heading: str) -> None:
         elif isinstance(value, str) and isinstance(default, str) and value in (default, f"'{default}'"):
             checked += 1
     assert checked >= 1, f"no default of {heading} could be compared"
+
+
+def test_the_engine_key_is_documented_with_its_choices_and_default() -> None:
+    from adapt.engine.interface import ENGINE_NAMES
+    from adapt.scenario import Scenario
+
+    row = dict(tables()["Top level"])["engine"]
+    line = next(x for x in DOC.read_text(encoding="utf-8").splitlines()
+                if x.startswith("| `engine` |"))
+    kinds = line.split("|")[2]
+    assert sorted(re.findall(r"`([^`]+)`", kinds)) == sorted(ENGINE_NAMES)
+    assert row.strip("`") == Scenario.__dataclass_fields__["engine"].default.value
