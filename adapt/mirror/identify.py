@@ -111,6 +111,9 @@ START_SPAN = 0.3
 #: sightings worse than :data:`REFIT_CHI2` times their noise's chi-square.
 MAX_ITERATIONS = 3
 REFIT_CHI2 = 4.0
+#: A window's answer on rolling becomes the prior of what follows only when its path fits
+#: the sightings within this chi-square per degree of freedom.
+RETIRE_CHI2 = 2.0
 #: Least sightings before a fit.
 MIN_SIGHTINGS = 4
 #: A sighting further than this from the path (in noise sigmas) pulls on it linearly, not
@@ -222,6 +225,8 @@ class Identifier:
         self.prior_std = np.array([max(float(priors[k][1]), 1e-6) for k in self.names])
         self.theta = self.prior.copy()
         self.theta_std = self.prior_std.copy()
+        #: What was known before any sighting: no fit is less certain than that.
+        self._known_std = self.prior_std.copy()
         #: Fits that informed each parameter (it was fitted, not kept), by name.
         self.counts = {k: 0 for k in self.names}
         self._sightings: list[tuple[float, float, float]] = []
@@ -414,12 +419,14 @@ class Identifier:
             if i >= ns:
                 self.counts[keys[i]] += 1
         self.theta = best.x[ns:].copy()
-        self.theta_std = std[ns:].copy()
+        self.theta_std = np.minimum(std[ns:], self._known_std)
         if now - self._retired >= self.window:
             # what the window taught of rolling becomes the prior of what follows (no
-            # sighting counts twice)
-            self._retire(tuple(k for k in self.names if k not in CONTACT_PARAMETERS
-                               and k != "floor_friction"))
+            # sighting counts twice) -- if the path fits it: a window the model does not
+            # fit (a hop, a slide it cannot follow) teaches nothing to keep
+            if chi2 <= RETIRE_CHI2:
+                self._retire(tuple(k for k in self.names if k not in CONTACT_PARAMETERS
+                                   and k != "floor_friction"))
             self._retired = now
         resid = (best.positions - obs)[inliers]
         p, v, u = best.states[len(window) - 1]
@@ -482,7 +489,8 @@ class Identifier:
             if k in self.names:
                 i = self.names.index(k)
                 self.prior[i] = self.theta[i]
-                self.prior_std[i] = math.hypot(float(self.theta_std[i]), DRIFT[k])
+                self.prior_std[i] = min(math.hypot(float(self.theta_std[i]), DRIFT[k]),
+                                        float(self._known_std[i]))
                 self.theta_std[i] = self.prior_std[i]
 
 
