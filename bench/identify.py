@@ -204,6 +204,7 @@ def one(seed: int) -> dict[str, Any]:
             if kind != "free":
                 errors[name]["bounce"].append(errors[name][kind][-1])
     return {"seed": seed, "errors": errors, "ms": ms, "gated": gated, "predictions": predictions,
+            "simulated": ident.simulated_s / len(track.times),
             "best": best, "online": dict(fit.parameters) if fit else {},
             "true": {k: track.params[k] for k in ("restitution", "lateral_friction",
                                                    "rolling_friction", "linear_damping")}}
@@ -242,12 +243,17 @@ def main() -> int:
                 to_kalman.append(m / k if k > 0 else math.nan)
                 to_aware.append(m / a if a > 0 else math.nan)
             if mine:
-                print(f"  {name:<24} {100 * med(mine):6.1f} cm   {med(to_kalman):.3f}x Kalman   "  # type: ignore[operator]
-                      f"{med(to_aware):.2f}x map-aware   [{len(mine)} throws]")
+                wins = sum(r < 1.0 for r in to_aware)
+                print(f"  {name:<34} {100 * med(mine):6.1f} cm (mean {100 * float(np.mean(mine)):5.1f})"  # type: ignore[operator]
+                      f"   {med(to_kalman):.3f}x Kalman   {med(to_aware):.2f}x map-aware, "
+                      f"better in {wins} of {len(mine)} throws")
     ms = [v for r in runs for v in r["ms"]]
     print(f"identification: {statistics.median(ms):.1f} ms a frame median, "
           f"{float(np.mean(ms)):.1f} mean, {float(np.percentile(ms, 95)):.1f} at the 95th "
           f"percentile ({len(ms)} frames; identify_every={defaults()['identify_every']})")
+    simulated = float(np.mean([r["simulated"] for r in runs]))
+    print(f"  its work: {simulated:.2f} s of imagination rolled out a frame (mean; the copies of the "
+          f"ball together), at {simulated * 1000 / float(np.mean(ms)):.0f}x real time here")
     gated = sum(r["gated"] for r in runs)
     total = sum(r["predictions"] for r in runs)
     print(f"the chi-square gate sent {gated} of {total} predictions to the filter's state")
