@@ -44,8 +44,9 @@ def load_pybullet(where: str = "") -> ModuleType:
         scenario's position of the reality) and names the command to install it.
     """
     try:
-        if "pybullet" in sys.modules:
-            return sys.modules["pybullet"]
+        loaded = sys.modules.get("pybullet")
+        if loaded is not None:
+            return loaded
         with _quiet():  # PyBullet prints its build time when imported
             return importlib.import_module("pybullet")
     except ImportError:

@@ -254,6 +254,7 @@ class BulletSource:
                 self.robot.before_step(now, self.dt)
             c.stepSimulation()
             self.steps += 1
+        self._enter(self.time)
 
     def camera(self) -> Camera:
         """The true camera now."""
