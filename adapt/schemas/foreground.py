@@ -49,7 +49,7 @@ import numpy as np
 
 from adapt.errors import SchemaError
 from adapt.imagination import Ball
-from adapt.imagination.sight import behind_wall
+from adapt.imagination.sight import hidden_by
 from adapt.kalman import ConstantVelocityKF
 from adapt.schemas.base import BBox, Schema, Status
 from adapt.schemas.estimator import PARAMETERS, ParameterEstimator
@@ -364,10 +364,11 @@ class ForegroundObject(Schema):
                            to_camera=bg.to_synthetic)
             if fit is None:
                 return None
-        eye = (float(cam.position[0]), float(cam.position[1]))
-        if behind_wall(self.network.mirror.scene, eye, fit.position) is not None:
-            # a wall hides whatever is behind it: the blob is something else (a fragment
-            # merged with the wall's difference, a misfit near the horizon)
+        eye = (float(cam.position[0]), float(cam.position[1]), float(cam.position[2]))
+        if hidden_by(self.network.mirror.scene, eye, fit.position, fit.radius) is not None:
+            # a wall or an obstacle hides whatever is behind it (in 3D: a camera above a low
+            # wall sees over it): the blob is something else (a fragment merged with the
+            # wall's difference, a misfit near the horizon)
             self.refused += 1
             return None
         if self.ball is None:
