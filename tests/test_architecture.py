@@ -126,6 +126,8 @@ ALLOWED = {
     "mirror": ("adapt.mirror", "adapt.imagination", "adapt.geometry", "adapt.errors",
                "adapt.files", "adapt.native"),
     "kalman.py": (),
+    # the map-aware analytic predictor: geometry from the scene's records, nothing else
+    "reflection.py": ("adapt.imagination.scene",),
     "seeds.py": (),
     "frames.py": ("adapt.errors", "adapt.files"),
     # scenario: of the engine, only its interface (the engine names a scenario's engine: takes)
