@@ -150,3 +150,43 @@ def test_the_walls_stand_behind_their_line_away_from_the_arena() -> None:
     assert inside_wall(sc.scene, 0.1, (0.0, 1.55)) == 0
     assert inside_wall(sc.scene, 0.1, (0.0, 1.45)) is None
     assert inside_wall(sc.scene, 0.1, (0.0, -1.55, 0.13)) is None  # above the 12 cm wall
+
+
+def _documented(heading: str) -> dict[str, str]:
+    """key -> default cell of the table under ``heading`` in docs/scenario.md."""
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "scenario.md").read_text(encoding="utf-8")
+    lines = text.split(f"### {heading}\n", 1)[1].splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("|"))
+    end = next(i for i in range(start, len(lines)) if not lines[i].startswith("|"))
+    out = {}
+    for line in lines[start + 2:end]:
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        out[cells[0].strip("`")] = cells[2]
+    return out
+
+
+def _cell(r: Range) -> str:
+    return f"{r.low:g}" if r.is_fixed else f"`[{r.low!r}, {r.high!r}]`"
+
+
+def test_the_documented_defaults_are_the_readers() -> None:
+    from adapt.scenario import BulletLook
+
+    look = _documented("`reality.look` (bullet)")
+    defaults = BulletLook()
+    for key, cell in look.items():
+        value = getattr(defaults, key)
+        if isinstance(value, Range):
+            assert cell == _cell(value).replace(".0,", ",").replace(".0]", "]") or \
+                cell == _cell(value), (key, cell, value)
+    assert look["textures"] == "`mixed`" and look["shadows"] == "false"
+    objects = _documented("`reality.objects[i]` (bullet)")
+    for key, r in OBJECT_DEFAULTS.items():
+        assert objects[key] in (_cell(r), _cell(r).replace(".0,", ",").replace(".0]", "]")), key
+    surfaces = _documented("`reality.floor`, `reality.walls` and `reality.obstacles` (bullet)")
+    for key in ("restitution", "friction"):
+        cells = [c.strip() for c in surfaces[key].split("/")]
+        assert cells == [_cell(SURFACE_DEFAULTS[g][key]) for g in ("floor", "walls", "obstacles")]
+    assert surfaces["rolling_friction"] == "0" and surfaces["spinning_friction"] == "0"

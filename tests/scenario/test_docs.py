@@ -11,6 +11,7 @@ import yaml
 
 from adapt.imagination.scene import Ball, Floor, Obstacle, RobotSpec, Wall
 from adapt.scenario import TOP_KEYS, OutputSettings, PredictSettings, RealAppearance, RunSettings
+from adapt.scenario import bullet as BU
 from adapt.scenario import reality as R
 from adapt.scenario import run as RUN
 from adapt.scenario import world as W
@@ -34,6 +35,13 @@ TABLES = {
     "`reality.objects[i]`": (R.TRUE_OBJECT_KEYS, None, {}),
     "`reality.objects[i].throw`": (R.THROW_KEYS, None, {}),
     "`reality` with `kind: video`": (R.VIDEO_KEYS, None, {}),
+    "`reality` with `kind: bullet`": (BU.BULLET_KEYS, None, {}),
+    "`reality.floor`, `reality.walls` and `reality.obstacles` (bullet)":
+        (BU.BULLET_SURFACE_KEYS, None, {}),
+    "`reality.objects[i]` (bullet)": (BU.BULLET_OBJECT_KEYS, None, {}),
+    "`reality.objects[i].throw` (bullet)": (BU.BULLET_THROW_KEYS, None, {}),
+    "`reality.look` (bullet)": (BU.LOOK_KEYS, None, {}),
+    "`reality.robot` (bullet)": (BU.BULLET_ROBOT_KEYS, None, {}),
     "`run`": (RUN.RUN_KEYS, RunSettings, {}),
     "`predict`": (RUN.PREDICT_KEYS, PredictSettings, {}),
     "`outputs`": (RUN.OUTPUT_KEYS, OutputSettings, {}),
