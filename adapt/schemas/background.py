@@ -19,7 +19,7 @@ pixels), its floor position (the bottom of its box back-projected onto the
 floor) and width on the floor (metres), and its age in frames.
 
 **Appearance learning** (``appearance``: ``on``; ``auto``, the default, is on
-for a video reality).  The scenario gives the room's geometry but rarely the
+for any reality but a synthetic one: a video, a PyBullet reality).  The scenario gives the room's geometry but rarely the
 exact look of its surfaces, and the MMD only works where the render looks
 like the camera's image.  The schema then teaches the mirror the surfaces'
 look (:mod:`adapt.mirror.appearance`) in two stages:
@@ -103,7 +103,7 @@ FLOOR_LABEL = 1
 class AppearanceMode(enum.Enum):
     """The ``appearance`` parameter: learn the surfaces' look, or not, or for a video."""
 
-    AUTO = "auto"  # on for a video reality
+    AUTO = "auto"  # on for any reality but a synthetic one (a video, PyBullet's)
     ON = "on"
     OFF = "off"
 
@@ -133,8 +133,9 @@ class SceneBackground(Schema):
         self._settled = 1e9   # a smoothed pixel error of the trusted frames
         self._glitches = 0
         mode = AppearanceMode(self.parameters["appearance"])
+        # auto: learn the look of any reality the imagination's renderer did not draw
         learn = mode is AppearanceMode.ON or (mode is AppearanceMode.AUTO
-                                              and network.reality is RealityKind.VIDEO)
+                                              and network.reality is not RealityKind.SYNTHETIC)
         if not learn:
             self.stage = AppearanceStage.OFF
         elif network.mirror.appearance.learned or not self.parameters["correct"]:
@@ -557,7 +558,7 @@ SCENE_BACKGROUND = SchemaSpec(
                   "frame is reduced first; fewer pixels: faster, a coarser H_e)", unit="px",
                   low=32 * 32),
         Parameter("appearance", str, "auto", "learn the surfaces' look from the frames: on, off, "
-                  "or auto (on for a video reality)", choices=("auto", "on", "off")),
+                  "or auto (on for any reality but a synthetic one)", choices=("auto", "on", "off")),
         Parameter("learn_every", int, 10, "once learned, refine the look every this many "
                   "synchronised frames", unit="frames", low=1),
         Parameter("learn_rate", float, 0.1, "fraction a learned pixel moves towards the frame "
