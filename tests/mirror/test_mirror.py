@@ -69,6 +69,20 @@ def test_rolling_resistance_far_outside_the_model_is_learned(rolling) -> None:  
     assert p["mirror"]["no_bounce_median"] < p["baseline"]["no_bounce_median"]
 
 
+def test_the_map_aware_baseline_is_scored_beside_the_kalman_one(rolling) -> None:  # type: ignore[no-untyped-def]
+    summary, recs = rolling
+    for h in ("0.5", "1"):
+        p = summary["prediction_error_m"][h]
+        assert p["mapaware"]["n"] == p["baseline"]["n"] > 0
+    # the same sightings, the same horizons, another path: rolling to a stop at the nominal
+    # deceleration instead of straight on
+    both = [f for f in recs if f["baseline"].get("ball")]
+    assert both and all([q["horizon"] for q in f["mapaware"]["ball"]] ==
+                        [q["horizon"] for q in f["baseline"]["ball"]] for f in both)
+    assert any(f["mapaware"]["ball"][-1]["position"] != f["baseline"]["ball"][-1]["position"]
+               for f in both)
+
+
 def test_the_same_seed_gives_the_same_report(tmp_path: Path) -> None:
     sc = scenario("bouncing-ball.yaml", "run.duration=1.2")
 
