@@ -1,13 +1,12 @@
 """The PyBullet reality: frames, truth, contacts, the robot and bad input.
 
 Small (160x120, a few frames) so the suite stays fast; skipped when PyBullet is not
-installed, except the test of the message that says how to install it.
+installed (``test_bullet_missing.py`` checks what happens then).
 """
 
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 import pytest
@@ -15,46 +14,10 @@ import pytest
 from adapt.errors import RealityError
 from adapt.frames import Actuator
 from adapt.geometry import Camera
-from adapt.reality import open_reality
-from adapt.scenario import Scenario, loads_scenario
+from adapt.scenario import Scenario
 from adapt.seeds import Streams
 
-CAMERA = """camera: {fx: 130, fy: 130, cx: 79.5, cy: 59.5, width: 160, height: 120,
-         position: [0, -2.3, 2.3], look_at: [0, 0.3, 0]}
-"""
-WORLD = """world:
-  floor: {texture: gravel, tile: 0.8, extent: [-1.5, -1.5, 1.5, 1.5]}
-  walls:
-    - {name: north, from: [-1.5, 1.5], to: [1.5, 1.5], height: 0.5, restitution: 0.9}
-    - {name: east, from: [1.5, 1.5], to: [1.5, -1.5], height: 0.5, restitution: 0.9}
-    - {name: south, from: [1.5, -1.5], to: [-1.5, -1.5], height: 0.12, restitution: 0.9}
-    - {name: west, from: [-1.5, -1.5], to: [-1.5, 1.5], height: 0.5, restitution: 0.9}
-  obstacles:
-    - {name: crate, polygon: [[0.5, 0.5], [0.9, 0.5], [0.9, 0.9], [0.5, 0.9]], height: 0.3}
-  objects:
-    - {name: ball, radius: 0.1, mass: 0.45, color: [230, 40, 30], create: when_seen}
-"""
-REALITY = """reality:
-  kind: bullet
-  objects:
-    - {name: ball, throw: {t: 0, x: -0.5, y: -0.5, speed: 1.5, heading_deg: 60}}
-"""
-RUN = "run: {fps: 15, max_frames: 6}\n"
-
-
-def scenario(reality: str = REALITY, camera: str = CAMERA, world: str = WORLD,
-             run: str = RUN) -> Scenario:
-    return loads_scenario(camera + world + reality + run)
-
-
-def test_without_pybullet_the_error_says_what_to_install(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setitem(sys.modules, "pybullet", None)  # import pybullet now raises ImportError
-    with pytest.raises(RealityError) as info:
-        open_reality(scenario(), streams=Streams(1))
-    message = str(info.value)
-    assert "pip install 'adapt[bullet]'" in message
-    assert message.startswith("<string>:") and "PyBullet" in message
-
+from .bullet_scene import CAMERA, REALITY, WORLD, scenario
 
 pytest.importorskip("pybullet")
 
