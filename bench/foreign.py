@@ -283,7 +283,7 @@ def _frame(record: dict[str, Any], truth: Any, sc: Any) -> dict[str, Any]:
             "truth": None if ball is None else list(ball.position),
             "velocity": None if ball is None else list(ball.velocity),
             "observed": observed, "confident": confident,
-            "names": list(record["objects"]), "caught": record.get("robot_distance")}
+            "names": list(record["objects"])}
 
 
 def _figures(summary: dict[str, Any], frames: list[dict[str, Any]], sc: Any) -> dict[str, Any]:
