@@ -445,12 +445,20 @@ def main() -> int:
         return 0
     seeds = list(range(args.first_seed, args.first_seed + args.throws))
     started = time.perf_counter()
+    runs = []
     with ProcessPoolExecutor(args.jobs) as pool:
-        runs = list(pool.map(one, seeds, [args.small] * len(seeds), [args.duration] * len(seeds),
-                             [tuple(args.extra)] * len(seeds)))
+        for k, r in enumerate(pool.map(one, seeds, [args.small] * len(seeds),
+                                       [args.duration] * len(seeds),
+                                       [tuple(args.extra)] * len(seeds))):
+            runs.append(r)
+            # each throw as it ends, so a long bench shows its progress and keeps what it did
+            print(f"[{k + 1}/{len(seeds)}] seed {r['seed']} ({r['camera']} camera): "
+                  + (f"FAILED {r['error']}" if r.get("error") else
+                     f"coverage {pct(r['coverage'])}, {r['spurious']} spurious, "
+                     f"{r['wall_s']:.0f} s"), file=sys.stderr, flush=True)
+            if args.json:
+                Path(args.json).write_text(json.dumps(runs, indent=1))
     wall = time.perf_counter() - started
-    if args.json:
-        Path(args.json).write_text(json.dumps(runs, indent=1))
     failed = sum(1 for r in runs if r.get("error"))
     size = "320x240" if args.small else "640x480"
     print(f"{len(runs)} throws ({failed} failed) over randomized PyBullet realities, {size}, "
