@@ -28,6 +28,9 @@ Figures, each a median over throws of each throw's value (ratios taken per throw
   shows in the true camera's image: PyBullet's segmentation), the share where the ball's
   schema observed it within two radii of the truth;
 * **spurious schemas**: object schemas spawned for something the scenario does not have;
+* **the Scene Background**: the share of frames with the camera aligned, and the throws in
+  which the surfaces' look was never learned (``appearance: "on"`` waits for the camera to be
+  aligned to the scene's structure first: without a look there are no regions);
 * **tracking**: observed and imagined against the truth;
 * **prediction** 0.5 s and 1.0 s ahead, with and without a contact inside the horizon,
   of the mirror, the Kalman baseline and the map-aware baseline, and the ratios;
@@ -251,7 +254,10 @@ def one(seed: int, small: bool, duration: float, extra: tuple[str, ...]) -> dict
         class Recording(Runner):
             def _record(self, frame):  # type: ignore[no-untyped-def]
                 record = super()._record(frame)
-                frames.append(_frame(record, self.truth.at(frame.index), sc))
+                f = _frame(record, self.truth.at(frame.index), sc)
+                bg = getattr(self.network, "background", None)
+                f["learned"] = getattr(getattr(bg, "stage", None), "value", None) == "learned"
+                frames.append(f)
                 return record
 
         started = time.perf_counter()
@@ -279,7 +285,8 @@ def _frame(record: dict[str, Any], truth: Any, sc: Any) -> dict[str, Any]:
     observed = (record["objects"].get("ball") or {}).get("observed")
     confident = any(p.get("horizon") == 1.0 and p.get("confidence", 0.0) >= 0.7
                     for p in record["predictions"].get("ball", []))
-    return {"t": record["t"], "visible": visible,
+    mmd = record.get("mmd") or {}
+    return {"t": record["t"], "visible": visible, "aligned": bool(mmd.get("aligned")),
             "truth": None if ball is None else list(ball.position),
             "velocity": None if ball is None else list(ball.velocity),
             "observed": observed, "confident": confident,
@@ -314,6 +321,8 @@ def _figures(summary: dict[str, Any], frames: list[dict[str, Any]], sc: Any) -> 
         "coverage": len(tracked) / len(visible) if visible else None,
         "seen_share": len(seen) / len(visible) if visible else None,
         "spurious": len(spurious), "spurious_names": spurious,
+        "aligned_share": sum(f.get("aligned", False) for f in frames) / len(frames) if frames else None,
+        "learned_share": sum(f.get("learned", False) for f in frames) / len(frames) if frames else None,
         "tracking_m": ((summary.get("tracking_error_m") or {}).get("ball") or {}).get("median"),
         "imagined_m": ((summary.get("imagination_error_m") or {}).get("ball") or {}).get("median"),
         "prediction": summary.get("prediction_error_m") or {},
@@ -355,6 +364,12 @@ def report(runs: list[dict[str, Any]]) -> None:
               f"observed at all {pct(med(seen))}; spurious schemas "
               f"{sum(r['spurious'] for r in group)} in all (target 0), "
               f"{sum(1 for r in group if r['spurious'])} throws with any")
+    never = [r for r in ok if not r.get("learned_share")]
+    aligned = [r["aligned_share"] for r in ok if r.get("aligned_share") is not None]
+    print(f"the Scene Background: frames with the camera aligned {pct(med(aligned))} median; "
+          f"the look never learned in {len(never)} of {len(ok)} throws ("
+          + ", ".join(f"{sum(1 for r in never if r['camera'] == k)} {k}" for k in CAMERAS)
+          + "): no region, nothing tracked there")
     track = [r["tracking_m"] for r in ok if r["tracking_m"] is not None]
     imag = [r["imagined_m"] for r in ok if r["imagined_m"] is not None]
     print(f"tracking: observed {cm(med(track))}, imagined {cm(med(imag))} (median over "

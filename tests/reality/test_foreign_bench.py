@@ -65,7 +65,8 @@ def test_the_figures_of_a_throw() -> None:
     frames = [{"t": k / 30, "visible": k < 8, "truth": [0.1 * k, 0.0],
                "velocity": [1.0, 0.0] if k < 5 else [-0.8, 0.0],
                "observed": None if k in (2, 3) else [0.1 * k + (3 * r if k == 4 else 0.0), 0.0],
-               "confident": k >= 6, "names": ["ball", "foreground-object-1"] if k == 7 else ["ball"]}
+               "confident": k >= 6, "names": ["ball", "foreground-object-1"] if k == 7 else ["ball"],
+               "aligned": k >= 2, "learned": k >= 5}
               for k in range(10)]
     summary = {"stage_ms": {"reality": 100.0, "perception": 20.0, "decisions": 5.0}}
     out = bench._figures(summary, frames, sc)
@@ -75,3 +76,4 @@ def test_the_figures_of_a_throw() -> None:
     # the first contact at frame 5; confident from frame 6 of 6..9
     assert out["confident_after_contact"] == 1.0
     assert math.isclose(out["loop_ms"], 25.0) and out["reality_ms"] == 100.0
+    assert out["aligned_share"] == 0.8 and out["learned_share"] == 0.5
