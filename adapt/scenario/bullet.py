@@ -37,6 +37,7 @@ adapt.errors.ScenarioError: <string>:3:20: camera.position: the camera at [0, -1
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -392,8 +393,6 @@ class BulletReader(WorldReader):
                            look: dict[str, Any] | None = None) -> BulletObject:
         ball = model.ball
         if look:
-            from dataclasses import replace
-
             ball = replace(ball, **look)
         return self._bullet_object(ball, True, throw, params, source)
 

@@ -38,10 +38,12 @@ from adapt.errors import RealityError
 from adapt.imagination.texture import texture_path
 from adapt.reality.bullet.draw import SurfaceLook
 
-__all__ = ["surface_image", "ball_image", "write_textures", "SIZE"]
+__all__ = ["surface_image", "ball_image", "write_textures", "SIZE", "MAX_SIDE"]
 
 #: Side of a procedural pattern's image, pixels.
 SIZE = 256
+#: Longest side of a texture image handed to PyBullet, pixels (larger ones are shrunk).
+MAX_SIDE = 1024
 
 Image = NDArray[np.uint8]
 RGB = tuple[int, int, int]
@@ -144,6 +146,12 @@ def surface_image(look: SurfaceLook) -> Image:
         image = cv2.imread(str(path), cv2.IMREAD_COLOR) if path.is_file() else None
         if image is None or image.size == 0:
             raise RealityError(f"texture file {str(path)!r} is missing or not a readable image")
+        side = max(image.shape[:2])
+        if side > MAX_SIDE:  # TinyRenderer samples it texel by texel: more is only memory
+            f = MAX_SIDE / side
+            image = cv2.resize(image, (max(1, round(image.shape[1] * f)),
+                                       max(1, round(image.shape[0] * f))),
+                               interpolation=cv2.INTER_AREA)
         return np.asarray(image, np.uint8)
     rng = np.random.default_rng(look.seed)
     flat = np.tile(_bgr(look.color), (16, 16, 1)) + 3.0 * rng.standard_normal((16, 16, 3))
