@@ -249,19 +249,10 @@ def one(seed: int, small: bool, duration: float, extra: tuple[str, ...]) -> dict
         sc = loads_scenario(text, file=f"foreign-{seed}.yaml", base=ROOT / "scenarios",
                             overrides=list(extra))
         quiet = OutputSettings(report=False, trace=False, video=False, figures=False)
-        frames: list[dict[str, Any]] = []
-
-        class Recording(Runner):
-            def _record(self, frame):  # type: ignore[no-untyped-def]
-                record = super()._record(frame)
-                f = _frame(record, self.truth.at(frame.index), sc)
-                bg = getattr(self.network, "background", None)
-                f["learned"] = getattr(getattr(bg, "stage", None), "value", None) == "learned"
-                frames.append(f)
-                return record
-
+        recording = Recording(sc)
         started = time.perf_counter()
-        runner = Recording(sc, out=None, seed=seed, outputs=quiet)
+        runner = Runner(sc, out=None, seed=seed, outputs=quiet, listeners=(recording,))
+        recording.truth = runner.truth
         summary = runner.run().summary
         out["wall_s"] = time.perf_counter() - started
     except Exception as exc:  # a throw that fails is counted and named, not the end of the bench
@@ -269,28 +260,43 @@ def one(seed: int, small: bool, duration: float, extra: tuple[str, ...]) -> dict
 
         return {**out, "error": f"{type(exc).__name__}: {exc}",
                 "where": traceback.format_exc(limit=-4)}
-    out.update(_figures(summary, frames, sc))
+    out.update(_figures(summary, recording.frames, sc))
     return out
 
 
-def _frame(record: dict[str, Any], truth: Any, sc: Any) -> dict[str, Any]:
-    """What the figures need of one frame."""
-    ball = truth.objects.get("ball") if truth is not None else None
-    visible = False
-    if ball is not None and ball.pixels is not None and truth.camera is not None:
-        r = sc.model("ball").ball.radius
-        depth = float(truth.camera.to_camera(np.array([[*ball.position, ball.height]]))[0, 2])
-        disc = math.pi * (truth.camera.fx * r / depth) ** 2 if depth > 0.05 else math.inf
-        visible = ball.pixels >= max(4.0, VISIBLE * disc)
-    observed = (record["objects"].get("ball") or {}).get("observed")
-    confident = any(p.get("horizon") == 1.0 and p.get("confidence", 0.0) >= 0.7
-                    for p in record["predictions"].get("ball", []))
-    mmd = record.get("mmd") or {}
-    return {"t": record["t"], "visible": visible, "aligned": bool(mmd.get("aligned")),
+class Recording:
+    """A listener on the runner's frame records: what the figures need of each frame, with
+    the frame's truth (the bench is evaluation: it may read the truth)."""
+
+    def __init__(self, scenario: Any) -> None:
+        self.scenario = scenario
+        self.truth: Any = None
+        self.frames: list[dict[str, Any]] = []
+
+    def frame(self, record: Any) -> None:
+        truth = None if self.truth is None else self.truth.at(record.index)
+        ball = truth.objects.get("ball") if truth is not None else None
+        visible = False
+        if ball is not None and ball.pixels is not None and truth.camera is not None:
+            r = self.scenario.model("ball").ball.radius
+            depth = float(truth.camera.to_camera(np.array([[*ball.position, ball.height]]))[0, 2])
+            disc = math.pi * (truth.camera.fx * r / depth) ** 2 if depth > 0.05 else math.inf
+            visible = ball.pixels >= max(4.0, VISIBLE * disc)
+        tracked = record.tracked_object("ball")
+        percept = record.percept_of("ball")
+        prediction = None if percept is None else percept.prediction
+        confident = prediction is not None and any(
+            h.horizon == 1.0 and h.confidence >= 0.7 for h in prediction.horizons)
+        bg = record.background
+        self.frames.append({
+            "t": record.time, "visible": visible,
             "truth": None if ball is None else list(ball.position),
             "velocity": None if ball is None else list(ball.velocity),
-            "observed": observed, "confident": confident,
-            "names": list(record["objects"])}
+            "observed": None if tracked is None or tracked.observed is None
+            else list(tracked.observed),
+            "confident": confident, "names": [t.name for t in record.tracked],
+            "aligned": bg is not None and bg.aligned,
+            "learned": bg is not None and bg.stage.value == "learned"})
 
 
 def _figures(summary: dict[str, Any], frames: list[dict[str, Any]], sc: Any) -> dict[str, Any]:
