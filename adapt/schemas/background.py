@@ -184,6 +184,7 @@ class SceneBackground(Schema):
         self.history = FrameHistory(max(3, int(round(float(self.parameters["still_s"])
                                                        / network.frame_interval))))
         self._mount_pose: tuple[tuple[float, float], float] | None = None
+        self._held = 0  # frames the first look has waited, once aligned
 
     # -- perception ---------------------------------------------------------------------
 
@@ -228,8 +229,10 @@ class SceneBackground(Schema):
                 self._waiting(frame, started)
                 return
             if self._moving():
+                self._held += 1
                 self._waiting(frame, started, gathering=True)
                 return
+            self._held = 0
             self._learn(frame, mirror.render().labels, fresh=True)
             self.stage = AppearanceStage.LEARNED
         self._rendered()
@@ -351,9 +354,10 @@ class SceneBackground(Schema):
     def _moving(self) -> bool:
         """Whether the first look must wait for more frames: until two are kept, and while
         something moved over those kept (more than :data:`MOVING_SHARE` of the pixels
-        changed) until ``still_s`` seconds of them are, so their median is without it."""
+        changed) until ``still_s`` seconds of them are, so their median is without it -- at
+        most that many frames (a camera on a robot that keeps driving keeps none)."""
         h = self.history
-        if len(h) >= h.depth:
+        if len(h) >= h.depth or self._held >= h.depth:
             return False
         if len(h) < 2:
             return True
