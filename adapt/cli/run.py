@@ -147,7 +147,25 @@ def summary_lines(s: dict[str, Any]) -> list[str]:
     if pos and rot:
         lines.append(f"camera vs truth at the end: {100 * pos['last']:.2f} cm, "
                      f"{rot['last']:.3f} deg")
-    return lines + _tracking_lines(s) + _intercept_lines(s) + _prediction_lines(s)
+    return (lines + _goal_lines(s) + _tracking_lines(s) + _intercept_lines(s)
+            + _prediction_lines(s))
+
+
+def _goal_lines(s: dict[str, Any]) -> list[str]:
+    """What went wrong with the sight of the goals' objects (summary.goal_objects)."""
+    lines = []
+    for name, g in (s.get("goal_objects") or {}).items():
+        if g["never_seen"]:
+            lines.append(f"the goal's object {name!r} was never seen ({g['unseen_s']:g} s)")
+            continue
+        if g["lost"]:
+            lines.append(f"the goal's object {name!r} was lost {g['lost']} time(s), "
+                         f"{g['lost_s']:g} s in all (longest {g['longest_lost_s']:g} s"
+                         + (", until the end)" if g["lost_at_end"] else ")"))
+        if g["first_seen_s"] > 1.0:
+            lines.append(f"the goal's object {name!r} was first seen after "
+                         f"{g['first_seen_s']:g} s")
+    return lines
 
 
 def _tracking_lines(s: dict[str, Any]) -> list[str]:

@@ -91,6 +91,13 @@ UNKNOWN_RANGES = {"restitution": (0.2, 0.95), "friction": (0.0, 1.0),
 
 #: Side of the opening that cleans an object's blob of specks (pixels).
 BLOB_OPEN = 3
+#: Without a floor extent, sightings fitted farther than this from the camera are refused (m).
+FLOOR_REACH = 200.0
+#: Standard deviations of the track's position searched around its predicted path.
+SEARCH_SIGMAS = 3.0
+#: How fast an object never seen may have moved away from the region it was spawned for
+#: once that region is no longer tracked (m/s): the search widens at this speed.
+SEARCH_SPEED = 4.0
 
 
 class ForegroundObject(Schema):
@@ -121,6 +128,7 @@ class ForegroundObject(Schema):
         self.status = Status.WAITING
         self.region = int(parameters["region"])
         self._window: BBox | None = None
+        self._window_time = network.time  # when the region it waits for was last tracked
         self._hooked = False
         self._radii: list[float] = []
         self.model = model
@@ -144,6 +152,7 @@ class ForegroundObject(Schema):
         found = None if bg is None or self.region <= 0 else bg.region(self.region)
         if found is not None:
             self._window = found.bbox
+            self._window_time = self.network.time
         self._publish(self.network.frame_index, self.network.time)
 
     def _background(self) -> BackgroundPercept | None:
@@ -210,13 +219,16 @@ class ForegroundObject(Schema):
 
     def _imagined_real_box(self) -> tuple[tuple[float, float], float] | None:
         """Centre (real pixels) and radius (pixels) of the imagined body, or None."""
-        mirror = self.network.mirror
         if not self.in_imagination:
             return None
-        x, y = mirror.world.position(self.body)
+        return self._in_image(self.network.mirror.world.position(self.body))
+
+    def _in_image(self, at: tuple[float, float]) -> tuple[tuple[float, float], float] | None:
+        """Centre (real pixels) and radius (pixels) of the object on the floor at ``at``,
+        or None behind the camera."""
         r = self._radius()
-        cam = mirror.camera
-        pc = cam.to_camera(np.array([[x, y, r]]))[0]
+        cam = self.network.mirror.camera
+        pc = cam.to_camera(np.array([[at[0], at[1], r]]))[0]
         if pc[2] <= 1e-6:
             return None
         px = cam.fx * pc[0] / pc[2] + cam.cx
@@ -237,16 +249,51 @@ class ForegroundObject(Schema):
                 return ((centre[0] + lx) / 2.0, (centre[1] + ly) / 2.0), span / 2.0 + 3.0 * rpx + 8.0
             return centre, 3.0 * rpx + 8.0
         if self.last is not None:
-            x, y, w, h = self.last.bbox
-            grow = 1.0 + 0.5 * self.misses
-            return (x + w / 2.0, y + h / 2.0), max(w, h) * (1.5 * grow) + 16.0
+            return self._along_track(frame, imagined)
         if self._window is not None:
+            # never seen: the region it was spawned for, as long as it is tracked; then a
+            # search widening at the speed an object may have gone from there
+            bg = self._background()
+            found = None if bg is None or self.region <= 0 else bg.region(self.region)
+            if found is not None:
+                self._window, self._window_time = found.bbox, frame.time
             x, y, w, h = self._window
-            return (x + w / 2.0, y + h / 2.0), max(w, h) + 16.0
+            metres = max(frame.time - self._window_time, 0.0) * SEARCH_SPEED
+            return (x + w / 2.0, y + h / 2.0), max(w, h) * (1.0 + metres / (2.0 * self._radius())) + 16.0
         if imagined is not None:
             centre, rpx = imagined
             return centre, 4.0 * rpx + 16.0
         return None
+
+    def _along_track(self, frame: "Frame", imagined: tuple[tuple[float, float], float] | None
+                     ) -> tuple[tuple[float, float], float]:
+        """An object seen before and missed since: search along its predicted path -- the
+        filter's constant-velocity extrapolation and the imagined body (which bounces off
+        the walls) -- as far as the track's uncertainty reaches (``SEARCH_SIGMAS`` of its
+        position's standard deviation, grown with every frame missed), and around the
+        last sighting."""
+        assert self.last is not None
+        x, y, w, h = self.last.bbox
+        last = (x + w / 2.0, y + h / 2.0)
+        points = [(last, max(w, h) / 2.0)]
+        sigma = 0.0
+        if self.kf.initialised:
+            ahead = max(frame.time - (self.kf.time or frame.time), 0.0)
+            sigma = self.kf.position_sigma + self.kf.velocity_sigma * ahead
+            seen = self._in_image(self.kf.predict_position(ahead))
+            if seen is not None:
+                points.append(seen)
+        if imagined is not None:
+            points.append(imagined)
+        cx = sum(p[0][0] for p in points) / len(points)
+        cy = sum(p[0][1] for p in points) / len(points)
+        reach = max(math.dist((cx, cy), p[0]) + 3.0 * p[1] for p in points)
+        # metres to pixels at the object's distance: its radius in both
+        rpx = max(p[1] for p in points[1:]) if len(points) > 1 else max(w, h) / 2.0
+        grow = 1.0 + 0.5 * self.misses
+        reach = max(reach + SEARCH_SIGMAS * sigma * rpx / self._radius(),
+                    max(w, h) * 1.5 * grow) + 16.0
+        return (cx, cy), reach
 
     # -- perception ------------------------------------------------------------------------------
 
@@ -416,6 +463,11 @@ class ForegroundObject(Schema):
                            to_camera=bg.to_synthetic)
             if fit is None:
                 return None
+        if not self._on_floor(fit.position, fit.radius):
+            # fitted off the floor (a blob near the horizon, fitted kilometres away): a ball
+            # rests on the floor, so this is something else
+            self.refused += 1
+            return None
         eye = (float(cam.position[0]), float(cam.position[1]), float(cam.position[2]))
         if hidden_by(self.network.mirror.scene, eye, fit.position, fit.radius) is not None:
             # a wall or an obstacle hides whatever is behind it (in 3D: a camera above a low
@@ -427,6 +479,18 @@ class ForegroundObject(Schema):
             self._measure_unknown(frame, fit.radius, mask, bbox)
         centre = (best.centroid[0] + x0, best.centroid[1] + y0)
         return Sighting(frame.index, frame.time, bbox, centre, area, fit.position)
+
+    def _on_floor(self, at: tuple[float, float], radius: float) -> bool:
+        """Whether a ball of ``radius`` at ``at`` is over the floor (its extent, when the scenario
+        gives one; else within :data:`FLOOR_REACH` of the camera)."""
+        if not all(math.isfinite(v) for v in (*at, radius)):
+            return False
+        extent = self.network.mirror.scene.floor.extent
+        if extent is None:
+            cam = self.network.mirror.camera.position
+            return math.dist(at, (float(cam[0]), float(cam[1]))) <= FLOOR_REACH
+        x0, y0, x1, y1 = extent
+        return x0 - radius <= at[0] <= x1 + radius and y0 - radius <= at[1] <= y1 + radius
 
     def _measure_unknown(self, frame: "Frame", radius: float, mask: np.ndarray, bbox: BBox) -> None:
         """An object the scenario does not declare gets its size and colour from its sightings:

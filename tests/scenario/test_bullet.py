@@ -118,6 +118,7 @@ def test_bad_input_is_refused_at_its_position(reality: str, where: str, expected
                        "thick behind its line)"),
     ("[0, -1.58, 0.05]", "inside the wall 'south'"),
     ("[0.4, 0.4, 0.2]", "inside the obstacle 'crate'"),
+    ("[0, -1.0, -0.1]", "the camera is below the floor (z = -0.1); expected a height above 0"),
 ])
 def test_a_camera_inside_a_wall_or_an_obstacle_is_refused(position: str, expected: str) -> None:
     camera = CAMERA.replace("[0, -2.4, 2.3]", position)
