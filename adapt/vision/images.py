@@ -34,6 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import ImageError, VisionError
+from adapt.geometry import MIN_IMAGE_SIDE
 from adapt.files import write_atomic
 from adapt.native import native_messages
 
@@ -51,7 +52,7 @@ __all__ = [
 ]
 
 #: Smallest image side MMD accepts (the LK pyramid and the mask need some room).
-MIN_SIDE = 32
+MIN_SIDE = MIN_IMAGE_SIDE
 #: Float images may stray this far outside [0, 1] (rounding in a conversion).
 FLOAT_SLACK = 1.0 / 512.0
 
