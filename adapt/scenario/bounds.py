@@ -78,6 +78,11 @@ def show(value: float) -> str:
     return f"{value:g}"
 
 
+def _plain(value: float) -> str:
+    """A bound as written: whole numbers in full, others by ``:g``."""
+    return str(int(value)) if float(value).is_integer() else f"{value:g}"
+
+
 @dataclass(frozen=True, slots=True)
 class Bound:
     """The numbers a key accepts: ``low`` to ``high`` (None: no bound on that side),
@@ -97,12 +102,12 @@ class Bound:
         kind = "integer" if self.integer else "number"
         lo, hi = self.low, self.high
         if lo is not None and hi is not None and not self.low_open and not self.high_open:
-            return f"{kind} from {show(lo)} to {show(hi)}"
+            return f"{kind} from {_plain(lo)} to {_plain(hi)}"
         parts = [kind]
         if lo is not None:
-            parts[0] += f" {'>' if self.low_open else '≥'} {show(lo)}"
+            parts[0] += f" {'>' if self.low_open else '≥'} {_plain(lo)}"
         if hi is not None:
-            parts.append(f"{'below' if self.high_open else 'at most'} {show(hi)}")
+            parts.append(f"{'below' if self.high_open else 'at most'} {_plain(hi)}")
         return ", ".join(parts)
 
     def contains(self, v: float) -> bool:
@@ -124,13 +129,13 @@ class Bound:
             if lo == 0:
                 return f"expected {'a positive' if self.low_open else 'a non-negative'} {kind}{got}"
             if v <= 0 < lo:
-                return f"expected a positive {kind}, at least {show(lo)}{unit}{got}"
+                return f"expected a positive {kind}, at least {_plain(lo)}{unit}{got}"
         if lo is not None and hi is not None and not self.low_open and not self.high_open:
-            return f"expected {'an' if self.integer else 'a'} {kind} from {show(lo)} to {show(hi)}{unit}{got}"
+            return f"expected {'an' if self.integer else 'a'} {kind} from {_plain(lo)} to {_plain(hi)}{unit}{got}"
         if lo is not None and (v < lo or v == lo):
-            return f"expected {'more than' if self.low_open else 'at least'} {show(lo)}{unit}{got}"
+            return f"expected {'more than' if self.low_open else 'at least'} {_plain(lo)}{unit}{got}"
         assert hi is not None
-        return f"expected {'less than' if self.high_open else 'at most'} {show(hi)}{unit}{got}"
+        return f"expected {'less than' if self.high_open else 'at most'} {_plain(hi)}{unit}{got}"
 
 
 def _b(low: float | None, high: float | None, unit: str = "", *, low_open: bool = False,
