@@ -128,6 +128,15 @@ def _robot_shape(robot: RobotSpec) -> tuple[list[Vec2], float]:
 
 def _clash(scene: SceneSpec, shape: Sequence[Vec2], radius: float) -> str | None:
     """What the shape grown by ``radius`` overlaps or leaves (None: it is in place)."""
+    limit = radius - _TOUCH
+    for i, wall in enumerate(scene.walls):
+        gap = shape_distance(shape, [wall.start, wall.end])
+        if gap < limit or (radius == 0 and gap == 0):  # a box: overlapping is meeting
+            return f"it crosses the wall {wall.name!r} (world.walls[{i}])"
+    for i, ob in enumerate(scene.obstacles):
+        gap = shape_distance(shape, ob.polygon)
+        if gap < limit or (radius == 0 and gap == 0):
+            return f"it overlaps the obstacle {ob.name!r} (world.obstacles[{i}])"
     extent = scene.floor.extent
     if extent is not None:
         x0, y0, x1, y1 = extent
@@ -135,15 +144,6 @@ def _clash(scene: SceneSpec, shape: Sequence[Vec2], radius: float) -> str | None
             if not (x0 <= x <= x1 and y0 <= y <= y1):
                 return (f"[{x:g}, {y:g}] is off the floor (world.floor.extent "
                         f"[{x0:g}, {y0:g}, {x1:g}, {y1:g}])")
-    limit = radius - _TOUCH
-    for i, wall in enumerate(scene.walls):
-        if shape_distance(shape, [wall.start, wall.end]) < limit or (
-                radius == 0 and shape_distance(shape, [wall.start, wall.end]) == 0):
-            return f"it crosses the wall {wall.name!r} (world.walls[{i}])"
-    for i, ob in enumerate(scene.obstacles):
-        gap = shape_distance(shape, ob.polygon)
-        if gap < limit or (radius == 0 and gap == 0):
-            return f"it overlaps the obstacle {ob.name!r} (world.obstacles[{i}])"
     return None
 
 
@@ -172,7 +172,13 @@ def _check_places(sc: "Scenario") -> None:
             ys = sorted({t.y.low, t.y.high})
             box = [(xs[0], ys[0]), (xs[-1], ys[0]), (xs[-1], ys[-1]), (xs[0], ys[-1])]
             box = list(dict.fromkeys(box))  # a fixed throw is a point, a range in x a segment
-            _place(sc, t.source.path or f"{key}.throw", o.name, box, o.ball.radius, thrown=True)
+            if _clash(sc.scene, box, o.ball.radius) is not None:
+                # blame x when the y range alone (at the middle x) fits, else y
+                mid = [(t.x.mid, y) for y in dict.fromkeys(ys)]
+                blame = "x" if _clash(sc.scene, mid, o.ball.radius) is None else "y"
+                path = f"{t.source.path}.{blame}"
+                _place(sc, path if path in sc.sources else t.source.path, o.name, box,
+                       o.ball.radius, thrown=True)
         elif key and f"{key}.position" in sc.sources:
             _place(sc, f"{key}.position", o.name, [o.ball.position], o.ball.radius)
 

@@ -34,8 +34,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import ImageError, VisionError
-from adapt.geometry import MIN_IMAGE_SIDE
 from adapt.files import write_atomic
+from adapt.geometry import MIN_IMAGE_SIDE
 from adapt.native import native_messages
 
 __all__ = [
