@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
-from adapt.imagination.predict import Trajectory, intercept_reach
+from adapt.imagination.predict import Trajectory, intercept_reach, meets
 from adapt.imagination.reach import meet, standing_point
 from adapt.schemas.drive import Drive
 from adapt.schemas.links import Structure
@@ -192,7 +192,7 @@ class Intercept(Drive):
         d = self.object_distance()
         node.set("object-distance", None if d is None else round(d, 4))
         node.set("caught", None if d is None or obj is None or obj.ball is None
-                 else d <= intercept_reach(obj.ball, self.robot))
+                 else meets(d, intercept_reach(obj.ball, self.robot)))
 
     def object_distance(self) -> float | None:
         """How far the robot is from the object: the sighting when there is one this frame,
