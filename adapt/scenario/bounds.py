@@ -23,7 +23,7 @@ Examples
 >>> BOUNDS["world.walls[i].height"].text
 'number from 0.001 to 10000'
 >>> BOUNDS["run.fps"].text, BOUNDS["world.objects[i].restitution"].text
-('number > 0, at most 1000', 'number from 0 to 1')
+('number from 0.1 to 1000', 'number from 0 to 1')
 >>> BOUNDS["world.walls[i].height"].problem(-1.0)
 'expected a positive number, at least 0.001 metres, got -1'
 >>> BOUNDS["run.max_frames"].problem(10**300)
