@@ -172,13 +172,11 @@ def _check_places(sc: "Scenario") -> None:
             ys = sorted({t.y.low, t.y.high})
             box = [(xs[0], ys[0]), (xs[-1], ys[0]), (xs[-1], ys[-1]), (xs[0], ys[-1])]
             box = list(dict.fromkeys(box))  # a fixed throw is a point, a range in x a segment
-            if _clash(sc.scene, box, o.ball.radius) is not None:
-                # blame x when the y range alone (at the middle x) fits, else y
-                mid = [(t.x.mid, y) for y in dict.fromkeys(ys)]
-                blame = "x" if _clash(sc.scene, mid, o.ball.radius) is None else "y"
-                path = f"{t.source.path}.{blame}"
-                _place(sc, path if path in sc.sources else t.source.path, o.name, box,
-                       o.ball.radius, thrown=True)
+            # a box that does not fit is blamed on x when its y range alone fits (at the middle x)
+            ys_alone = [(t.x.mid, y) for y in dict.fromkeys(ys)]
+            path = f"{t.source.path}.{'x' if _clash(sc.scene, ys_alone, o.ball.radius) is None else 'y'}"
+            _place(sc, path if path in sc.sources else t.source.path, o.name, box,
+                   o.ball.radius, thrown=True)
         elif key and f"{key}.position" in sc.sources:
             _place(sc, f"{key}.position", o.name, [o.ball.position], o.ball.radius)
 
