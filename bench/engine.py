@@ -1,7 +1,14 @@
-"""Engine benchmarks: adapt against real Soar on the same rule files (figures, not tests).
+"""Engine benchmarks: adapt's two engines and real Soar on the same rule files (figures, not tests).
 
-Run ``python bench/engine.py`` (``--quick`` for a smoke run).  The workloads
-are each written as a ``.soar`` file that both systems load unchanged:
+Run ``python bench/engine.py`` (``--quick`` for a smoke run).  The systems,
+side by side: ``soar`` -- the kernel driven directly through SML (no trace,
+no callbacks: the kernel's own speed); ``soar-engine`` -- adapt's Soar engine
+(``--engine soar``, :class:`adapt.soar.SoarAgent`: the same kernel in a child
+process, with adapt's report -- operator selections, impasses, output --
+read from its XML trace); ``adapt`` -- adapt's own engine as installed
+(compiled where it could be built); ``adapt-py`` -- the own engine forced to
+its pure-Python source.  The workloads are each written as a ``.soar`` file
+that every system loads unchanged:
 
 * counter: one operator per decision (propose ``count``, apply ``^count n+1``)
   until ^count reaches 100,000 -- decisions per second.  Target: adapt
@@ -456,6 +463,33 @@ def child_adapt(path: str, max_decisions: int) -> dict[str, object]:
             "engine": engine_build(), "trace_bytes": size}
 
 
+def child_soar_engine(path: str, max_decisions: int) -> dict[str, object]:
+    """adapt's Soar engine: the report of ``adapt rules run --engine soar`` without a trace."""
+    sys.path.insert(0, adapt_root())
+    from adapt.soar import KernelCrash, SoarAgent
+
+    start = time.perf_counter()
+    agent = SoarAgent(seed=1)
+    started = time.perf_counter() - start
+    if max_decisions < 0:  # loading alone: Soar's source, and the names of what it added
+        start = time.perf_counter()
+        rules = agent.load_file(path)
+        seconds = time.perf_counter() - start
+        agent.close()
+        return {"seconds": seconds, "rules": len(rules.productions), "startup": started}
+    agent.load_file(path)
+    start, cpu = time.perf_counter(), time.process_time()
+    try:
+        report = agent.run(max_decisions=max_decisions).to_dict()
+    except KernelCrash as exc:  # reported as the kernel's failure, as real Soar's is
+        return {"error": f"the kernel crashed: {exc}"}
+    seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
+    agent.close()
+    return {"seconds": seconds, "cpu": cpu, "decisions": report["decisions"],
+            "halted": report["halted"], "firings": report["production_firings"],
+            "startup": started}
+
+
 def child_soar(path: str, max_decisions: int) -> dict[str, object]:
     import soar_sml
 
@@ -491,9 +525,11 @@ def _limit_memory() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
 
 
-#: The systems a run compares: real Soar, adapt as installed (compiled where it
-#: could be built) and adapt forced to its pure-Python source.
-SYSTEMS = ("soar", "adapt", "adapt-py")
+#: The systems a run compares: real Soar driven directly, adapt's Soar engine, adapt's own
+#: engine as installed (compiled where it could be built) and forced to its pure-Python source.
+SYSTEMS = ("soar", "soar-engine", "adapt", "adapt-py")
+#: adapt's two engines (the own one, as installed, and the Soar kernel behind the interface).
+ENGINES = ("adapt", "soar-engine")
 
 
 def measure(system: str, path: Path, max_decisions: int, timeout: float) -> dict[str, object]:
@@ -564,12 +600,12 @@ def bench_counter(tmp: Path, limit: int, runs: int, timeout: float,
     rates: dict[str, float] = {}
     for system, (seconds, info) in interleaved(systems, path, limit + 10, runs, timeout).items():
         if seconds is None:
-            print(f"  {system:<8} {info.get('error')}")
+            print(f"  {system:<11} {info.get('error')}")
             continue
         decisions = int(info["decisions"])  # type: ignore[call-overload]
         rates[system] = decisions / seconds
         engine = f", {info['engine']}" if "engine" in info else ""
-        print(f"  {system:<8} {decisions:,} decisions in {fmt(seconds)}  ->  "
+        print(f"  {system:<11} {decisions:,} decisions in {fmt(seconds)}  ->  "
               f"{rates[system]:,.0f} decisions/s  (halted: {info['halted']}{engine})")
     for system in ("adapt", "adapt-py"):
         if system in rates and "soar" in rates:
@@ -578,6 +614,22 @@ def bench_counter(tmp: Path, limit: int, runs: int, timeout: float,
             print(f"  ratio {system}/Soar = {ratio:.3f}  (target >= 0.25: {verdict})")
     if "adapt" in rates and "adapt-py" in rates:
         print(f"  adapt (as installed) / adapt pure Python = {rates['adapt'] / rates['adapt-py']:.2f}x")
+    engines_side_by_side(rates, "decisions/s")
+
+
+def engines_side_by_side(rates: dict[str, float], unit: str, higher: bool = True) -> None:
+    """adapt's two engines beside each other, and the Soar engine beside the kernel it drives."""
+    if "soar-engine" in rates and "adapt" in rates:
+        ratio = rates["soar-engine"] / rates["adapt"] if higher else rates["adapt"] / rates["soar-engine"]
+        print(f"  the two engines ({unit}): --engine soar is {ratio:.2f}x the own engine (as installed)")
+    if "soar-engine" in rates and "adapt-py" in rates:
+        ratio = (rates["soar-engine"] / rates["adapt-py"] if higher
+                 else rates["adapt-py"] / rates["soar-engine"])
+        print(f"  --engine soar / own engine in pure Python = {ratio:.2f}x")
+    if "soar-engine" in rates and "soar" in rates:
+        share = rates["soar-engine"] / rates["soar"] if higher else rates["soar"] / rates["soar-engine"]
+        print(f"  --engine soar runs at {share:.2f}x the kernel driven directly (the cost of the "
+              "report read from its XML trace, and of the process boundary)")
 
 
 def bench_load(tmp: Path, sizes: list[int], runs: int, timeout: float,
@@ -607,6 +659,9 @@ def bench_load(tmp: Path, sizes: list[int], runs: int, timeout: float,
     if ("soar", 10_000) in times and ("soar", 20_000) in times:
         print(f"  soar time(20,000) / time(10,000) = "
               f"{times[('soar', 20_000)] / times[('soar', 10_000)]:.2f}")
+    largest = max(sizes)
+    engines_side_by_side({s: 1.0 / t for (s, n), t in times.items() if n == largest},
+                         f"load speed at N = {largest:,}")
 
 
 def bench_long_rule(tmp: Path, sizes: list[int], runs: int, timeout: float,
@@ -703,13 +758,13 @@ def bench_agent(tmp: Path, name: str, text: str, monitor: str, max_decisions: in
     seen: dict[str, tuple[object, object, object]] = {}
     for system, (seconds, info) in interleaved(systems, path, max_decisions, runs, timeout).items():
         if seconds is None:
-            print(f"  {system:<8} {info.get('error')}")
+            print(f"  {system:<11} {info.get('error')}")
             continue
         firings = int(info["firings"])  # type: ignore[call-overload]
         rates[system] = firings / seconds
         seen[system] = (info["decisions"], info["halted"], firings)
         engine = f", {info['engine']}" if "engine" in info else ""
-        print(f"  {system:<8} {int(info['decisions']):,} decisions, "  # type: ignore[call-overload]
+        print(f"  {system:<11} {int(info['decisions']):,} decisions, "  # type: ignore[call-overload]
               f"{firings:,} firings in {fmt(seconds)}  ->  {rates[system]:,.0f} firings/s  "
               f"(halted: {info['halted']}{engine})")
     if len(set(seen.values())) > 1:
@@ -717,6 +772,7 @@ def bench_agent(tmp: Path, name: str, text: str, monitor: str, max_decisions: in
     for system in ("adapt", "adapt-py"):
         if system in rates and "soar" in rates:
             print(f"  Soar's rate / {system}'s = {rates['soar'] / rates[system]:.1f}x")
+    engines_side_by_side(rates, "firings/s")
 
 
 def bench_hanoi(tmp: Path, disks: int, runs: int, timeout: float,
@@ -774,7 +830,8 @@ def bench_trace(tmp: Path, limit: int, decisions: int, runs: int, timeout: float
 
 def main() -> int:
     if len(sys.argv) == 5 and sys.argv[1] == "--child":
-        runner = child_soar if sys.argv[2] == "soar" else child_adapt  # adapt, adapt-py
+        runner = {"soar": child_soar, "soar-engine": child_soar_engine}.get(
+            sys.argv[2], child_adapt)  # adapt, adapt-py
         print(json.dumps(runner(sys.argv[3], int(sys.argv[4]))), flush=True)
         os._exit(0)  # the native kernel sometimes misbehaves at interpreter exit
     parser = argparse.ArgumentParser(description="adapt vs real Soar: counter, value join, loading, "
@@ -792,7 +849,7 @@ def main() -> int:
     parser.add_argument("--load-sizes", default=None,
                         help="rule-base sizes, comma-separated (default 2500,5000,10000,20000)")
     parser.add_argument("--systems", default=",".join(SYSTEMS),
-                        help="comma-separated subset of soar,adapt,adapt-py (default all; "
+                        help="comma-separated subset of soar,soar-engine,adapt,adapt-py (default all; "
                              "adapt-py is adapt forced to its pure-Python source; the value "
                              "join runs soar and adapt)")
     parser.add_argument("--no-check", action="store_true",

@@ -15,6 +15,13 @@ Figures (issue 9, issue 10):
   robot, MMD and full-pose correction every frame, the ball's schema with
   prediction, the intercept schema, decision cycles): the same figures, and
   how many times real time the rollouts inside the loop run;
+* **the decision stage on both engines** (``--only engines``; issue 23): the
+  bouncing ball's loop run on adapt's own engine and on the Soar kernel
+  (``engine: soar``), the two alternating round by round in this process;
+  the decision stage (the agent's decision cycles, with the input-link
+  writes and the output-link commands of the schema network inside them)
+  in ms a frame and a decision cycle, medians over the rounds, and their
+  ratio;
 * **a new camera pose**: the background render at 640x480 (ms, median);
 * **memory**: peak resident memory after 1,000 frames and after N more
   frames of a run whose rules fire every frame (input changes every frame, a
@@ -59,9 +66,9 @@ def one_core() -> str:
         return "OpenCV 1 thread (no core pinning here)"
 
 
-def loop(path: Path, frames: int, skip: int) -> dict[str, float]:
+def loop(path: Path, frames: int, skip: int, overrides: tuple[str, ...] = ()) -> dict[str, float]:
     """Run ``frames`` frames; per-stage ms over the frames after ``skip``."""
-    sc = load_scenario(path)
+    sc = load_scenario(path, overrides=list(overrides))
     runner = Runner(sc, out=None, max_frames=frames, outputs=QUIET)
     marks: list[dict[str, float]] = []
     runner.on_progress = lambda p: marks.append(dict(runner.stats.stage_s))
@@ -86,6 +93,29 @@ def report(name: str, ms: dict[str, float]) -> None:
         print(f"      {k:<22} {v:7.2f} ms a frame (whole run)")
     if ms.get("rollouts_x"):
         print(f"    rollouts inside the loop: {ms['rollouts_x']:.0f}x real time (target >= 500)")
+
+
+def engines(frames: int, rounds: int) -> None:
+    """The bouncing ball's decision stage on both engines, alternating round by round."""
+    from adapt.engine import engine_build
+
+    path = ROOT / "scenarios" / "bouncing-ball.yaml"
+    per_frame = load_scenario(path).run.decisions_per_frame
+    skip = min(30, frames // 2)
+    ms: dict[str, list[float]] = {"adapt": [], "soar": []}
+    for _ in range(rounds):
+        for engine in ms:
+            ms[engine].append(loop(path, frames, skip, (f"engine={engine}",))["decisions"])
+    own, soar = (statistics.median(ms[e]) for e in ("adapt", "soar"))
+    print(f"decision stage, bouncing-ball.yaml ({frames} frames, the last {frames - skip}; "
+          f"{per_frame} decision cycles a frame; medians of {rounds} alternating rounds):")
+    print(f"    own engine ({engine_build()}): {own:6.2f} ms a frame, "
+          f"{own / per_frame:6.3f} ms a decision cycle")
+    print(f"    Soar engine (the kernel in its process): {soar:6.2f} ms a frame, "
+          f"{soar / per_frame:6.3f} ms a decision cycle")
+    print(f"    Soar engine / own engine: {soar / own:.2f}x "
+          f"(rounds: own {', '.join(f'{v:.2f}' for v in ms['adapt'])}; "
+          f"soar {', '.join(f'{v:.2f}' for v in ms['soar'])} ms a frame)")
 
 
 def new_pose(runs: int) -> float:
@@ -174,14 +204,22 @@ def main() -> int:
     ap.add_argument("--memory-frames", type=int, default=20_000,
                     help="frames after the first 1,000 for the memory figure (100000 for the "
                     "issue's figure)")
+    ap.add_argument("--only", choices=("engines",), default=None,
+                    help="only the decision stage on both engines")
+    ap.add_argument("--rounds", type=int, default=3,
+                    help="alternating rounds of the two engines (--only engines and the default)")
     args = ap.parse_args()
     print(one_core())
+    if args.only == "engines":
+        engines(args.frames, args.rounds)
+        return 0
     print(f"new camera pose: background render {new_pose(40):.2f} ms at 640x480 "
           f"(median of 40; target <= 10 ms)")
     report("static camera, Scene Background (background-sync.yaml, 640x480)",
            loop(ROOT / "scenarios" / "background-sync.yaml", args.frames, 30))
     report("whole loop (bouncing-ball.yaml: camera on the robot, ball, intercept, 640x480)",
            loop(ROOT / "scenarios" / "bouncing-ball.yaml", args.frames, 30))
+    engines(args.frames, args.rounds)
     memory(args.memory_frames)
     return 0
 

@@ -4,6 +4,17 @@
     python bench/soar_agents.py ... --group chunking      # the agents that need chunking
     python bench/soar_agents.py ... --only fifteen         # agents whose path contains a word
     python bench/soar_agents.py ... --select               # recompute the selection below
+    python bench/soar_agents.py ... --engine soar          # adapt's Soar engine instead
+    python bench/soar_agents.py ... --engine soar --group every   # every agent of the two
+
+With ``--engine soar`` each agent runs through ``adapt rules run --engine soar
+--json`` (adapt's Soar engine: the kernel behind adapt's interface, in a child
+process) and directly in soar-sml (``tests/engine/soar_harness.py``, with the
+learning the agent asks for), and the two reports must be the same:
+``first_difference`` (halted, stop reason, decisions, selections and impasses
+per decision, the output), the production firings and the kernel's messages.
+``--group every`` takes every top-level agent file of the two repositories,
+also those that need what adapt's own engine lacks (RL, smem, epmem, ...).
 
 ``--soar`` and ``--agents`` are local checkouts of the public SoarGroup/Soar and
 SoarGroup/Agents repositories; nothing is fetched at run time.
@@ -372,6 +383,62 @@ def compare(path: Path, chunking: str, bound: int, timeout: float) -> dict[str, 
     return out
 
 
+def compare_engine(path: Path, bound: int, timeout: float) -> dict[str, object]:
+    """The agent through ``adapt rules run --engine soar --json`` and in soar-sml directly."""
+    from collections import Counter
+
+    sys.path.insert(0, str(HARNESS.parent))
+    from soar_harness import first_difference
+
+    start = time.perf_counter()
+    soar = run_child([sys.executable, str(HARNESS), "--child", str(path), str(bound), "1",
+                      str(timeout), "-"], timeout + 30)
+    soar_seconds = time.perf_counter() - start
+    start = time.perf_counter()
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([os.environ.get("ADAPT_BENCH_ROOT") or str(ROOT)]
+                                        + [p for p in [env.get("PYTHONPATH")] if p])
+    try:
+        proc = subprocess.run([sys.executable, "-m", "adapt", "rules", "run", str(path),
+                               "--engine", "soar", "--json", "--max-decisions", str(bound)],
+                              capture_output=True, timeout=timeout, env=env)
+        ours: dict[str, object] = json.loads(proc.stdout.decode() or "{}")
+        if not ours:
+            ours = {"error": proc.stderr.decode().strip()[-200:]}
+    except subprocess.TimeoutExpired:
+        ours = {"error": f"over the {timeout:.0f} s limit", "stop_reason": "timeout"}
+    engine_seconds = time.perf_counter() - start
+    out: dict[str, object] = {"soar": soar.get("stop_reason"), "soar_seconds": soar_seconds,
+                              "loads": "error" not in ours, "adapt_seconds": engine_seconds}
+    if soar.get("error"):
+        out["result"] = "soar-failed"
+        out["detail"] = str(soar["error"])[:150]
+        return out
+    difference = first_difference(soar, ours)
+    if difference is None and ours.get("production_firings") != soar.get("production_firings"):
+        difference = (f"production firings: Soar {soar.get('production_firings')}, "
+                      f"the Soar engine {ours.get('production_firings')}")
+    if difference is None and Counter(ours.get("messages") or []) != Counter(  # type: ignore[arg-type]
+            soar.get("messages") or []):
+        difference = "kernel messages differ"
+    out["result"] = "same report" if difference is None else "differs"
+    if difference is not None:
+        out["detail"] = difference[:200]
+    return out
+
+
+def every_agent(roots: dict[str, Path]) -> list[tuple[str, str]]:
+    """Every top-level agent file of the two repositories (the selection rule's files)."""
+    tops: list[tuple[str, Path]] = []
+    for folder in ("UnitTests/SoarTestAgents", "UnitTests/SoarTestAgents/FullTests",
+                   "PerformanceTests/TestAgents", "UnitTests/SoarTestAgents/Chunking/tests"):
+        tops += [("Soar", p) for p in sorted((roots["Soar"] / folder).glob("*.soar"))]
+    tops += [("Agents", p) for p in sorted(roots["Agents"].glob("*/*.soar"))
+             if "Deprecated" not in str(p)]
+    return [(repo, top.relative_to(roots[repo]).as_posix()) for repo, top in tops
+            if not NOT_AGENTS.search(top.relative_to(roots[repo]).as_posix())]
+
+
 def _text_difference(a: str, b: str) -> str:
     for k, (x, y) in enumerate(zip(a.splitlines(), b.splitlines())):
         if x != y:
@@ -388,7 +455,11 @@ def main() -> int:
     parser.add_argument("--soar", type=Path, required=True, help="a checkout of SoarGroup/Soar")
     parser.add_argument("--agents", type=Path, required=True,
                         help="a checkout of SoarGroup/Agents")
-    parser.add_argument("--group", choices=("own", "chunking", "all"), default="own")
+    parser.add_argument("--group", choices=("own", "chunking", "all", "every"), default="own",
+                        help="own, chunking, both (all); every: every agent file (with "
+                             "--engine soar)")
+    parser.add_argument("--engine", choices=("adapt", "soar"), default="adapt",
+                        help="the engine compared with soar-sml (default adapt's own)")
     parser.add_argument("--only", default=None, help="agents whose path contains this text")
     parser.add_argument("--select", action="store_true",
                         help="recompute the selection from the checkouts and compare")
@@ -411,7 +482,15 @@ def main() -> int:
                 print(f"  listed, not found: {item}")
         return 0
     groups = {"own": [(a, "refuse") for a in OWN], "chunking": [(a, "off") for a in CHUNKING]}
-    todo = groups["own"] + groups["chunking"] if opts.group == "all" else groups[opts.group]
+    if opts.group == "every":
+        if opts.engine != "soar":
+            parser.error("--group every needs --engine soar (most agents need what the own "
+                         "engine lacks)")
+        todo = [(a, "as-written") for a in every_agent(roots)]
+    elif opts.group == "all":
+        todo = groups["own"] + groups["chunking"]
+    else:
+        todo = groups[opts.group]
     if opts.only:
         todo = [t for t in todo if opts.only in t[0][1]]
     sys.path.insert(0, os.environ.get("ADAPT_BENCH_ROOT") or str(ROOT))
@@ -422,7 +501,10 @@ def main() -> int:
           f"{len(todo)} agents")
     rows = []
     for (repo, rel), chunking in todo:
-        row = compare(roots[repo] / rel, chunking, opts.max_decisions, opts.timeout)
+        if opts.engine == "soar":
+            row = compare_engine(roots[repo] / rel, opts.max_decisions, opts.timeout)
+        else:
+            row = compare(roots[repo] / rel, chunking, opts.max_decisions, opts.timeout)
         row["agent"] = f"{repo}/{rel}"
         rows.append(row)
         adapt_s = row["adapt_seconds"]
@@ -432,10 +514,20 @@ def main() -> int:
               f"{repo}/{rel}  ({times})" + (f"\n    {row['detail']}" if row.get("detail") else ""),
               flush=True)
     loads = sum(1 for r in rows if r["loads"])
-    agree = sum(1 for r in rows if str(r["result"]).startswith("agrees"))
-    strict = sum(1 for r in rows if r["result"] == "agrees")
-    print(f"\n{len(rows)} agents: {loads} load as shipped, {agree} agree with Soar "
-          f"({strict} with the same output text in the same order)")
+    if opts.engine == "soar":
+        same = sum(1 for r in rows if r["result"] == "same report")
+        failed = sum(1 for r in rows if r["result"] == "soar-failed")
+        soar_s = sorted(float(r["soar_seconds"]) for r in rows)  # type: ignore[arg-type]
+        ours_s = sorted(float(r["adapt_seconds"]) for r in rows)  # type: ignore[arg-type]
+        print(f"\n{len(rows)} agents on the Soar engine: {loads} load, {same} give soar-sml's "
+              f"own report ({failed} fail in soar-sml itself); median seconds per agent: "
+              f"soar-sml {soar_s[len(soar_s) // 2]:.2f}, adapt rules run --engine soar "
+              f"{ours_s[len(ours_s) // 2]:.2f} (each a fresh process and kernel)")
+    else:
+        agree = sum(1 for r in rows if str(r["result"]).startswith("agrees"))
+        strict = sum(1 for r in rows if r["result"] == "agrees")
+        print(f"\n{len(rows)} agents: {loads} load as shipped, {agree} agree with Soar "
+              f"({strict} with the same output text in the same order)")
     if opts.json:
         opts.json.write_text(json.dumps(rows, indent=1))
     return 0

@@ -128,8 +128,9 @@ ALLOWED = {
     "kalman.py": (),
     "seeds.py": (),
     "frames.py": ("adapt.errors", "adapt.files"),
+    # scenario: of the engine, only its interface (the engine names a scenario's engine: takes)
     "scenario": ("adapt.scenario", "adapt.imagination", "adapt.geometry", "adapt.errors",
-                 "adapt.files"),
+                 "adapt.files", "adapt.engine.interface"),
     "schemas": ("adapt.schemas", "adapt.engine", "adapt.vision", "adapt.imagination",
                 "adapt.mirror", "adapt.geometry", "adapt.errors", "adapt.kalman",
                 "adapt.frames", "adapt.scenario"),
@@ -393,3 +394,49 @@ def f(p):
     return q
 ''').body[0]
     assert body_lines(fn) == 1  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("path", modules_in("soar") + [PACKAGE / "engines.py"],
+                         ids=lambda p: p.name)
+def test_the_soar_engine_stands_beside_the_engine(path: Path) -> None:
+    # adapt.soar speaks to the kernel behind the engine's interface: it uses the engine's
+    # records (symbols, WMEs, reports, the trace writer), never the other way round; only
+    # its worker, run as a script in the kernel's process, imports soar_sml
+    for name in imports_of(path):
+        top = name.split(".")[0]
+        if top == "adapt":
+            allowed = ("adapt.engine", "adapt.errors", "adapt.soar")
+            assert name.startswith(allowed), f"{path.name} imports {name}"
+        elif top == "soar_sml":
+            assert path.name == "worker.py", f"{path.name} imports soar_sml"
+        else:
+            assert top in STDLIB or top == "__future__", f"{path.name} imports {name}"
+    if path.name == "worker.py":  # a script: nothing of adapt, so it starts fast and alone
+        assert not any(n.startswith("adapt") for n in imports_of(path))
+
+
+def test_nothing_but_the_engine_choice_imports_the_soar_engine() -> None:
+    for path in PACKAGE.rglob("*.py"):
+        parts = path.relative_to(PACKAGE).parts
+        if parts[0] in ("soar", "engines.py", "cli"):
+            continue
+        for name in imports_of(path):
+            assert not name.startswith("adapt.soar"), (
+                f"{path} imports {name}: layers use adapt.engines.make_agent and the interface")
+
+
+#: What of the engine the runner and the schemas may use: its interface and records, the
+#: trace writer (the runner's trace holds the engine's records), the parser (the own
+#: engine's check of rule files).  Never an engine itself: agents come from
+#: adapt.engines.make_agent and are used through adapt.engine.interface.RuleEngine.
+ENGINE_SURFACE = ("adapt.engine.interface", "adapt.engine.symbols", "adapt.engine.trace",
+                  "adapt.engine.parse", "adapt.engine.functions")
+
+
+@pytest.mark.parametrize("path", modules_in("runner") + modules_in("schemas"),
+                         ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_the_runner_and_the_schemas_use_the_engine_interface_only(path: Path) -> None:
+    for name in imports_of(path):
+        if name == "adapt.engine" or name.startswith("adapt.engine."):
+            assert name in ENGINE_SURFACE, (
+                f"{path.parent.name}/{path.name} imports {name}: use adapt.engine.interface")

@@ -78,6 +78,9 @@ def register(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
                      metavar="1..5", help="trace detail (default 5)")
     run.add_argument("--matcher", choices=("rete", "naive"), default="rete",
                      help="the Rete matcher (default) or the brute-force one (for checking)")
+    run.add_argument("--engine", default="adapt", metavar="adapt|soar",
+                     help="adapt's own engine (default) or soar, the Soar kernel (soar-sml: "
+                          "chunking, RL, smem, epmem; pip install 'adapt[soar]')")
     run.set_defaults(func=run_command)
 
     info = rsub.add_parser("info", help="say which engine is installed (compiled or pure Python)")
@@ -136,37 +139,45 @@ def _check_trace(args: argparse.Namespace, read: Sequence[str] = ()) -> Any:
 
 def run_command(args: argparse.Namespace) -> int:
     """Run the files; the exit status says how the run ended (:func:`run_status`)."""
-    from adapt.engine import Agent
+    from adapt.engines import EngineName, engine_name, make_agent
 
+    engine = engine_name(args.engine)
     if args.max_decisions is not None and args.max_decisions < 0:
         raise AdaptError(f"--max-decisions must be >= 0, got {args.max_decisions}")
+    if engine is EngineName.SOAR and args.matcher != "rete":
+        raise AdaptError("--matcher chooses the matcher of adapt's own engine; the Soar kernel "
+                         "(--engine soar) matches with its own Rete")
     trace = _check_trace(args) if args.trace is not None else None
-    agent = Agent(seed=args.seed, matcher=args.matcher, trace=args.trace,
-                  trace_level=args.trace_level)
+    agent = make_agent(engine, seed=args.seed, matcher=args.matcher, trace=args.trace,
+                       trace_level=args.trace_level)
     echo = _Echo()
     if not args.json:
         agent.on_write(echo)
     try:
-        ctrl_c, failure = _load_and_run(args, agent, trace)
+        ctrl_c, failure, crashed = _load_and_run(args, agent, trace)
     finally:
         agent.close()
     report = agent.report()
     if ctrl_c:
         status = Exit.INTERRUPTED
+    elif crashed is not None:
+        status = Exit.ERROR
     elif failure is not None:
         status = Exit.RULE_ERROR
     else:
         status = run_status(report.stop_reason, report.messages)
-    _print_outcome(args, report, echo, ctrl_c, status)
-    if failure is not None:
-        print(f"adapt: error: {failure}", file=sys.stderr)
+    _print_outcome(args, report, echo, ctrl_c, status, crashed)
+    if failure is not None or crashed is not None:
+        print(f"adapt: error: {crashed or failure}", file=sys.stderr)
     return int(status)
 
 
 def _load_and_run(args: argparse.Namespace, agent: Any, trace: Any
-                  ) -> tuple[bool, EngineError | None]:
+                  ) -> tuple[bool, EngineError | None, str | None]:
     """Load the files (warnings to standard error), then run: (interrupted, a rule's
-    failure at run time)."""
+    failure at run time, why the Soar kernel's process died)."""
+    from adapt.soar.process import KernelCrash
+
     loaded = sum(len(agent.load_file(path).productions) for path in args.files)
     if loaded == 0:
         print("warning: the rule files hold no productions; the run will only make "
@@ -180,21 +191,28 @@ def _load_and_run(args: argparse.Namespace, agent: Any, trace: Any
     try:
         agent.run(args.max_decisions)
     except KeyboardInterrupt:
-        return True, None
+        return True, None, None
+    except KernelCrash as exc:  # the Soar kernel's process died: report what ran
+        return False, None, (f"{exc}; the report and the trace hold the {agent.decisions} "
+                             "decisions it reported")
     except EngineError as exc:  # a rule's action failed at run time
-        return False, exc
-    return False, None
+        return False, exc, None
+    return False, None, None
 
 
 def _print_outcome(args: argparse.Namespace, report: Any, echo: _Echo, ctrl_c: bool,
-                   status: Exit) -> None:
+                   status: Exit, crashed: str | None = None) -> None:
     if args.json:
         data = report.to_dict()
         data["exit_status"] = int(status)
+        data["engine"] = str(args.engine)
+        if crashed is not None:
+            data["error"] = crashed
         print(json.dumps(data))
     else:
         echo.end_line()
-        how = "interrupted by Ctrl-C" if ctrl_c else report.stop_reason
+        how = ("interrupted by Ctrl-C" if ctrl_c else "the Soar kernel crashed" if crashed
+               else report.stop_reason)
         print(f"-- {how}: {report.decisions} decisions, "
               f"{report.production_firings} firings, {len(report.operators)} operators, "
               f"{len(report.impasses)} impasses, {report.wm_size_final} WMEs")
@@ -209,8 +227,10 @@ def info_command(args: argparse.Namespace) -> int:
     """Print which engine runs: the mypyc-compiled modules or the pure-Python source."""
     from adapt import __version__
     from adapt.engine import engine_build
+    from adapt.engines import soar_status
 
     print(f"adapt {__version__}, engine: {engine_build()}")
+    print(f"Soar engine (--engine soar): {soar_status()}")
     return 0
 
 

@@ -231,6 +231,7 @@ def _check_json(name: str, found: Any, length: Any) -> dict[str, Any]:
         "run": {"fps": length.fps, "frames": length.frames,
                 "decisions_per_frame": sc.run.decisions_per_frame},
         "seed": sc.seed,
+        "engine": sc.engine.value,
     }
 
 
@@ -244,7 +245,8 @@ def _check_lines(name: str, found: Any, length: Any) -> list[str]:
              f"  reality: {sc.reality.kind.value}; {length.frames} frames at {length.fps:g} "
              f"frames/s, {sc.run.decisions_per_frame} decisions per frame; seed {sc.seed}",
              f"  goals: {', '.join(g.name for g in sc.goals) or 'none'}; schema settings: "
-             f"{', '.join(s.type for s in sc.schemas) or 'none'}"]
+             f"{', '.join(s.type for s in sc.schemas) or 'none'}",
+             f"  engine: {sc.engine.value}"]
     for r in found.rules:
         lines.append(f"  rules: {r.path}: {r.productions} "
                      f"production{'' if r.productions == 1 else 's'}")

@@ -373,11 +373,11 @@ class Agent:
 
         May be called again to continue; the report covers the whole life of
         the agent.  A Python exception from a user RHS function ends the run
-        (the trace gets its footer) and propagates.
+        (the trace gets its footer, unless ``footer=False``) and propagates.
 
-        ``footer=False`` writes no trace footer at the end of this call: a
-        caller that runs the agent in many slices (a frame loop) writes one
-        footer at the very end with :meth:`write_footer`.
+        ``footer=False`` writes no trace footer at the end of this call, even
+        when it raises: a caller that runs the agent in many slices (a frame
+        loop) writes one footer at the very end with :meth:`write_footer`.
         """
         if max_decisions is not None and max_decisions < 0:
             raise EngineError("max_decisions must be >= 0")
@@ -400,10 +400,28 @@ class Agent:
                 gc.set_threshold(*saved_gc)
             if self.halted:
                 self.stop_reason = "halt"
-            if self.tracer is not None and (footer or error is not None):
+            if self.tracer is not None and footer:
                 self.tracer.footer(self.report().to_dict(), time.perf_counter() - started,
                                    error)
         return self.report()
+
+    def trace_header(self) -> dict[str, Any]:
+        """The header fields of this engine's traces besides the common ones: none (a
+        trace without ``engine`` is the own engine's)."""
+        return {}
+
+    def attach_trace(self, writer: TraceWriter) -> None:
+        """Write the trace through ``writer`` (at its level) from the first run on.
+
+        Raises
+        ------
+        EngineError
+            When the agent already has a trace.
+        """
+        if self.tracer is not None or self._trace_arg is not None:
+            raise EngineError("the agent already writes a trace")
+        self._trace_arg = writer
+        self._trace_level = writer.level
 
     def write_footer(self, elapsed_s: float, error: str | None = None) -> None:
         """Write the trace's footer (for runs made of ``run(..., footer=False)`` slices)."""

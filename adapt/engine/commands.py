@@ -34,7 +34,8 @@ level or category)                     prints, not what the agent does
 =====================================  ==============================================
 
 Everything else is refused with a positioned
-:class:`~adapt.errors.RuleSemanticError` that names the command, and nothing
+:class:`~adapt.errors.RuleSemanticError` that names the command and the Soar
+engine, which runs it (``--engine soar``, :mod:`adapt.soar`), and nothing
 is executed: chunking other than ``never`` (``chunk always``, ``learn --on``,
 chunking settings), reinforcement learning (``rl``), semantic and episodic
 memory (``smem``, ``epmem``), ``gp``, and any other Soar command.  With
@@ -51,7 +52,7 @@ Setting(kind='multi-attributes', name='holds', value=8)
 >>> interpret(read_command("chunk always", 0))
 Traceback (most recent call last):
   ...
-adapt.engine.commands.Refusal: 'chunk always' turns chunking on, which adapt does not implement; remove the line, or write 'chunk never'
+adapt.engine.commands.Refusal: 'chunk always' turns chunking on, which adapt does not implement; remove the line, write 'chunk never', or run it on the Soar engine (--engine soar)
 """
 
 from __future__ import annotations
@@ -61,7 +62,10 @@ from dataclasses import dataclass
 from typing import Literal, Union
 
 __all__ = ["Command", "Setting", "Source", "Pushd", "Popd", "Refusal", "CommandSyntaxError",
-           "read_command", "skip_blank", "interpret", "Chunking"]
+           "read_command", "skip_blank", "interpret", "Chunking", "ON_SOAR"]
+
+#: The end of every refusal of something the Soar engine runs (chunking, RL, smem, ...).
+ON_SOAR = "run it on the Soar engine (--engine soar)"
 
 #: What agent-file commands about chunking do: ``"refuse"`` (the default:
 #: anything that would turn learning on is an error) or ``"off"`` (an agent
@@ -403,15 +407,15 @@ def interpret(command: Command, chunking: Chunking = "refuse") -> Meaning:
                 ("always", "on", "only", "except", "--on", "-e", "--enable", "enable")
                 else "configures chunking")
         raise Refusal(f"'{shown}' {what}, which adapt does not implement; remove the line, "
-                      "or write 'chunk never'", 0)
+                      f"write 'chunk never', or {ON_SOAR}", 0)
     why = _NOT_IMPLEMENTED.get(canonical[1] if name == "decide" and len(canonical) > 1
                                else name)
     if why is not None:
-        raise Refusal(f"'{head}' is a Soar command adapt does not run ({why})", 0)
+        raise Refusal(f"'{head}' is a Soar command adapt does not run ({why}); {ON_SOAR}", 0)
     if head not in SOAR_COMMANDS:
         raise Refusal(f"expected 'sp {{' to begin a production, or an agent-file command, "
                       f"found {head!r}", 0, unknown=True)
     raise Refusal(f"'{shown}' is a Soar command adapt does not run in agent files (besides "
                   "'sp' productions they may hold source, pushd, popd, srand, "
                   "multi-attributes, chunk never, watch, echo, max-elaborations, "
-                  "max-goal-depth and output agent-writes)", 0)
+                  f"max-goal-depth and output agent-writes); {ON_SOAR}", 0)

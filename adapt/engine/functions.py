@@ -63,6 +63,7 @@ import re
 from dataclasses import dataclass
 from typing import Callable, Mapping, Protocol, Sequence
 
+from adapt.engine.commands import ON_SOAR
 from adapt.engine.production import FunctionCall, RhsValue, Variable
 from adapt.engine.soar_functions import REFUSED_FUNCTIONS, SOAR_FUNCTIONS
 from adapt.engine.soar_random import SoarRandom
@@ -251,7 +252,8 @@ class FunctionTable:
         if fn is None:
             why = REFUSED_FUNCTIONS.get(name)
             if why is not None:
-                return f"RHS function {name!r} is one adapt does not run: {why}"
+                hint = "" if name in ("exec", "accept") else f"; {ON_SOAR}"
+                return f"RHS function {name!r} is one adapt does not run: {why}{hint}"
             return f"unknown RHS function {name!r}"
         if as_action and not fn.as_action:
             return f"function {name!r} cannot be used as a stand-alone action"

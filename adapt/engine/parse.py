@@ -42,6 +42,7 @@ from dataclasses import dataclass
 from typing import Union
 
 from adapt.engine.commands import (
+    ON_SOAR,
     Chunking,
     Command,
     CommandSyntaxError,
@@ -336,7 +337,8 @@ class _Parser:
             flag = self.advance()
             if flag.text in _UNSUPPORTED_FLAGS and flag.text not in self.flags:
                 raise self.semantic(
-                    f"the flag '{flag.text}' is not supported: {_UNSUPPORTED_FLAGS[flag.text]}",
+                    f"the flag '{flag.text}' is not supported: {_UNSUPPORTED_FLAGS[flag.text]}; "
+                    f"{ON_SOAR}",
                     flag,
                 )
             known = self.flags.get(flag.text)

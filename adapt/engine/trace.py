@@ -29,7 +29,7 @@ from __future__ import annotations
 import datetime
 import json
 import os
-from typing import IO, Any, Iterable
+from typing import IO, Any, Iterable, Mapping
 
 from adapt.engine.symbols import Float, Identifier, Symbol
 from adapt.engine.wme import WME
@@ -74,10 +74,13 @@ class TraceWriter:
     files : list of str
         The rule files of the run (for the header).
     seed : int
+    header : mapping, optional
+        More header fields (the Soar engine's ``engine`` and ``absent``).
     """
 
     def __init__(self, sink: Any, *, level: int = 5, files: Iterable[str] = (),
-                 seed: int | None = 1, version: str = "0.1.0") -> None:
+                 seed: int | None = 1, version: str = "0.1.0",
+                 header: Mapping[str, Any] | None = None) -> None:
         if not 1 <= level <= 5:
             raise ValueError(f"trace level must be 1..5, not {level}")
         if isinstance(sink, (str, os.PathLike)):
@@ -91,8 +94,11 @@ class TraceWriter:
         self._carry: list[WME] = []
         self.closed = False
         created = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
-        self._record({"kind": "header", "format": FORMAT, "version": VERSION, "adapt": version,
-                      "files": list(files), "seed": seed, "level": level, "created": created})
+        record = {"kind": "header", "format": FORMAT, "version": VERSION, "adapt": version,
+                  "files": list(files), "seed": seed, "level": level, "created": created}
+        for key, value in (header or {}).items():
+            record.setdefault(key, value)
+        self._record(record)
         self._out.flush()
 
     def _record(self, record: dict[str, Any]) -> None:
@@ -149,16 +155,20 @@ class TraceWriter:
         rec["adds"].extend(_wme_json(w) for w in added)
         rec["removes"].extend(w.timetag for w in removed)
 
-    def firing(self, rule: str, level: int, support: str, bindings: dict[Any, Symbol],
-               wmes: Iterable[WME]) -> None:
-        """A production fired (level >= 3)."""
+    def firing(self, rule: str, level: int, support: str | None,
+               bindings: dict[Any, Symbol] | None, wmes: Iterable[WME]) -> None:
+        """A production fired (level >= 3); a ``support`` or ``bindings`` of
+        None (not known: the Soar kernel does not report bindings) is left out."""
         rec = self._phase
         if rec is None or self.level < 3:
             return
-        rec["firings"].append({
-            "rule": rule, "level": level, "support": support,
-            "bindings": {str(k): symbol_json(v) for k, v in bindings.items()},
-            "wmes": [w.timetag for w in wmes]})
+        firing: dict[str, Any] = {"rule": rule, "level": level}
+        if support is not None:
+            firing["support"] = support
+        if bindings is not None:
+            firing["bindings"] = {str(k): symbol_json(v) for k, v in bindings.items()}
+        firing["wmes"] = [w.timetag for w in wmes]
+        rec["firings"].append(firing)
 
     def retraction(self, rule: str, level: int, wmes: Iterable[WME]) -> None:
         """An instantiation was retracted (level >= 3)."""

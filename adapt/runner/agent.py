@@ -1,12 +1,13 @@
-"""The rule engine a run uses: made in one place, used through a small interface.
+"""The rule engine a run uses: made in one place, used through the engine interface.
 
-:func:`make_agent` builds the agent of a run: adapt's own engine
-(:class:`adapt.engine.Agent`) with the scenario's rule files loaded, the
-trace writer attached and its random stream seeded.  The runner uses it only
-through :class:`RuleEngine` (the input and output callbacks, the rules'
-writes, running decision cycles, the trace's footer), so another engine
-behind the same interface (the real Soar kernel, say) is a change here and
-nowhere else.
+:func:`make_agent` builds the agent of a run on the engine the scenario names
+(``engine:``, :class:`~adapt.engine.interface.EngineName`: adapt's own, the
+default, or the Soar kernel), with the scenario's rule files loaded and its
+random stream seeded (Soar's ``srand`` on the Soar engine).  The runner uses it
+only through :class:`~adapt.engine.interface.RuleEngine` -- the one protocol
+of an engine, re-exported here -- : the input and output callbacks, the
+rules' writes, running decision cycles, the trace it writes into the run's
+``trace.jsonl`` (:meth:`~adapt.engine.interface.RuleEngine.attach_trace`).
 
 A rule file with an error is reported where the scenario names it
 (:func:`scenario_rule_error`), by the check (:mod:`adapt.runner.check`) and
@@ -15,56 +16,19 @@ here alike.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Callable, Protocol
+from typing import TYPE_CHECKING
 
-from adapt.engine import Agent, InputWriter, OutputView
+from adapt.engine.interface import RuleEngine
+from adapt.engines import make_agent as make_engine
 from adapt.errors import RuleError
 
 if TYPE_CHECKING:  # pragma: no cover
-    from adapt.engine import RunReport
-    from adapt.engine.trace import TraceWriter
-    from adapt.engine.vocabulary import StopReason
     from adapt.scenario import RuleFile, Scenario
 
 __all__ = ["RuleEngine", "make_agent", "scenario_rule_error", "AGENT_HISTORY"]
 
 #: Operator selections, impasses and writes the agent keeps in memory.
 AGENT_HISTORY = 1000
-
-
-class RuleEngine(Protocol):
-    """What the runner needs of a rule engine."""
-
-    #: Decision cycles run so far.
-    decisions: int
-    #: The rules halted the agent.
-    halted: bool
-    #: Why the last run stopped (``"interrupted"`` is set by the runner on Ctrl-C).
-    stop_reason: "StopReason | None"
-
-    def on_input(self, callback: Callable[[InputWriter], None]) -> None:
-        """Call ``callback`` in every input phase."""
-        ...
-
-    def on_output(self, callback: Callable[[OutputView], None]) -> None:
-        """Call ``callback`` after every output phase."""
-        ...
-
-    def on_write(self, callback: Callable[[str], None]) -> None:
-        """Call ``callback`` with the text of every ``(write ...)``."""
-        ...
-
-    def run(self, max_decisions: int | None = None, *, footer: bool = True) -> "RunReport":
-        """Run up to ``max_decisions`` decision cycles."""
-        ...
-
-    def write_footer(self, elapsed_s: float, error: str | None = None) -> None:
-        """End the trace."""
-        ...
-
-    def report(self) -> "RunReport":
-        """What the agent has done so far."""
-        ...
 
 
 def scenario_rule_error(exc: RuleError, rule_file: "RuleFile") -> RuleError:
@@ -74,19 +38,24 @@ def scenario_rule_error(exc: RuleError, rule_file: "RuleFile") -> RuleError:
                      source_line=exc.source_line)
 
 
-def make_agent(scenario: "Scenario", *, seed: int, trace: "TraceWriter | None" = None,
-               trace_level: int = 4, history: int = AGENT_HISTORY) -> RuleEngine:
-    """The agent of a run, with the scenario's rule files loaded.
+def make_agent(scenario: "Scenario", *, seed: int, history: int = AGENT_HISTORY) -> RuleEngine:
+    """The agent of a run on the scenario's engine, with its rule files loaded.
 
     Raises
     ------
     RuleError
         A rule file with an error, at its position and where the scenario names it.
+    AdaptError
+        The Soar engine without soar-sml installed (the message names the extra).
     """
-    agent = Agent(seed=seed, trace=trace, trace_level=trace_level, history=history)
-    for rf in scenario.rules:
-        try:
-            agent.load_file(rf.path)
-        except RuleError as exc:
-            raise scenario_rule_error(exc, rf) from None
+    agent = make_engine(scenario.engine, seed=seed, history=history)
+    try:
+        for rf in scenario.rules:
+            try:
+                agent.load_file(rf.path)
+            except RuleError as exc:
+                raise scenario_rule_error(exc, rf) from None
+    except BaseException:
+        agent.close()
+        raise
     return agent

@@ -3,8 +3,11 @@
 :func:`check_scenario` checks everything about a scenario that can be
 checked without running it: its schema parameters against the schema types
 (:func:`adapt.schemas.check_settings`), the camera's image at the MMD's working
-size, and its rule files (parsed, with their warnings).  Every error points at ``file:line:col``: a schema
-parameter where the scenario gives it, a rule where the rule file has it
+size, its engine (``engine: soar`` needs
+the Soar kernel installed) and its rule files (parsed, with their warnings;
+on the Soar engine, loaded into the kernel, which reads what adapt's parser
+refuses).  Every error points at ``file:line:col``: a schema parameter or
+the engine where the scenario gives it, a rule where the rule file has it
 (and where the scenario names the file).
 
 :func:`planned_frames` is the one computation of how many frames a run
@@ -34,8 +37,10 @@ from types import MappingProxyType
 from typing import Any, Mapping, MutableMapping, Protocol, runtime_checkable
 
 from adapt.engine.functions import default_functions
+from adapt.engine.interface import EngineName
 from adapt.engine.parse import load_rule_file
-from adapt.errors import RuleError, VisionError
+from adapt.engines import make_agent, require_engine
+from adapt.errors import AdaptError, RuleError, VisionError
 from adapt.runner.agent import scenario_rule_error
 from adapt.scenario import RunSettings, Scenario
 from adapt.schemas import REGISTRY, Registry, check_settings
@@ -83,11 +88,12 @@ class _Counted(Protocol):
 
 
 def check_scenario(scenario: Scenario, registry: Registry = REGISTRY, *,
-                   parsed: MutableMapping[Path, RuleCheck] | None = None) -> ScenarioCheck:
+                   parsed: MutableMapping[tuple[EngineName, Path], RuleCheck] | None = None
+                   ) -> ScenarioCheck:
     """Check ``scenario``'s schema parameters and rule files (see the module docstring).
 
-    ``parsed`` keeps the rule files already parsed (a sweep checks many cells of
-    one scenario).
+    ``parsed`` keeps the rule files already read, by engine (a sweep checks many
+    cells of one scenario).
 
     Raises
     ------
@@ -98,19 +104,22 @@ def check_scenario(scenario: Scenario, registry: Registry = REGISTRY, *,
     """
     schemas = check_settings(scenario.schemas, registry)
     _check_working_size(scenario, schemas, registry)
-    table = default_functions()
+    try:
+        require_engine(scenario.engine)
+    except AdaptError as exc:
+        raise scenario.where("engine").error(str(exc)) from None
+    read = _kernel_rules if scenario.engine is EngineName.SOAR else _parsed_rules
     rules = []
     for rf in scenario.rules:
-        known = None if parsed is None else parsed.get(rf.path)
+        key = (scenario.engine, rf.path)
+        known = None if parsed is None else parsed.get(key)
         if known is None:
             try:
-                loaded = load_rule_file(rf.path, functions=table)
+                known = read(rf.path)
             except RuleError as exc:
                 raise scenario_rule_error(exc, rf) from None
-            known = RuleCheck(rf.path, len(loaded.productions), tuple(loaded.warnings),
-                              tuple(loaded.files))
             if parsed is not None:
-                parsed[rf.path] = known
+                parsed[key] = known
         rules.append(known)
     return ScenarioCheck(scenario, MappingProxyType(schemas), tuple(rules))
 
@@ -130,6 +139,22 @@ def _check_working_size(scenario: Scenario, schemas: Mapping[str, Mapping[str, A
     except VisionError as exc:
         key = "schemas.scene-background.mmd_pixels" if "mmd_pixels" in given else "camera.height"
         raise scenario.where(key).error(str(exc), path=key) from None
+
+
+def _parsed_rules(path: Path) -> RuleCheck:
+    """A rule file as adapt's own engine reads it."""
+    loaded = load_rule_file(path, functions=default_functions())
+    return RuleCheck(path, len(loaded.productions), tuple(loaded.warnings), tuple(loaded.files))
+
+
+def _kernel_rules(path: Path) -> RuleCheck:
+    """A rule file as the Soar kernel reads it (loaded into a kernel of its own)."""
+    agent = make_agent(EngineName.SOAR)
+    try:
+        loaded = agent.load_file(path)
+        return RuleCheck(path, len(loaded.productions), tuple(agent.warnings), tuple(agent.files))
+    finally:
+        agent.close()
 
 
 def planned_frames(run: RunSettings, source: object, fps: float, limit: int | None = None) -> int:

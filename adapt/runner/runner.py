@@ -33,7 +33,11 @@ nothing the runner keeps grows with the number of frames: the report and
 the trace are streamed, the agent keeps a bounded history, and the figures'
 data are decimated.  An interrupted run (Ctrl-C) or a failed one still
 leaves a complete, valid report and trace of the frames done, marked as
-such.
+such; when the rule engine fails (a rule's action, a crash of the Soar
+kernel's process) the :class:`~adapt.errors.EngineError` raised says so and
+names them.  The agent is made on the scenario's engine (``engine:``) and
+used only through the engine interface
+(:class:`~adapt.engine.interface.RuleEngine`).
 """
 
 from __future__ import annotations
@@ -47,7 +51,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterator
 
 import numpy as np
 
-from adapt.errors import AppearanceError, RunError
+from adapt.errors import AppearanceError, EngineError, RunError
 from adapt.files import FolderLock, Output, check_outputs, lock_folder
 from adapt.frames import Actuator, Frame, FrameSource
 from adapt.geometry import Camera
@@ -161,6 +165,7 @@ class Runner:
         self.on_progress = on_progress
         self.on_write = on_write
         self.trace: TraceOutput | None = None
+        self._engine: RuleEngine | None = None  # to close: the Soar kernel's process
         self._lock: FolderLock | None = None
         self._check_outputs()
         if self.out is not None:  # one run per folder; what a killed run left goes
@@ -191,11 +196,10 @@ class Runner:
             self.frames_done = 0
             self._events: list[SchemaEvent] = []
             self._created: list[SchemaEvent] = []
-            self.trace = self._trace()
             self.agent: RuleEngine = make_agent(
-                scenario, seed=self.streams.integer("agent"),
-                trace=None if self.trace is None else self.trace.writer,
-                trace_level=self.outputs.trace_level, history=AGENT_HISTORY)
+                scenario, seed=self.streams.integer("agent"), history=AGENT_HISTORY)
+            self._engine = self.agent
+            self.trace = self._trace(self.agent)
             self.agent.on_input(self.network.write_input)
             self.agent.on_output(self.network.on_output)
             self.agent.on_write(self._on_write)
@@ -267,22 +271,26 @@ class Runner:
                        for name, path in self._paths().items()], run_inputs(self.scenario))
 
     def close(self) -> None:
-        """Release the output folder; drop the trace of a run that never ran.  :meth:`run`
-        calls it when it ends."""
+        """Release the output folder and the agent (the Soar kernel's process); drop the
+        trace of a run that never ran.  :meth:`run` calls it when it ends."""
         if self.trace is not None:
             self.trace.abandon()
             self.trace = None
+        if self._engine is not None:
+            self._engine.close()
+            self._engine = None
         if self._lock is not None:
             self._lock.release()
             self._lock = None
 
-    def _trace(self) -> TraceOutput | None:
+    def _trace(self, agent: RuleEngine) -> TraceOutput | None:
         path = self._paths().get("trace")
         if path is None:
             return None
         trace = TraceOutput(path, level=self.outputs.trace_level,
                             files=[str(r.path) for r in self.scenario.rules], seed=self.seed,
-                            appearance=self.mirror.appearance)
+                            appearance=self.mirror.appearance, header=agent.trace_header())
+        agent.attach_trace(trace.writer)
         self.network.listeners.append(trace.event)
         return trace
 
@@ -349,7 +357,11 @@ class Runner:
             interrupted = True
         except BaseException as exc:
             error = f"{type(exc).__name__}: {exc}"
-            self._finish(time.perf_counter() - started, False, error)
+            written = self._finish(time.perf_counter() - started, False, error).outputs
+            if isinstance(exc, EngineError) and written:  # a rule failed, the kernel crashed
+                raise EngineError(
+                    f"{exc}; the run stopped in frame {self.frames_done}, and "
+                    f"{' and '.join(str(p) for p in written.values())} hold what ran") from exc
             raise
         finally:
             self.source.close()

@@ -29,8 +29,8 @@ from adapt.runner.report import mmd_json, objects_json
 from adapt.schemas import SchemaEvent
 
 if TYPE_CHECKING:  # pragma: no cover
+    from adapt.engine.interface import RuleEngine
     from adapt.mirror import AppearanceModel
-    from adapt.runner.agent import RuleEngine
     from adapt.runner.record import FrameRecord
     from adapt.schemas.percepts import BackgroundPercept
 
@@ -85,12 +85,13 @@ class TraceOutput:
     until :meth:`close`."""
 
     def __init__(self, path: Path, *, level: int, files: list[str], seed: int,
-                 appearance: "AppearanceModel") -> None:
+                 appearance: "AppearanceModel", header: dict[str, Any] | None = None) -> None:
         self.path = path
         path.parent.mkdir(parents=True, exist_ok=True)
         self.tmp = temporary_file(path)
-        #: The engine's trace writer (the agent writes its records through it).
-        self.writer = TraceWriter(self.tmp, level=level, files=files, seed=seed)
+        #: The engine's trace writer (the agent writes its records through it); ``header``:
+        #: the engine's own header fields (:meth:`RuleEngine.trace_header`).
+        self.writer = TraceWriter(self.tmp, level=level, files=files, seed=seed, header=header)
         self.looks = AppearanceTrace(appearance)
 
     def event(self, event: SchemaEvent) -> None:

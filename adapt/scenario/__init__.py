@@ -1,8 +1,8 @@
 """Scenario files: the only YAML reader of adapt.
 
 A scenario is a YAML mapping with the sections ``seed``, ``camera``,
-``world``, ``reality``, ``goals``, ``rules``, ``schemas``, ``run``,
-``predict`` and ``outputs`` (every key and its default is in
+``world``, ``reality``, ``goals``, ``rules``, ``engine``, ``schemas``,
+``run``, ``predict`` and ``outputs`` (every key and its default is in
 ``docs/scenario.md``; a test keeps that page and this reader in step).  Each
 section is read into frozen records that keep their source position
 (:class:`~adapt.scenario.source.Source`), so an error found later -- an
@@ -41,7 +41,7 @@ adapt.errors.ScenarioError: <string>:5:47: world.walls[0].height: expected a pos
 >>> loads_scenario(text + "sede: 3\\n")
 Traceback (most recent call last):
 ...
-adapt.errors.ScenarioError: <string>:8:1: sede: unknown key (did you mean 'seed'?); expected one of seed, camera, world, reality, goals, rules, schemas, run, predict, outputs
+adapt.errors.ScenarioError: <string>:8:1: sede: unknown key (did you mean 'seed'?); expected one of seed, camera, world, reality, goals, rules, engine, schemas, run, predict, outputs
 ...
 """
 
@@ -52,6 +52,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Mapping, Sequence
 
+from adapt.engine.interface import ENGINE_NAMES, EngineName
 from adapt.errors import ScenarioError
 from adapt.files import Inputs
 from adapt.geometry import Camera
@@ -109,6 +110,7 @@ __all__ = [
     "Goal",
     "GoalKind",
     "RuleFile",
+    "EngineName",
     "SchemaSettings",
     "RunSettings",
     "PredictSettings",
@@ -119,7 +121,7 @@ __all__ = [
 MAX_BYTES = 16 * 1024 * 1024
 
 #: The top-level sections, in the order the documentation lists them.
-TOP_KEYS = ("seed", "camera", "world", "reality", "goals", "rules", "schemas", "run",
+TOP_KEYS = ("seed", "camera", "world", "reality", "goals", "rules", "engine", "schemas", "run",
             "predict", "outputs")
 
 
@@ -145,6 +147,9 @@ class Scenario:
     reality : SyntheticReality or VideoReality
         Where the real frames come from.
     goals, rules, schemas : tuples of Goal, RuleFile, SchemaSettings
+    engine : EngineName
+        The rule engine that runs the rules (``engine``): adapt's own (the
+        default) or ``soar``, the Soar kernel.
     run, predict, outputs : RunSettings, PredictSettings, OutputSettings
     sources : mapping of str to Source
         The position of every key path read.
@@ -161,6 +166,7 @@ class Scenario:
     reality: Reality = field(default=None)  # type: ignore[assignment]
     goals: tuple[Goal, ...] = ()
     rules: tuple[RuleFile, ...] = ()
+    engine: EngineName = EngineName.ADAPT
     schemas: tuple[SchemaSettings, ...] = ()
     run: RunSettings = field(default_factory=RunSettings)
     predict: PredictSettings = field(default_factory=PredictSettings)
@@ -272,6 +278,8 @@ class _Reader(RunReader):
         reality = self.reality(section("reality"), "reality", models, scene.robot)  # type: ignore[arg-type]
         goals = self.goals(top["goals"][1], "goals", models) if section("goals") else ()
         rules = self.rules(top["rules"][1], "rules") if section("rules") else ()
+        engine = (EngineName(self.choice(top["engine"][1], "engine", ENGINE_NAMES))
+                  if "engine" in top else EngineName.ADAPT)
         schemas = self.schemas(top["schemas"][1], "schemas") if section("schemas") else ()
         run, run_seed = (self.run_settings(top["run"][1], "run") if section("run")
                          else (RunSettings(), None))
@@ -289,7 +297,8 @@ class _Reader(RunReader):
             seed = run_seed
         scenario = Scenario(
             path=path, camera=camera, scene=scene, seed=seed, mount=mount, objects=models,
-            reality=reality, goals=goals, rules=rules, schemas=schemas, run=run, predict=predict,
+            reality=reality, goals=goals, rules=rules, engine=engine, schemas=schemas, run=run,
+            predict=predict,
             outputs=outputs, sources=MappingProxyType(dict(self.sources)), appearance=appearance,
         )
         check_together(scenario)

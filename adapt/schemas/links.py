@@ -38,7 +38,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Hashable
 
-from adapt.engine import InputWriter, OutputView
+from adapt.engine.interface import InputLink, OutputView
 from adapt.engine.symbols import Identifier, Symbol
 
 __all__ = ["Structure", "Command", "read_commands", "COMMANDS"]
@@ -50,27 +50,27 @@ COMMANDS = ("instantiate", "remove", "command")
 class Structure:
     """A working-memory structure rewritten each input phase (see the module docstring)."""
 
-    def __init__(self, ident: Identifier, writer: InputWriter | None = None) -> None:
+    def __init__(self, ident: Identifier, writer: InputLink | None = None) -> None:
         self.id = ident
         self._writer = writer
         self._children: dict[tuple[str, Hashable], Structure] = {}
         self._values: dict[str, Symbol | None] = {}
 
     @classmethod
-    def under(cls, writer: InputWriter, parent: Identifier, attr: str) -> "Structure":
+    def under(cls, writer: InputLink, parent: Identifier, attr: str) -> "Structure":
         """A new structure ``(parent ^attr <new id>)``."""
         ident = writer.new_id(attr[0].upper())
         writer.add(parent, attr, ident)
         return cls(ident, writer)
 
-    def bind(self, writer: InputWriter) -> None:
+    def bind(self, writer: InputLink) -> None:
         """Use ``writer`` (valid during this input phase) for the following writes."""
         self._writer = writer
         for child in self._children.values():
             child.bind(writer)
 
     @property
-    def writer(self) -> InputWriter:
+    def writer(self) -> InputLink:
         """The input phase's writer."""
         if self._writer is None:
             raise RuntimeError("Structure used before bind()")

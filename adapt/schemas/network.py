@@ -46,7 +46,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterator, Mapping, Sequence, Ty
 import networkx as nx
 import numpy as np
 
-from adapt.engine import InputWriter, OutputView
+from adapt.engine.interface import InputLink, OutputView
 from adapt.engine.symbols import Identifier
 from adapt.errors import SchemaError
 from adapt.scenario import RealityKind
@@ -403,7 +403,7 @@ class SchemaNetwork:
 
     # -- the input-link ------------------------------------------------------------------------------
 
-    def write_input(self, writer: InputWriter) -> None:
+    def write_input(self, writer: InputLink) -> None:
         """The input-phase callback: write the frame, goals, robot, schemas and command statuses."""
         self.decision = writer.decision
         if self._root is None:

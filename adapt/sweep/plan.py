@@ -51,7 +51,7 @@ from typing import Any, Sequence
 from adapt.errors import LocatedError, ScenarioError, SweepSpecError
 from adapt.files import Input, Inputs
 from adapt.runner.check import RuleCheck, check_scenario
-from adapt.scenario import Scenario, load_scenario
+from adapt.scenario import EngineName, Scenario, load_scenario
 from adapt.scenario.inputs import scenario_files
 from adapt.sweep.grid import Axis, Item, parse_axis, parse_seeds
 from adapt.sweep.task import RunSpec
@@ -209,7 +209,7 @@ def _check_cells(path: Path, axes: Sequence[Axis], overrides: Sequence[tuple[str
     for axis in axes:
         for item in axis.items:
             origin[f"{axis.path}={item.text}"] = (axis, item)
-    parsed: dict[Path, RuleCheck] = {}
+    parsed: dict[tuple[EngineName, Path], RuleCheck] = {}
     inputs = Inputs()
     for ovs, cell in zip(overrides, cells):
         try:

@@ -7,6 +7,12 @@ bindings), the retractions, the WMEs added and removed (by content, not
 timetag -- timetags shift as soon as one run makes one more WME), and the
 ``(write)`` output.  The first difference is reported with both sides.
 
+Two traces of different engines (the header's ``engine``: adapt's own, or
+``soar``, the Soar kernel) are compared on what both report (:class:`Comparison`):
+what one trace's header names ``absent`` (the kernel reports no bindings,
+and no retraction of an instantiation whose preferences were all
+o-supported) is left out on both sides.
+
 Examples
 --------
 >>> a = [{"kind": "decision", "d": 3, "level": 0, "impasse": None,
@@ -29,19 +35,72 @@ from adapt.traceview.reader import Trace
 from adapt.traceview.show import decision_line
 from adapt.traceview.symbols import text_of, wme_text
 
-__all__ = ["Divergence", "cycle_aspects", "first_difference", "diff_traces", "format_divergence"]
+__all__ = ["Divergence", "Comparison", "cycle_aspects", "first_difference", "diff_traces",
+           "format_divergence"]
 
 Aspects = list[tuple[str, list[str]]]
 
 
-def _firing(f: dict[str, Any]) -> str:
-    bindings = ", ".join(f"{k}={text_of(v)}" for k, v in (f.get("bindings") or {}).items())
-    return f"{f.get('rule')} [{bindings}]" if bindings else str(f.get("rule"))
+@dataclass(frozen=True)
+class Comparison:
+    """What is compared of two traces (see the module docstring).
+
+    Attributes
+    ----------
+    bindings : bool
+        Firings are compared with their bindings (both traces have them).
+    retractions : bool
+        Retractions are compared (both traces report all of them).
+    notes : tuple of str
+        What is left out, and why (printed with the result).
+
+    Examples
+    --------
+    >>> Comparison.of({}, {"engine": "soar", "absent": ["firings.bindings"]}).bindings
+    False
+    """
+
+    bindings: bool = True
+    retractions: bool = True
+    notes: tuple[str, ...] = ()
+
+    @staticmethod
+    def of(a: dict[str, Any], b: dict[str, Any]) -> Comparison:
+        """The comparison of two traces, from their headers."""
+        absent = set(_strings(a.get("absent"))) | set(_strings(b.get("absent")))
+        bindings = "firings.bindings" not in absent
+        retractions = "retractions.o-support" not in absent
+        notes = []
+        if not bindings:
+            notes.append("firings compared by rule only: a trace has no bindings "
+                         "(the Soar kernel does not report them)")
+        if not retractions:
+            notes.append("retractions not compared: the Soar kernel reports only those of "
+                         "instantiations with i-supported preferences")
+        return Comparison(bindings, retractions, tuple(notes))
 
 
-def cycle_aspects(records: list[dict[str, Any]], wm: LiveMemory | None) -> Aspects:
+def _strings(value: Any) -> list[str]:
+    return [v for v in value if isinstance(v, str)] if isinstance(value, list) else []
+
+
+def _engine(header: dict[str, Any]) -> str:
+    engine = header.get("engine")
+    return engine if isinstance(engine, str) else "adapt"
+
+
+def _firing(f: dict[str, Any], bindings: bool = True) -> str:
+    if not bindings:
+        return str(f.get("rule"))
+    text = ", ".join(f"{k}={text_of(v)}" for k, v in (f.get("bindings") or {}).items())
+    return f"{f.get('rule')} [{text}]" if text else str(f.get("rule"))
+
+
+def cycle_aspects(records: list[dict[str, Any]], wm: LiveMemory | None,
+                  compare: Comparison | None = None) -> Aspects:
     """What is compared of one cycle, as ``(aspect, sorted texts)`` pairs, in reading order."""
     out: Aspects = []
+    how = compare if compare is not None else Comparison()
     for record in records:
         kind = record["kind"]
         if kind == "decision":
@@ -49,9 +108,11 @@ def cycle_aspects(records: list[dict[str, Any]], wm: LiveMemory | None) -> Aspec
             out.append(("decision", [line.split(": ", 1)[1].strip() if line else "(no change)"]))
         elif kind == "phase":
             phase = str(record.get("phase"))
-            out.append((f"{phase} phase, firings", sorted(_firing(f) for f in record.get("firings") or ())))
-            out.append((f"{phase} phase, retractions",
-                        sorted(_firing(f) for f in record.get("retractions") or ())))
+            out.append((f"{phase} phase, firings",
+                        sorted(_firing(f, how.bindings) for f in record.get("firings") or ())))
+            if how.retractions:
+                out.append((f"{phase} phase, retractions",
+                            sorted(_firing(f, how.bindings) for f in record.get("retractions") or ())))
             if wm is not None:
                 removed = sorted(wme_text(None, *w[1:]) for w in wm.removed(record))
                 wm.apply(record)
@@ -84,6 +145,7 @@ class Divergence:
     a: tuple[str, ...] = ()
     b: tuple[str, ...] = ()
     headers: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
 
 
 def _cycles(trace: Trace) -> Iterator[tuple[int, list[dict[str, Any]]]]:
@@ -92,34 +154,43 @@ def _cycles(trace: Trace) -> Iterator[tuple[int, list[dict[str, Any]]]]:
 
 def diff_traces(a: Trace, b: Trace) -> Divergence:
     """Compare two traces cycle by cycle, streaming both."""
+    ha, hb = a.header.raw, b.header.raw
     headers = tuple(
-        f"{key}: {a.header.raw.get(key)!r} vs {b.header.raw.get(key)!r}"
+        f"{key}: {ha.get(key)!r} vs {hb.get(key)!r}"
         for key in ("files", "seed", "level")
-        if a.header.raw.get(key) != b.header.raw.get(key)
+        if ha.get(key) != hb.get(key)
     )
+    engines = (_engine(ha), _engine(hb))
+    if engines[0] != engines[1]:
+        headers += (f"engine: {engines[0]!r} vs {engines[1]!r}",)
+    compare = Comparison.of(ha, hb)
     track = a.header.level >= 4 and b.header.level >= 4
     wm_a, wm_b = (LiveMemory(a.initial_wmes()), LiveMemory(b.initial_wmes())) if track else (None, None)  # type: ignore[arg-type]
     compared = 0
+    notes = compare.notes
     for (ca, ra), (cb, rb) in zip_longest(_cycles(a), _cycles(b), fillvalue=(None, None)):
         if ca is None or cb is None:
-            ended, other = ("A", cb) if ca is None else ("B", ca)
-            return Divergence(compared, other, "length",
-                              (f"trace {ended} ends after decision cycle {compared}",), (), headers)
+            ended, later = ("A", cb) if ca is None else ("B", ca)
+            return Divergence(compared, later, "length",
+                              (f"trace {ended} ends after decision cycle {compared}",), (), headers,
+                              notes)
         if ca != cb:
             return Divergence(compared, min(ca, cb), "numbering",
                               (f"A has decision cycle {ca}",), (f"B has decision cycle {cb}",),
-                              headers)
+                              headers, notes)
         compared += 1
-        diff = first_difference(cycle_aspects(ra or [], wm_a), cycle_aspects(rb or [], wm_b))
+        diff = first_difference(cycle_aspects(ra or [], wm_a, compare),
+                                cycle_aspects(rb or [], wm_b, compare))
         if diff is not None:
             aspect, ta, tb = diff
-            return Divergence(compared, ca, aspect, tuple(ta), tuple(tb), headers)
-    return Divergence(compared, None, headers=headers)
+            return Divergence(compared, ca, aspect, tuple(ta), tuple(tb), headers, notes)
+    return Divergence(compared, None, headers=headers, notes=notes)
 
 
 def format_divergence(result: Divergence, name_a: str = "A", name_b: str = "B") -> str:
     """The text of ``adapt trace diff``."""
     lines = [f"headers differ: {h}" for h in result.headers]
+    lines.extend(f"note: {n}" for n in result.notes)
     if result.cycle is None:
         lines.append(f"the traces agree on all {result.cycles_compared} decision cycles")
         return "\n".join(lines)

@@ -24,16 +24,20 @@
   if (h.seed !== undefined && h.seed !== null) bits.push(["seed", String(h.seed)]);
   if (f) bits.push(["stopped", (f.stop_reason || "?") + (f.error ? ": " + f.error : "")]);
   else bits.push(["stopped", "no footer (interrupted run?)"]);
+  if (h.engine) bits.push(["engine", h.engine + (h.kernel ? " (" + h.kernel + ")" : "")]);
   if (h.files && h.files.length) bits.push(["rules", h.files.join(", ")]);
   bits.forEach(([k, v], i) => {
     if (i) summary.appendChild(document.createTextNode("  ·  "));
     summary.appendChild(document.createTextNode(k + " "));
     summary.appendChild(el("b", null, v));
   });
-  if (DATA.notices && DATA.notices.length) {
+  const notices = (DATA.notices || []).slice();
+  if (Array.isArray(h.absent) && h.absent.length)  // a trace of the Soar engine
+    notices.push("Not in this trace (the engine does not report them): " + h.absent.join(", ") + ".");
+  if (notices.length) {
     const n = document.getElementById("notices");
     n.hidden = false;
-    n.textContent = DATA.notices.join(" ");
+    n.textContent = notices.join(" ");
   }
 
   // ---------- working memory at a cycle (keyframes + deltas) ----------

@@ -168,6 +168,9 @@ def _architecture(phase: str, wme: TraceWME, impasse_states: set[str]) -> str:
 
 
 def _scan(trace: Trace, wanted: set[int], productions: dict[str, Production] | None) -> dict[int, Origin]:
+    # a trace without bindings (the Soar kernel's) cannot re-instantiate firings: a WME a
+    # phase's firings added is "one of them", never put on the architecture
+    unbound = "firings.bindings" in (trace.header.raw.get("absent") or ())
     found: dict[int, Origin] = {}
     pending_removal: dict[int, Origin] = {}
     for w in trace.initial_wmes():
@@ -195,6 +198,8 @@ def _scan(trace: Trace, wanted: set[int], productions: dict[str, Production] | N
                     makers = [f for f in firings if f.get("rule") in known
                               and made_by(known[f["rule"]], f, wme, adds)]  # type: ignore[arg-type]
                     unknown = [f for f in firings if f.get("rule") not in known]
+                if unbound and not makers and firings:
+                    unknown = firings
                 if len(makers) == 1 and not unknown:
                     origin = Origin(wme, cycle, phase, str(makers[0].get("rule")), makers[0])
                 elif makers or unknown:

@@ -126,6 +126,11 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float,
             elif el.tag in ("message", "warning", "error"):
                 events.append({"t": "msg", "text": a.get("string", el.text or "")})
 
+    def on_print(_eid: int, _data: object, _agent: object, text: str) -> None:
+        # a rule's run-time errors are printed only (not in the XML trace)
+        events.extend({"t": "msg", "text": line} for line in text.splitlines()
+                      if line.startswith("Error"))
+
     def on_halt(*_args: object) -> None:
         flags["halted"] = True
 
@@ -135,6 +140,7 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float,
             ag.StopSelf()
 
     agent.RegisterForXMLEvent(soar_sml.smlEVENT_XML_TRACE_OUTPUT, on_xml, None)
+    agent.RegisterForPrintEvent(soar_sml.smlEVENT_PRINT, on_print, None)
     agent.RegisterForRunEvent(soar_sml.smlEVENT_AFTER_HALTED, on_halt, None)
     agent.RegisterForRunEvent(soar_sml.smlEVENT_AFTER_DECISION_CYCLE, on_after_dc, None)
     # XML trace events arrive in batches; phase markers in the stream date the writes.
@@ -192,28 +198,31 @@ def _child(path: str, max_decisions: int, seed: int, timeout: float,
 
 def run_adapt(path: Path, *, max_decisions: int | None = None, seed: int = 1,
               matcher: str = "rete", trace_level: int | None = 2,
-              chunking: str = "refuse") -> Report:
-    """Run ``path`` in adapt.
+              chunking: str = "refuse", engine: str = "adapt") -> Report:
+    """Run ``path`` in adapt, on its own engine or (``engine="soar"``) on the Soar
+    kernel through adapt's engine interface.
 
     Writes are segmented by decision from a trace of ``trace_level``; with
     ``trace_level=None`` the run has no trace and the writes are segmented by
     an ``on_write`` listener reading the decision counter.  An exception
-    from the engine is reported in ``error`` rather than raised.
+    from the engine is reported in ``error`` rather than raised.  (The Soar
+    engine runs an agent's chunking commands as Soar does: ``chunking`` is
+    the own engine's.)
     """
     from adapt.engine import Agent
+    from adapt.engines import make_agent
 
     path = Path(path).resolve()
     bound = max_decisions if max_decisions is not None else max_decisions_of(path)
     with tempfile.TemporaryDirectory() as tmp:
         trace = Path(tmp) / "trace.jsonl"
-        if trace_level is None:
-            agent = Agent(seed=seed, matcher=matcher)
-        else:
-            agent = Agent(seed=seed, matcher=matcher, trace=str(trace), trace_level=trace_level)
+        options: dict[str, Any] = {} if trace_level is None else {
+            "trace": str(trace), "trace_level": trace_level}
+        agent = make_agent(engine, seed=seed, matcher=matcher, **options)
         heard: list[list[Any]] = []
         agent.on_write(lambda text: heard.append([agent.decisions, text]))
         try:
-            if chunking == "refuse":
+            if chunking == "refuse" or not isinstance(agent, Agent):
                 agent.load_file(str(path))
             else:
                 agent.load_file(str(path), chunking=chunking)

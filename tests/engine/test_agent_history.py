@@ -1,14 +1,16 @@
-"""Bounded history for long runs, write listeners and sliced runs with one footer."""
+"""Bounded history for long runs, write listeners and sliced runs with one footer (both engines)."""
 
 from __future__ import annotations
 
 import io
 import json
+from typing import Any, Callable
 
 import pytest
 
-from adapt.engine import Agent
 from adapt.errors import EngineError
+
+Make = Callable[..., Any]
 
 COUNTER = """
 sp {propose*init (state <s> ^superstate nil -^count) --> (<s> ^operator <o> +) (<o> ^name init)}
@@ -19,8 +21,8 @@ sp {apply (state <s> ^operator.name count ^count <c>)
 """
 
 
-def test_history_keeps_the_most_recent_entries_and_counts_all() -> None:
-    agent = Agent(history=5)
+def test_history_keeps_the_most_recent_entries_and_counts_all(make: Make) -> None:
+    agent = make(history=5)
     agent.load_text(COUNTER)
     report = agent.run(50)
     assert agent.operator_count == 50
@@ -29,19 +31,19 @@ def test_history_keeps_the_most_recent_entries_and_counts_all() -> None:
     assert report.output == "43 44 45 46 47 "
 
 
-def test_unbounded_history_is_the_default() -> None:
-    agent = Agent()
+def test_unbounded_history_is_the_default(make: Make) -> None:
+    agent = make()
     agent.load_text(COUNTER)
     assert len(agent.run(30).operators) == 30
 
 
-def test_history_must_be_positive() -> None:
+def test_history_must_be_positive(make: Make) -> None:
     with pytest.raises(EngineError):
-        Agent(history=0)
+        make(history=0)
 
 
-def test_write_listeners_see_text_as_it_is_written() -> None:
-    agent = Agent()
+def test_write_listeners_see_text_as_it_is_written(make: Make) -> None:
+    agent = make()
     agent.load_text(COUNTER)
     seen: list[tuple[int, str]] = []
     agent.on_write(lambda text: seen.append((agent.decisions, text)))
@@ -49,9 +51,9 @@ def test_write_listeners_see_text_as_it_is_written() -> None:
     assert seen == [(2, "0 "), (3, "1 ")]
 
 
-def test_sliced_runs_write_one_footer() -> None:
+def test_sliced_runs_write_one_footer(make: Make) -> None:
     buf = io.StringIO()
-    agent = Agent(trace=buf, trace_level=2)
+    agent = make(trace=buf, trace_level=2)
     agent.load_text(COUNTER)
     for _ in range(4):
         agent.run(2, footer=False)

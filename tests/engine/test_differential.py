@@ -11,6 +11,7 @@ always what Soar does in the same test run, never a stored answer.
 from __future__ import annotations
 
 import warnings
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
@@ -86,6 +87,25 @@ def test_agent_behaves_as_in_real_soar(agent_file: Path, matcher: str, trace_lev
     adapt = run_adapt(agent_file, matcher=matcher, trace_level=trace_level)
     difference = first_difference(soar, adapt)
     assert difference is None, f"{_file_id(agent_file)} ({matcher}, {trace_level}): {difference}"
+
+
+@requires_soar
+@pytest.mark.soar
+@pytest.mark.parametrize("trace_level", [None, 5], ids=["untraced", "traced"])
+@pytest.mark.parametrize("agent_file", ALL_FILES, ids=_file_id)
+def test_the_soar_engine_gives_the_kernels_own_report(agent_file: Path, trace_level: int | None,
+                                                      soar_reports: dict[Path, Report]) -> None:
+    """adapt's Soar engine (the kernel behind adapt's interface, with or without a full
+    trace) gives what soar-sml gives when driven directly: the same decisions, writes,
+    halt and stop reason, production firings and kernel messages."""
+    soar = soar_reports[agent_file]
+    ours = run_adapt(agent_file, engine="soar", trace_level=trace_level)
+    difference = first_difference(soar, ours)
+    assert difference is None, f"{_file_id(agent_file)} (soar engine): {difference}"
+    assert ours["production_firings"] == soar["production_firings"]
+    # the same messages (a printed error and the XML trace's messages of one decision
+    # cycle may reach the two in another order)
+    assert Counter(ours["messages"]) == Counter(soar["messages"])
 
 
 @requires_soar

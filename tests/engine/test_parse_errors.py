@@ -33,29 +33,33 @@ CASES = [
     # --- agent-file commands that ask for what adapt lacks
     ("chunk always", SEM, "1:1",
      "'chunk always' turns chunking on, which adapt does not implement; remove the line, "
-     "or write 'chunk never'"),
+     "write 'chunk never', or run it on the Soar engine (--engine soar)"),
     ("learn --on", SEM, "1:1",
      "'learn --on' turns chunking on, which adapt does not implement; remove the line, "
-     "or write 'chunk never'"),
+     "write 'chunk never', or run it on the Soar engine (--engine soar)"),
     ("chunk never\nchunk add-osk on", SEM, "2:1",
      "'chunk add-osk on' configures chunking, which adapt does not implement; remove the "
-     "line, or write 'chunk never'"),
+     "line, write 'chunk never', or run it on the Soar engine (--engine soar)"),
     ("rl --set learning on", SEM, "1:1",
-     "'rl' is a Soar command adapt does not run (reinforcement learning is not implemented)"),
+     "'rl' is a Soar command adapt does not run (reinforcement learning is not implemented); "
+     "run it on the Soar engine (--engine soar)"),
     ("smem --enable", SEM, "1:1",
-     "'smem' is a Soar command adapt does not run (semantic memory is not implemented)"),
+     "'smem' is a Soar command adapt does not run (semantic memory is not implemented); "
+     "run it on the Soar engine (--engine soar)"),
     ("epmem --enable", SEM, "1:1",
-     "'epmem' is a Soar command adapt does not run (episodic memory is not implemented)"),
+     "'epmem' is a Soar command adapt does not run (episodic memory is not implemented); "
+     "run it on the Soar engine (--engine soar)"),
     ("# ok\n  gp {t (state <s> ^a [1 2]) -->}", SEM, "2:3",
      "'gp' is a Soar command adapt does not run (generated productions are not supported; "
-     "write each production with sp)"),
+     "write each production with sp); run it on the Soar engine (--engine soar)"),
     ("indifferent-selection --epsilon-greedy", SEM, "1:1",
      "'indifferent-selection' is a Soar command adapt does not run (only Soar's default "
-     "selection policy (softmax) is implemented)"),
+     "selection policy (softmax) is implemented); run it on the Soar engine (--engine soar)"),
     ("  excise foo", SEM, "1:3",
      "'excise foo' is a Soar command adapt does not run in agent files (besides 'sp' "
      "productions they may hold source, pushd, popd, srand, multi-attributes, chunk never, "
-     "watch, echo, max-elaborations, max-goal-depth and output agent-writes)"),
+     "watch, echo, max-elaborations, max-goal-depth and output agent-writes); "
+     "run it on the Soar engine (--engine soar)"),
     # --- agent-file commands adapt accepts, used wrongly
     ("source other.soar", SEM, "1:8", "cannot source other.soar: no file other.soar"),
     ("source", SEM, "1:1",
@@ -77,10 +81,11 @@ CASES = [
      "which Soar does not accept as a name"),
     ("sp {<x> (state <s>) -->}", SYN, "1:5", "expected a production name, found '<x>'"),
     ("sp {t :chunk (state <s>) -->}", SEM, "1:7",
-     "the flag ':chunk' is not supported: chunking is not implemented"),
+     "the flag ':chunk' is not supported: chunking is not implemented; "
+     "run it on the Soar engine (--engine soar)"),
     ("sp {t :template (state <s>) -->}", SEM, "1:7",
      "the flag ':template' is not supported: Soar-RL templates need reinforcement learning, "
-     "which is not implemented"),
+     "which is not implemented; run it on the Soar engine (--engine soar)"),
     ("sp {t :foo (state <s>) -->}", SYN, "1:7",
      "unknown production flag ':foo' (expected :o-support, :i-support, :default or "
      ":interrupt)"),

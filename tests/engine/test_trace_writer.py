@@ -1,14 +1,18 @@
-"""The JSON Lines trace: records, levels, flushing, footer on errors."""
+"""The JSON Lines trace: records, levels, flushing, footer on errors (both engines where
+the engine does not matter; what the Soar kernel does not report is checked as absent)."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any, Callable
 
 import pytest
 
 from adapt.engine import Agent
 from adapt.errors import EngineError
+
+Make = Callable[..., Any]
 
 COUNTER = """
 sp {propose*init (state <s> ^superstate nil -^count) --> (<s> ^operator <o> +) (<o> ^name init)}
@@ -24,9 +28,9 @@ def records(path: Path) -> list[dict]:
     return [json.loads(line) for line in path.read_text().splitlines()]
 
 
-def test_level_5_trace_rebuilds_working_memory(tmp_path: Path) -> None:
+def test_level_5_trace_rebuilds_working_memory(make: Make, engine: str, tmp_path: Path) -> None:
     path = tmp_path / "t.jsonl"
-    agent = Agent(trace=str(path))
+    agent = make(trace=str(path))
     agent.load_text(COUNTER)
     report = agent.run()
     agent.close()
@@ -36,7 +40,11 @@ def test_level_5_trace_rebuilds_working_memory(tmp_path: Path) -> None:
     decisions = [r for r in recs if r["kind"] == "decision"]
     assert [r["d"] for r in decisions] == list(range(1, report.decisions + 1))
     assert decisions[0]["selected"]["name"] == "init"
-    assert decisions[0]["candidates"][0]["preferences"] == [["+", None]]
+    if engine == "adapt":
+        assert decisions[0]["candidates"][0]["preferences"] == [["+", None]]
+    else:  # the kernel does not report candidates: absent, and said so
+        assert "candidates" not in decisions[0]
+        assert "decision.candidates" in recs[0]["absent"] and recs[0]["engine"] == "soar"
     wm: dict[int, list] = {}
     for r in recs:
         if r["kind"] == "phase":
@@ -51,9 +59,9 @@ def test_level_5_trace_rebuilds_working_memory(tmp_path: Path) -> None:
     assert {f["support"] for f in fired if f["rule"] == "apply"} == {"o"}
 
 
-def test_level_1_has_no_phase_records(tmp_path: Path) -> None:
+def test_level_1_has_no_phase_records(make: Make, tmp_path: Path) -> None:
     path = tmp_path / "t.jsonl"
-    agent = Agent(trace=str(path), trace_level=1)
+    agent = make(trace=str(path), trace_level=1)
     agent.load_text(COUNTER)
     agent.run()
     agent.close()
@@ -99,9 +107,32 @@ def test_footer_written_when_a_user_function_raises(tmp_path: Path) -> None:
     assert recs[-1]["kind"] == "footer" and "sensor failed" in recs[-1]["error"]
 
 
-def test_trace_is_valid_up_to_the_last_decision_when_interrupted(tmp_path: Path) -> None:
+def test_footer_written_when_an_input_callback_raises(make: Make, engine: str,
+                                                     tmp_path: Path) -> None:
     path = tmp_path / "t.jsonl"
-    agent = Agent(trace=str(path), trace_level=2)
+    agent = make(trace=str(path), trace_level=2)
+    agent.load_text(COUNTER)
+
+    def sense(w: Any) -> None:
+        if w.decision == 2:
+            raise RuntimeError("camera unplugged")
+
+    agent.on_input(sense)
+    with pytest.raises(RuntimeError, match="camera unplugged"):
+        agent.run()
+    agent.close()
+    recs = records(path)
+    assert recs[-1]["kind"] == "footer" and "camera unplugged" in recs[-1]["error"]
+    assert recs[-1]["stop_reason"] == "interrupted"
+    # the own engine stops at once; the kernel stops its run at the end of the decision
+    # under way (Soar's stop-soar), and the trace says so
+    assert recs[-1]["decisions"] == {"adapt": 2, "soar": 3}[engine]
+
+
+def test_trace_is_valid_up_to_the_last_decision_when_interrupted(make: Make,
+                                                                   tmp_path: Path) -> None:
+    path = tmp_path / "t.jsonl"
+    agent = make(trace=str(path), trace_level=2)
     agent.load_text(COUNTER)
     agent.run(2)                       # flushed per decision, file still open
     lines = path.read_text().splitlines()

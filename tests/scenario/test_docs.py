@@ -135,3 +135,15 @@ def test_every_documented_number_has_a_bound() -> None:
     for key, cell in typed_rows().items():
         if re.search(r"\bnumber|\binteger|\[x, y", cell):
             assert key in BOUNDS, (key, cell)
+
+
+def test_the_engine_key_is_documented_with_its_choices_and_default() -> None:
+    from adapt.engine.interface import ENGINE_NAMES
+    from adapt.scenario import Scenario
+
+    row = dict(tables()["Top level"])["engine"]
+    line = next(x for x in DOC.read_text(encoding="utf-8").splitlines()
+                if x.startswith("| `engine` |"))
+    kinds = line.split("|")[2]
+    assert sorted(re.findall(r"`([^`]+)`", kinds)) == sorted(ENGINE_NAMES)
+    assert row.strip("`") == Scenario.__dataclass_fields__["engine"].default.value

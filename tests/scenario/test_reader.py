@@ -181,3 +181,15 @@ def test_an_empty_step_of_a_set_key_is_refused_at_its_column(bundled: Scenario, 
     with pytest.raises(ScenarioError, match="an empty key between dots") as info:
         load_scenario(bundled.path, overrides=[f"{key}=3"])
     assert (info.value.file, info.value.col) == ("--set", col), info.value
+
+
+def test_the_engine_key_names_one_of_the_engines(tmp_path: Path) -> None:
+    from adapt.scenario import EngineName
+
+    assert load_scenario(write(tmp_path, "  objects: [{name: b}]\n")).engine is EngineName.ADAPT
+    p = write(tmp_path, "  objects: [{name: b}]\n", "engine: soar\n")
+    assert load_scenario(p).engine is EngineName.SOAR
+    assert load_scenario(p, overrides=["engine=adapt"]).engine is EngineName.ADAPT
+    err = error_of(write(tmp_path, "  objects: [{name: b}]\n", "engine: kernel\n"))
+    assert err.message == "engine: expected one of 'adapt', 'soar', got 'kernel'"
+    assert (err.line, err.col) == (12, 9)
