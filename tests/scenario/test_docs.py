@@ -14,6 +14,7 @@ from adapt.scenario import TOP_KEYS, OutputSettings, PredictSettings, RealAppear
 from adapt.scenario import reality as R
 from adapt.scenario import run as RUN
 from adapt.scenario import world as W
+from adapt.scenario.bounds import BOUNDS
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "scenario.md"
 
@@ -94,6 +95,46 @@ def test_documented_defaults_are_the_records_defaults(heading: str) -> None:
         elif isinstance(value, str) and isinstance(default, str) and value in (default, f"'{default}'"):
             checked += 1
     assert checked >= 1, f"no default of {heading} could be compared"
+
+
+#: heading -> the key path its table's keys are under
+PREFIXES = {"Top level": "", "`reality` with `kind: synthetic` (the default)": "reality",
+            "`reality` with `kind: video`": "reality",
+            "`world.objects[i]` (balls)": "world.objects[i]"}
+
+
+def typed_rows() -> dict[str, str]:
+    """Every documented key path -> its type cell."""
+    out: dict[str, str] = {}
+    heading = None
+    for line in DOC.read_text(encoding="utf-8").splitlines():
+        m = re.match(r"#+ (.*)", line)
+        if m:
+            heading = m.group(1).strip()
+            continue
+        if heading in TABLES and line.startswith("| `"):
+            cells = [c.strip() for c in line.strip("|").split("|")]
+            prefix = PREFIXES.get(heading, heading.strip("`"))
+            for key in re.findall(r"`([^`]+)`", cells[0]):
+                out[f"{prefix}.{key}" if prefix else key] = cells[1]
+    return out
+
+
+def test_every_bound_is_documented_in_its_keys_row() -> None:
+    """The type column states each number's bound as adapt/scenario/bounds.py declares it."""
+    rows = typed_rows()
+    for key, bound in BOUNDS.items():
+        if ".ranges." in key:  # documented in the ranges row: each end within the key's bounds
+            assert key.replace(".ranges.", ".") in BOUNDS
+            continue
+        assert key in rows, f"{key} has a bound but no row in docs/scenario.md"
+        assert bound.text in rows[key], (key, rows[key], bound.text)
+
+
+def test_every_documented_number_has_a_bound() -> None:
+    for key, cell in typed_rows().items():
+        if re.search(r"\bnumber|\binteger|\[x, y", cell):
+            assert key in BOUNDS, (key, cell)
 
 
 def test_the_engine_key_is_documented_with_its_choices_and_default() -> None:
