@@ -42,6 +42,7 @@ __all__ = [
     "nearest_rotation",
     "WORLD_UP",
     "MAX_IMAGE_SIDE",
+    "MIN_IMAGE_SIDE",
     "MAX_PIXELS",
     "MAX_FOCAL",
     "MAX_COORDINATE",
@@ -54,6 +55,8 @@ FloatArray = NDArray[np.float64]
 
 #: Largest image side a :class:`Camera` accepts, pixels.
 MAX_IMAGE_SIDE = 8192
+#: Smallest image side vision works on (a scenario's camera has at least this), pixels.
+MIN_IMAGE_SIDE = 32
 #: Largest image a :class:`Camera` accepts, pixels (4096 x 4096; a 4K UHD frame fits).
 MAX_PIXELS = 4096 * 4096
 #: Largest focal length and principal-point offset a :class:`Camera` accepts, pixels.

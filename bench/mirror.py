@@ -24,6 +24,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import statistics
 import sys
 import time
@@ -62,15 +63,18 @@ def one(seed: int, extra: tuple[str, ...] = ()) -> dict[str, Any]:
 
     sc = load_scenario(SCENARIO, overrides=OVERRIDES + extra)
     quiet = OutputSettings(report=False, trace=False, video=False, figures=False)
+    said: list[str] = []  # the rules' writes: "caught ball at t=..." is the agent's own ^caught
     started = time.perf_counter()
     try:
-        summary = Runner(sc, out=None, seed=seed, outputs=quiet).run().summary
+        summary = Runner(sc, out=None, seed=seed, outputs=quiet, on_write=said.append).run().summary
     except Exception as exc:  # a throw that fails is counted and named, not the end of the bench
         import traceback
 
         return {"seed": seed, "error": f"{type(exc).__name__}: {exc}",
                 "where": traceback.format_exc(limit=-4)}
     summary["bench_wall_s"] = time.perf_counter() - started
+    caught = re.search(r"caught ball at t=([0-9.]+)", "".join(said))
+    summary["agent_caught_t"] = float(caught.group(1)) if caught else None
     summary["seed"] = seed
     return summary
 
@@ -168,6 +172,15 @@ def main() -> int:
           f"{len(base)}/{n} ({100 * len(base) / n if n else 0:.0f}%); the map-aware robot "
           f"{len(aware_caught)}/{n} ({100 * len(aware_caught) / n if n else 0:.0f}%); "
           f"{len(ok) - n} throws out of reach")
+    agree = [r for r in ok if bool(r.get("agent_caught_t") is not None)
+             == bool((r.get("intercept") or {}).get("caught"))]
+    late = [abs(r["agent_caught_t"] - r["intercept"]["t"]) for r in agree
+            if r.get("agent_caught_t") is not None]
+    print(f"  caught, the agent's own ^caught against the evaluation's (the true bodies met): "
+          f"agree in {len(agree)}/{len(ok)} throws"
+          + (f", {med(late):.2f} s apart (median) where both say caught" if late else "")
+          + "; disagree in seeds " + (", ".join(str(r["seed"]) for r in ok if r not in agree)
+                                       or "none"))
     both = [(r["intercept"]["t"], r["baseline"]["t"]) for r in caught if r in base]
     if both:
         earlier = sum(m < b for m, b in both)

@@ -54,6 +54,8 @@ __all__ = [
     "time_to_reach",
     "intercept",
     "intercept_reach",
+    "meets",
+    "CONTACT",
     "ensemble",
     "MAX_SAMPLES",
     "MAX_MEMBERS",
@@ -266,6 +268,25 @@ def time_to_reach(distance: float, max_speed: float, max_accel: float) -> float:
     if distance <= ramp:
         return math.sqrt(2.0 * distance / max_accel)
     return distance / max_speed + max_speed / (2.0 * max_accel)
+
+
+#: Bodies in contact are this close to touching and still meet (metres): the physics keeps them
+#: a hair apart, and a frame falls between two physics steps.
+CONTACT = 0.02
+
+
+def meets(distance: float, reach: float) -> bool:
+    """Whether the robot's body meets the ball: their centres ``distance`` apart, within the
+    catch ``reach`` (:func:`intercept_reach`) and :data:`CONTACT`.  What "caught" means, for
+    the agent's ``^caught`` (on what it perceives), the evaluation (on the truth) and the
+    baselines' robots alike.
+
+    Examples
+    --------
+    >>> meets(0.3698, 0.36), meets(0.39, 0.36)
+    (True, False)
+    """
+    return distance <= reach + CONTACT
 
 
 def intercept_reach(ball: Ball, robot: RobotSpec) -> float:

@@ -46,7 +46,8 @@ from types import MappingProxyType
 from typing import IO, Any, Iterable, Mapping, Protocol, runtime_checkable
 
 from adapt.errors import GroundTruthError
-from adapt.geometry import Camera
+from adapt.geometry import MAX_COORDINATE, Camera
+from adapt.imagination.scene import MAX_SPEED
 
 __all__ = [
     "ObjectTruth",
@@ -279,6 +280,11 @@ class TruthRow:
     line: int = 0
 
 
+#: The largest magnitude of each number column: positions within the world's coordinates,
+#: speeds a ball may have, times of at most a million seconds.
+LIMITS = {"t": 1.0e6, "x": MAX_COORDINATE, "y": MAX_COORDINATE, "vx": MAX_SPEED, "vy": MAX_SPEED}
+
+
 def _cell_column(source_line: str | None, index: int) -> int:
     """1-based character column of cell ``index`` in a plain (unquoted) CSV line."""
     if source_line is None or '"' in source_line:
@@ -291,6 +297,7 @@ def _cell_column(source_line: str | None, index: int) -> int:
 
 def _number(text: str, column: str, unit: str, file: str, line: int,
             source_line: str | None, index: int) -> float:
+    """A finite number within the column's bound (:data:`LIMITS`)."""
     col = _cell_column(source_line, index)
     try:
         v = float(text)
@@ -300,6 +307,11 @@ def _number(text: str, column: str, unit: str, file: str, line: int,
     if not math.isfinite(v):
         raise GroundTruthError(f"column {column!r}: expected a finite number of {unit}, "
                                f"got {text!r}", file=file, line=line, col=col,
+                               source_line=source_line)
+    limit = LIMITS[column]
+    if abs(v) > limit:
+        raise GroundTruthError(f"column {column!r}: expected at most {limit:g} {unit} either "
+                               f"way, got {text!r}", file=file, line=line, col=col,
                                source_line=source_line)
     return v
 

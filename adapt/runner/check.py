@@ -2,7 +2,8 @@
 
 :func:`check_scenario` checks everything about a scenario that can be
 checked without running it: its schema parameters against the schema types
-(:func:`adapt.schemas.check_settings`), its engine (``engine: soar`` needs
+(:func:`adapt.schemas.check_settings`), the camera's image at the MMD's working
+size, its engine (``engine: soar`` needs
 the Soar kernel installed) and its rule files (parsed, with their warnings;
 on the Soar engine, loaded into the kernel, which reads what adapt's parser
 refuses).  Every error points at ``file:line:col``: a schema parameter or
@@ -39,11 +40,12 @@ from adapt.engine.functions import default_functions
 from adapt.engine.interface import EngineName
 from adapt.engine.parse import load_rule_file
 from adapt.engines import make_agent, require_engine
-from adapt.errors import AdaptError, RuleError
+from adapt.errors import AdaptError, RuleError, VisionError
 from adapt.runner.agent import scenario_rule_error
 from adapt.scenario import RunSettings, Scenario
 from adapt.schemas import REGISTRY, Registry, check_settings
 from adapt.seeds import Streams
+from adapt.vision.scale import working_frame
 
 __all__ = ["RuleCheck", "ScenarioCheck", "RunLength", "check_scenario", "planned_frames",
            "run_length"]
@@ -101,6 +103,7 @@ def check_scenario(scenario: Scenario, registry: Registry = REGISTRY, *,
         A rule file with an error, at its position and where the scenario names it.
     """
     schemas = check_settings(scenario.schemas, registry)
+    _check_working_size(scenario, schemas, registry)
     try:
         require_engine(scenario.engine)
     except AdaptError as exc:
@@ -119,6 +122,23 @@ def check_scenario(scenario: Scenario, registry: Registry = REGISTRY, *,
                 parsed[key] = known
         rules.append(known)
     return ScenarioCheck(scenario, MappingProxyType(schemas), tuple(rules))
+
+
+def _check_working_size(scenario: Scenario, schemas: Mapping[str, Mapping[str, Any]],
+                        registry: Registry) -> None:
+    """The camera's image reduced to the background schema's ``mmd_pixels`` keeps at least
+    32 pixels a side (a long thin image would not), at the parameter's position or the
+    camera's height."""
+    if "scene-background" not in registry:
+        return
+    given = schemas.get("scene-background", {})
+    pixels = given.get("mmd_pixels",
+                       registry.get("scene-background").parameter("mmd_pixels").default)
+    try:
+        working_frame((scenario.camera.height, scenario.camera.width), int(pixels))
+    except VisionError as exc:
+        key = "schemas.scene-background.mmd_pixels" if "mmd_pixels" in given else "camera.height"
+        raise scenario.where(key).error(str(exc), path=key) from None
 
 
 def _parsed_rules(path: Path) -> RuleCheck:

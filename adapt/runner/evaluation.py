@@ -16,8 +16,9 @@ the truth), and the summary gets:
 * the **confidence**'s meaning: among the mirror's predictions at the
   largest horizon whose confidence was at least the rules' commit threshold,
   the share that landed within the catch reach;
-* the **interception**: whether the true robot came within the catch reach
-  of the true object, when, and whether a robot with its limits could have
+* the **interception**: whether the true robot's body met the true object
+  (:func:`~adapt.imagination.predict.meets`, what the agent's ``^caught``
+  means too), when, and whether a robot with its limits could have
   reached the object at all (from where the robot stood when the object
   first came into the true camera's view, knowing its whole true path: the
   earliest point of that path it could reach in time, straight, from rest);
@@ -52,7 +53,7 @@ from typing import TYPE_CHECKING, Any, Mapping, Sequence
 import numpy as np
 
 from adapt.geometry import Camera
-from adapt.imagination.predict import Trajectory, intercept_reach
+from adapt.imagination.predict import Trajectory, intercept_reach, meets
 from adapt.imagination.reach import meet
 from adapt.runner.baseline import report_key
 from adapt.runner.record import FrameRecord, Vec2
@@ -62,15 +63,11 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.reality import FrameTruth, GroundTruth
 
 __all__ = ["Evaluation", "FrameScore", "ObjectErrors", "Sample", "camera_error", "reported",
-           "COMMIT_CONFIDENCE", "BOUNCE_TURN_DEG", "CATCH_SLACK", "MIRROR"]
+           "COMMIT_CONFIDENCE", "BOUNCE_TURN_DEG", "MIRROR"]
 
 #: The name of the mirror's predictions among the sources scored (the baselines' are theirs).
 MIRROR = "mirror"
 
-#: Touching is at exactly the catch reach; the evaluation counts this much more (metres) as
-#: caught too: a contact's bodies are never quite touching (the intercept schema itself says
-#: caught only at the reach: its idea of the object may be off).
-CATCH_SLACK = 0.02
 #: The confidence the mirror's rules commit at (``rules/mirror/intercept.soar``).
 COMMIT_CONFIDENCE = 0.7
 #: A true path that turns by more than this within a horizon bounced there.
@@ -389,13 +386,13 @@ class Evaluation:
         distance = None
         if robot is not None:
             distance = math.dist(robot.position, ball)
-            if distance <= self.reach + CATCH_SLACK and self.caught is None:
+            if meets(distance, self.reach) and self.caught is None:
                 self.caught = time
         for name in self.baselines:
             state = record.baselines.get(name)
             where = None if state is None else state.robots.get(self.target)
             if where is not None and self.baselines_caught.get(name) is None and \
-                    math.dist(where, ball) <= self.reach + CATCH_SLACK:
+                    meets(math.dist(where, ball), self.reach):
                 self.baselines_caught[name] = time
         return distance
 

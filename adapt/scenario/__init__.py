@@ -36,7 +36,7 @@ Examples
 >>> loads_scenario(text.replace("height: 1.0", "height: -1"))
 Traceback (most recent call last):
 ...
-adapt.errors.ScenarioError: <string>:5:47: world.walls[0].height: expected a positive number, got -1
+adapt.errors.ScenarioError: <string>:5:47: world.walls[0].height: expected a positive number, at least 0.001 metres, got -1
 ...
 >>> loads_scenario(text + "sede: 3\\n")
 Traceback (most recent call last):
@@ -89,6 +89,7 @@ from adapt.scenario.records import (
     VideoReality,
 )
 from adapt.scenario.run import RunReader
+from adapt.scenario.sanity import check_together
 from adapt.scenario.source import Source
 
 __all__ = [
@@ -190,7 +191,7 @@ class Scenario:
 
         Examples
         --------
-        >>> sc = loads_scenario("camera: {fx: 1, fy: 1, cx: 0, cy: 0, width: 8, height: 8, "
+        >>> sc = loads_scenario("camera: {fx: 1, fy: 1, cx: 0, cy: 0, width: 32, height: 32, "
         ...                     "position: [0, 0, 1], look_at: [0, 1, 1]}\\nworld: {}\\n")
         >>> sc.where("camera.width").location, sc.where("camera.nothing.here").path
         ('<string>:1:45', 'camera')
@@ -301,15 +302,17 @@ class _Reader(RunReader):
                    else OutputSettings())
         seed = None
         if "seed" in top:
-            seed = self.integer(top["seed"][1], "seed", "nonnegative")
+            seed = self.integer(top["seed"][1], "seed")
         if run_seed is not None:
             if seed is not None:
                 raise self.error(top["seed"][0], "seed", "the seed is given twice (seed and "
                                  "run.seed); keep one")
             seed = run_seed
-        return Scenario(
+        scenario = Scenario(
             path=path, camera=camera, scene=scene, seed=seed, mount=mount, objects=models,
             reality=reality, goals=goals, rules=rules, engine=engine, schemas=schemas, run=run,
             predict=predict,
             outputs=outputs, sources=MappingProxyType(dict(self.sources)), appearance=appearance,
         )
+        check_together(scenario)
+        return scenario

@@ -45,6 +45,7 @@ import yaml
 
 from adapt.geometry import Camera
 from adapt.imagination.scene import Ball, Obstacle, RobotSpec, SceneSpec, Wall
+from adapt.scenario.bounds import bound_of, bullet_bound
 from adapt.scenario.nodes import Node, join
 from adapt.scenario.records import (
     BulletLook,
@@ -103,20 +104,12 @@ OBJECT_DEFAULTS: dict[str, Range] = {
     "damping": Range(0.0, 0.03), "spin": Range(0.5, 1.0), "side_spin": Range(-6.0, 6.0),
 }
 
-#: How each number of the look is checked (beyond being a number or a range).
-_LOOK_CHECKS = {"texture_scale": "positive", "light_elevation_deg": "", "light_azimuth_deg": "",
-                "light_warmth": "", "ambient": "nonnegative", "diffuse": "nonnegative",
-                "specular": "nonnegative", "gain": "positive", "vignette": "unit",
-                "blur": "nonnegative", "noise": "nonnegative"}
-#: Upper limits of the look's numbers (a range's ends included).
-_LOOK_LIMITS = {"light_elevation_deg": (5.0, 90.0), "light_warmth": (-1.0, 1.0),
-                "ambient": (0.0, 2.0), "diffuse": (0.0, 2.0), "specular": (0.0, 2.0),
-                "gain": (0.0, 4.0), "blur": (0.0, 20.0), "noise": (0.0, 100.0),
-                "texture_scale": (0.0, 100.0)}
-#: How each object parameter is checked.
-_OBJECT_CHECKS = {"mass": "positive", "restitution": "unit", "friction": "nonnegative",
-                  "rolling_friction": "nonnegative", "spinning_friction": "nonnegative",
-                  "damping": "unit", "spin": "", "side_spin": ""}
+#: The look's numbers (each a number or a range; bounds in adapt/scenario/bounds.py).
+_LOOK_NUMBERS = ("texture_scale", "light_elevation_deg", "light_azimuth_deg", "light_warmth",
+                 "ambient", "diffuse", "specular", "gain", "vignette", "blur", "noise")
+#: A reality object's parameters (each a number or a range).
+_OBJECT_NUMBERS = ("mass", "restitution", "friction", "rolling_friction", "spinning_friction",
+                   "damping", "spin", "side_spin")
 
 Vec2 = tuple[float, float]
 
@@ -210,16 +203,11 @@ class BulletReader(WorldReader):
         self.check_keys(items, BULLET_KEYS, path)
         src = self.source(node, path)
         dt = DEFAULT_BULLET_DT
-        if "dt" in items:
-            dt = self.number(items["dt"][1], join(path, "dt"), "positive")
-            if not 1e-5 <= dt <= 0.01:
-                raise self.error(items["dt"][1], join(path, "dt"),
-                                 f"expected a PyBullet step from 1e-05 to 0.01 seconds, got {dt:g} "
-                                 "(restitution needs fine steps; 1/960 is the default)")
+        if "dt" in items:  # restitution needs fine steps: at most 0.01 s
+            dt = self.bullet_number(items["dt"][1], join(path, "dt"))
         thickness = DEFAULT_WALL_THICKNESS
         if "wall_thickness" in items:
-            thickness = self.number(items["wall_thickness"][1], join(path, "wall_thickness"),
-                                    "positive")
+            thickness = self.bullet_number(items["wall_thickness"][1], join(path, "wall_thickness"))
         offset = self.camera_offset(items, path)
         surfaces = {}
         for key in ("floor", "walls", "obstacles"):
@@ -261,6 +249,14 @@ class BulletReader(WorldReader):
 
     # -- parts ---------------------------------------------------------------------------
 
+    def bullet_number(self, node: Node, path: str) -> float:
+        """A number within its bound in a PyBullet reality (:func:`~adapt.scenario.bounds.bullet_bound`)."""
+        return self.number(node, path, bullet_bound(path))
+
+    def bullet_range(self, node: Node, path: str) -> Range:
+        """A number or ``[low, high]``, each within its bound in a PyBullet reality."""
+        return self.range(node, path, bullet_bound(path))
+
     def camera_offset(self, items: dict[str, tuple[Node, Node]], path: str) -> CameraOffset:
         """``camera_offset`` and ``camera_offset_deg`` of a synthetic or PyBullet reality."""
         kw: dict[str, Any] = {"source": self.source(None, path)}
@@ -272,11 +268,10 @@ class BulletReader(WorldReader):
             p = join(path, key)
             if isinstance(vnode, yaml.SequenceNode):
                 kw[field] = self.vector(vnode, p, 3)
-            else:
-                kw[rand] = self.number(vnode, p, "nonnegative")
+            else:  # a magnitude in a direction drawn from the seed
+                kw[rand] = self.number(vnode, p, replace(bound_of(p), low=0.0))
             kw["source"] = self.source(knode, p)
         return CameraOffset(**kw)
-
 
     def surfaces(self, node: Node | None, path: str, defaults: dict[str, Range]) -> BulletSurfaces:
         """``floor``, ``walls`` or ``obstacles``: contact parameters, each a number or a range."""
@@ -284,11 +279,7 @@ class BulletReader(WorldReader):
         src = self.source(node, path)
         if node is not None:
             spec: dict[str, Callable[[Node, str], Any]] = {
-                "restitution": lambda n, p: self.range(n, p, "unit"),
-                "friction": lambda n, p: self.range(n, p, "nonnegative"),
-                "rolling_friction": lambda n, p: self.range(n, p, "nonnegative"),
-                "spinning_friction": lambda n, p: self.range(n, p, "nonnegative"),
-            }
+                key: self.bullet_range for key in BULLET_SURFACE_KEYS}
             values.update(self.fields(node, path, spec))
         return BulletSurfaces(values["restitution"], values["friction"],
                               values["rolling_friction"], values["spinning_friction"], src)
@@ -300,43 +291,26 @@ class BulletReader(WorldReader):
             "shadows": self.boolean,
             "ball_marks": self.boolean,
         }
-        for key, check in _LOOK_CHECKS.items():
-            spec[key] = (lambda c: lambda n, p: self.range(n, p, c))(check)
+        for key in _LOOK_NUMBERS:
+            spec[key] = self.bullet_range
         kw = self.fields(node, path, {k: spec[k] for k in LOOK_KEYS})
-        items = self.mapping(node, path)
-        for key, (low, high) in _LOOK_LIMITS.items():
-            r = kw.get(key)
-            if r is not None and not (low <= r.low and r.high <= high):
-                raise self.error(items[key][1], join(path, key),
-                                 f"expected values from {low:g} to {high:g}, got "
-                                 f"{r.as_json()}")
         return BulletLook(**kw, source=self.source(node, path))
 
     def bullet_robot(self, node: Node, path: str) -> BulletRobot:
         """``robot``: the real robot's limits and wheel slip."""
         spec: dict[str, Callable[[Node, str], Any]] = {
-            "max_speed": lambda n, p: self.range(n, p, "positive"),
-            "max_accel": lambda n, p: self.range(n, p, "positive"),
-            "slip": lambda n, p: self.range(n, p, "unit"),
-            "slip_interval": lambda n, p: self.number(n, p, "positive"),
+            "max_speed": self.bullet_range,
+            "max_accel": self.bullet_range,
+            "slip": self.bullet_range,
+            "slip_interval": self.bullet_number,
         }
         kw = self.fields(node, path, spec)
-        items = self.mapping(node, path)
-        for key in ("max_speed", "max_accel"):
-            if key in kw and kw[key].low <= 0:
-                raise self.error(items[key][1], join(path, key), "expected positive values")
         return BulletRobot(**kw, source=self.source(node, path))
 
     def bullet_throw(self, node: Node, path: str) -> Throw:
         """``throw``: when, where and how fast a ball enters, and from how high."""
         spec: dict[str, Callable[[Node, str], Any]] = {
-            "t": lambda n, p: self.range(n, p, "nonnegative"),
-            "x": self.range,
-            "y": self.range,
-            "speed": lambda n, p: self.range(n, p, "nonnegative"),
-            "heading_deg": self.range,
-            "height": lambda n, p: self.range(n, p, "nonnegative"),
-        }
+            key: self.bullet_range for key in BULLET_THROW_KEYS}
         kw = self.fields(node, path, spec, required=("x", "y"))
         return Throw(kw.get("t", Range.fixed(0.0)), kw["x"], kw["y"],
                      kw.get("speed", Range.fixed(0.0)), kw.get("heading_deg", Range.fixed(0.0)),
@@ -353,18 +327,16 @@ class BulletReader(WorldReader):
         name = self.string(items["name"][1], join(path, "name"))
         model = models.get(name)
         params: dict[str, Range] = {}
-        for key, check in _OBJECT_CHECKS.items():
+        for key in _OBJECT_NUMBERS:
             if key in items:
-                params[key] = self.range(items[key][1], join(path, key), check)
-        if "mass" in params and params["mass"].low <= 0:
-            raise self.error(items["mass"][1], join(path, "mass"), "expected a positive mass")
+                params[key] = self.bullet_range(items[key][1], join(path, key))
         look: dict[str, Any] = {}
         if "radius" in items:
             if model is not None:
                 raise self.error(items["radius"][0], join(path, "radius"),
                                  f"{name!r} is a world object: its radius is the world's; remove "
                                  "this key")
-            look["radius"] = self.number(items["radius"][1], join(path, "radius"), "positive")
+            look["radius"] = self.bullet_number(items["radius"][1], join(path, "radius"))
         if "color" in items:
             look["color"] = self.color(items["color"][1], join(path, "color"))
         if "texture" in items:

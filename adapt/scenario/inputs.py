@@ -12,7 +12,7 @@ changed with :func:`dataclasses.replace` lists what it names now.
 Examples
 --------
 >>> from adapt.scenario import loads_scenario
->>> sc = loads_scenario("camera: {fx: 1, fy: 1, cx: 0, cy: 0, width: 8, height: 8, "
+>>> sc = loads_scenario("camera: {fx: 1, fy: 1, cx: 0, cy: 0, width: 32, height: 32, "
 ...                     "position: [0, 0, 1], look_at: [0, 1, 1]}\\nworld: {}\\n")
 >>> [i.what for i in scenario_inputs(sc)]
 []

@@ -27,6 +27,7 @@ from typing import Any, Callable, Sequence
 import yaml
 
 from adapt.errors import ScenarioError
+from adapt.scenario.bounds import Bound, bound_of, show
 from adapt.scenario.records import Range
 from adapt.scenario.source import Source
 
@@ -140,6 +141,11 @@ class Override:
             raise ScenarioError("expected KEY=VALUE (for example world.objects.ball.restitution=0.7)",
                                 file="--set", line=1, col=len(text) + 1, source_line=text)
         return cls(key.strip(), value, text)
+
+
+def _finite(value: int | float) -> bool:
+    """True for an int (of any size) or a finite float."""
+    return isinstance(value, int) or math.isfinite(value)
 
 
 _STEP = re.compile(r"([^.\[\]]+)|\[(\d+)\]")
@@ -263,32 +269,32 @@ class NodeReader:
 
     # -- typed values ----------------------------------------------------------------
 
-    def number(self, node: Node, path: str, check: str = "") -> float:
-        """A finite number; ``check`` is ``positive``, ``nonnegative`` or ``unit`` (0..1)."""
+    def number(self, node: Node, path: str, bound: Bound | None = None) -> float:
+        """A finite number within ``bound`` (by default the bound :data:`~adapt.scenario.bounds.BOUNDS`
+        declares for ``path``)."""
         self.source(node, path)
         value = self.scalar(node, path) if isinstance(node, yaml.ScalarNode) else None
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not _finite(value):
             raise self.error(node, path, f"expected a number, got {self.describe(node)}")
-        v = float(value)
-        if check == "positive" and v <= 0:
-            raise self.error(node, path, f"expected a positive number, got {value!r}")
-        if check == "nonnegative" and v < 0:
-            raise self.error(node, path, f"expected a non-negative number, got {value!r}")
-        if check == "unit" and not 0 <= v <= 1:
-            raise self.error(node, path, f"expected a number from 0 to 1, got {value!r}")
-        return v
+        self._bounded(node, path, value, bound)
+        try:
+            return float(value)
+        except OverflowError:  # an integer of hundreds of digits, where no upper bound applies
+            raise self.error(node, path, f"expected a number, got {show(value)}") from None
 
-    def integer(self, node: Node, path: str, check: str = "") -> int:
-        """An integer; ``check`` is ``positive`` or ``nonnegative``."""
+    def integer(self, node: Node, path: str, bound: Bound | None = None) -> int:
+        """An integer within ``bound`` (by default the one declared for ``path``)."""
         self.source(node, path)
         value = self.scalar(node, path) if isinstance(node, yaml.ScalarNode) else None
         if isinstance(value, bool) or not isinstance(value, int):
             raise self.error(node, path, f"expected an integer, got {self.describe(node)}")
-        if check == "positive" and value <= 0:
-            raise self.error(node, path, f"expected a positive integer, got {value!r}")
-        if check == "nonnegative" and value < 0:
-            raise self.error(node, path, f"expected a non-negative integer, got {value!r}")
+        self._bounded(node, path, value, bound)
         return value
+
+    def _bounded(self, node: Node, path: str, value: float, bound: Bound | None) -> None:
+        problem = (bound_of(path) if bound is None else bound).problem(value)
+        if problem is not None:
+            raise self.error(node, path, problem)
 
     def boolean(self, node: Node, path: str) -> bool:
         """``true`` or ``false``."""
@@ -298,13 +304,15 @@ class NodeReader:
             raise self.error(node, path, f"expected true or false, got {self.describe(node)}")
         return value
 
-    def vector(self, node: Node, path: str, n: int) -> tuple[float, ...]:
-        """A list of ``n`` numbers."""
+    def vector(self, node: Node, path: str, n: int, bound: Bound | None = None) -> tuple[float, ...]:
+        """A list of ``n`` numbers, each within ``bound`` (by default the one declared for
+        ``path``)."""
         self.source(node, path)
         names = "[x, y]" if n == 2 else "[x, y, z]" if n == 3 else f"{n} numbers"
         if not isinstance(node, yaml.SequenceNode) or len(node.value) != n:
             raise self.error(node, path, f"expected {names}, got {self.describe(node)}")
-        return tuple(self.number(v, join(path, i)) for i, v in enumerate(node.value))
+        each = bound_of(path) if bound is None else bound
+        return tuple(self.number(v, join(path, i), each) for i, v in enumerate(node.value))
 
     def string(self, node: Node, path: str) -> str:
         """A non-empty string."""
@@ -322,18 +330,20 @@ class NodeReader:
                              + f", got {value!r}")
         return value
 
-    def range(self, node: Node, path: str, check: str = "") -> Range:
-        """A number, or ``[low, high]`` with ``low <= high`` (drawn per run)."""
+    def range(self, node: Node, path: str, bound: Bound | None = None) -> Range:
+        """A number, or ``[low, high]`` with ``low <= high`` (drawn per run), within ``bound``
+        (by default the bound declared for ``path``)."""
         self.source(node, path)
+        each = bound_of(path) if bound is None else bound
         if isinstance(node, yaml.SequenceNode):
             if len(node.value) != 2:
                 raise self.error(node, path, f"expected a number or [low, high], got {self.describe(node)}")
-            low = self.number(node.value[0], join(path, 0), check)
-            high = self.number(node.value[1], join(path, 1), check)
+            low = self.number(node.value[0], join(path, 0), each)
+            high = self.number(node.value[1], join(path, 1), each)
             if low > high:
                 raise self.error(node, path, f"expected [low, high] with low <= high, got [{low:g}, {high:g}]")
             return Range(low, high)
-        return Range.fixed(self.number(node, path, check))
+        return Range.fixed(self.number(node, path, each))
 
     def path_value(self, node: Node, path: str) -> Path:
         """A file path, relative to the scenario file (not checked for existence)."""

@@ -14,6 +14,7 @@ from typing import Any, Callable
 
 import yaml
 
+from adapt.scenario.bounds import BOUNDS, bound_of
 from adapt.scenario.nodes import Node, join
 from adapt.scenario.reality import RealityReader
 from adapt.scenario.records import (
@@ -33,17 +34,9 @@ PREDICT_KEYS = ("horizons", "every", "ensemble", "evidence")
 OUTPUT_KEYS = ("report", "trace", "video", "figures", "trace_level")
 
 #: Most frames a scenario may ask for (about 9 hours at 30 frames/s).
-MAX_FRAMES = 1_000_000
+MAX_FRAMES = int(BOUNDS["run.max_frames"].high or 0)
 #: Highest frame rate accepted.
-MAX_FPS = 1000.0
-#: Longest prediction horizon, seconds.
-MAX_HORIZON = 60.0
-#: Most scored predictions a horizon's confidence may wait for.
-MAX_EVIDENCE = 100
-#: Most members of a prediction ensemble.
-MAX_ENSEMBLE = 1000
-#: Most decision cycles between two frames.
-MAX_DECISIONS_PER_FRAME = 1000
+MAX_FPS = float(BOUNDS["run.fps"].high or 0)
 
 
 class RunReader(RealityReader):
@@ -119,11 +112,11 @@ class RunReader(RealityReader):
     def run_settings(self, node: Node, path: str) -> tuple[RunSettings, int | None]:
         """``run``; also returns ``run.seed`` (None when absent)."""
         spec: dict[str, Callable[[Node, str], Any]] = {
-            "fps": lambda n, p: self.number(n, p, "positive"),
-            "duration": lambda n, p: self.number(n, p, "positive"),
-            "max_frames": lambda n, p: self.integer(n, p, "positive"),
-            "seed": lambda n, p: self.integer(n, p, "nonnegative"),
-            "decisions_per_frame": lambda n, p: self.integer(n, p, "positive"),
+            "fps": self.number,
+            "duration": self.number,
+            "max_frames": self.integer,
+            "seed": self.integer,
+            "decisions_per_frame": self.integer,
         }
         kw = self.fields(node, path, spec)
         items = self.mapping(node, path)
@@ -135,11 +128,6 @@ class RunReader(RealityReader):
         if "duration" in kw and "max_frames" in kw:
             raise self.error(items["max_frames"][0], join(path, "max_frames"),
                              "give either duration or max_frames, not both")
-        for key, limit in (("fps", MAX_FPS), ("max_frames", MAX_FRAMES),
-                           ("decisions_per_frame", MAX_DECISIONS_PER_FRAME)):
-            if key in kw and kw[key] > limit:
-                raise self.error(items[key][1], join(path, key),
-                                 f"expected at most {limit:g}, got {kw[key]:g}")
         seed = kw.pop("seed", None)
         settings = RunSettings(**kw, source=self.source(node, path))
         if settings.frames > MAX_FRAMES:
@@ -150,45 +138,28 @@ class RunReader(RealityReader):
 
     def predict_settings(self, node: Node, path: str) -> PredictSettings:
         def horizons(n: Node, p: str) -> tuple[float, ...]:
-            values = self.listed(n, p, lambda v, q, i: self.number(v, q, "positive"))
+            each = bound_of(p)
+            values = self.listed(n, p, lambda v, q, i: self.number(v, q, each))
             if not values:
                 raise self.error(n, p, "expected at least one horizon (seconds ahead)")
-            for i, h in enumerate(values):
-                if h > MAX_HORIZON:
-                    raise self.error(n.value[i], join(p, i),
-                                     f"expected at most {MAX_HORIZON:g} s ahead, got {h:g}")
             return tuple(sorted(set(values)))
 
         spec: dict[str, Callable[[Node, str], Any]] = {
             "horizons": horizons,
-            "every": lambda n, p: self.integer(n, p, "positive"),
-            "ensemble": lambda n, p: self.integer(n, p, "positive"),
-            "evidence": lambda n, p: self.integer(n, p, "nonnegative"),
+            "every": self.integer,
+            "ensemble": self.integer,
+            "evidence": self.integer,
         }
         kw = self.fields(node, path, spec)
-        if kw.get("evidence", 0) > MAX_EVIDENCE:
-            items = self.mapping(node, path)
-            raise self.error(items["evidence"][1], join(path, "evidence"),
-                             f"expected at most {MAX_EVIDENCE} predictions, got {kw['evidence']}")
-        if kw.get("ensemble", 1) > MAX_ENSEMBLE:
-            items = self.mapping(node, path)
-            raise self.error(items["ensemble"][1], join(path, "ensemble"),
-                             f"expected at most {MAX_ENSEMBLE} members, got {kw['ensemble']}")
         return PredictSettings(**kw, source=self.source(node, path))
 
     def output_settings(self, node: Node, path: str) -> OutputSettings:
-        def level(n: Node, p: str) -> int:
-            v = self.integer(n, p)
-            if not 1 <= v <= 5:
-                raise self.error(n, p, f"expected a trace level from 1 to 5, got {v}")
-            return v
-
         spec: dict[str, Callable[[Node, str], Any]] = {
             "report": self.boolean,
             "trace": self.boolean,
             "video": self.boolean,
             "figures": self.boolean,
-            "trace_level": level,
+            "trace_level": self.integer,
         }
         return OutputSettings(**self.fields(node, path, spec), source=self.source(node, path))
 

@@ -17,13 +17,10 @@ from typing import Any, Callable
 import yaml
 
 from adapt.errors import ImaginationError
-from adapt.geometry import Camera
-from adapt.imagination.footprint import Footprint
+from adapt.geometry import MAX_PIXELS, Camera
 from adapt.imagination.scene import (
     BUILTIN_TEXTURES,
     DEFAULT_DT,
-    MAX_DT,
-    MIN_DT,
     Ball,
     Floor,
     Obstacle,
@@ -32,6 +29,7 @@ from adapt.imagination.scene import (
     Wall,
     check_convex_polygon,
 )
+from adapt.scenario.bounds import CHANNEL, bound_of
 from adapt.scenario.nodes import Node, NodeReader, join
 from adapt.scenario.records import (
     MODEL_RANGE_PARAMETERS,
@@ -58,10 +56,6 @@ ROBOT_KEYS = ("name", "shape", "radius", "size", "position", "heading_deg", "max
               "max_accel", "mass", "height", "color")
 
 
-#: How far a ball may reach into a wall or obstacle and still count as touching it, metres.
-_TOUCH = 1e-9
-
-
 class WorldReader(NodeReader):
     """The ``camera`` and ``world`` sections."""
 
@@ -78,10 +72,7 @@ class WorldReader(NodeReader):
                 except ValueError:
                     pass
             raise self.error(node, path, f"expected [r, g, b] or '#rrggbb', got {value!r}")
-        rgb = self.vector(node, path, 3)
-        for i, c in enumerate(rgb):
-            if not 0 <= c <= 255:
-                raise self.error(node.value[i], join(path, i), f"expected 0..255, got {c:g}")
+        rgb = self.vector(node, path, 3, CHANNEL)
         return (int(rgb[0]), int(rgb[1]), int(rgb[2]))
 
     def texture(self, node: Node, path: str) -> str:
@@ -112,7 +103,8 @@ class WorldReader(NodeReader):
         """A convex polygon of ``[x, y]`` points."""
         if not isinstance(node, yaml.SequenceNode):
             raise self.error(node, path, f"expected a list of [x, y] points, got {self.describe(node)}")
-        pts = [self.vector(v, join(path, i), 2) for i, v in enumerate(node.value)]
+        each = bound_of(path)
+        pts = [self.vector(v, join(path, i), 2, each) for i, v in enumerate(node.value)]
         try:
             return check_convex_polygon("polygon", pts)  # type: ignore[arg-type]
         except ImaginationError as exc:
@@ -139,12 +131,12 @@ class WorldReader(NodeReader):
         """The camera at its starting pose, and how it is mounted."""
         num = self.number
         spec: dict[str, Callable[[Node, str], Any]] = {
-            "fx": lambda n, p: num(n, p, "positive"),
-            "fy": lambda n, p: num(n, p, "positive"),
+            "fx": num,
+            "fy": num,
             "cx": num,
             "cy": num,
-            "width": lambda n, p: self.integer(n, p, "positive"),
-            "height": lambda n, p: self.integer(n, p, "positive"),
+            "width": self.integer,
+            "height": self.integer,
             "position": lambda n, p: self.vector(n, p, 3),
             "look_at": lambda n, p: self.vector(n, p, 3),
             "roll_deg": num,
@@ -167,10 +159,17 @@ class WorldReader(NodeReader):
             raise self.error(items[key][1], join(path, key),
                              f"the camera is {'on' if kw['position'][2] == 0 else 'below'} the "
                              f"floor (z = {kw['position'][2]:g}); expected a height above 0")
+        if kw["width"] * kw["height"] > MAX_PIXELS:
+            raise self.error(items["height"][1], join(path, "height"),
+                             f"{kw['width']}x{kw['height']} is {kw['width'] * kw['height']:,} "
+                             f"pixels; expected at most {MAX_PIXELS:,} (for example 4096x4096)")
         try:
             camera = Camera.look_at(**kw)
-        except ImaginationError as exc:
-            raise self.error(items["look_at"][1], join(path, "look_at"), str(exc)) from None
+        except ImaginationError as exc:  # at the key the camera names (a robot's camera: the world's)
+            name, sep, rest = str(exc).partition(": ")
+            key = name if sep and name in items else "look_at"
+            raise self.error(items[key][1], join(path, key),
+                             rest if name == key else str(exc)) from None
         return camera, mount
 
     # -- the world ----------------------------------------------------------------------------
@@ -181,16 +180,10 @@ class WorldReader(NodeReader):
         self.check_keys(items, WORLD_KEYS, path)
         kw: dict[str, Any] = {}
         if "gravity" in items:
-            kw["gravity"] = self.number(items["gravity"][1], join(path, "gravity"), "positive")
+            kw["gravity"] = self.number(items["gravity"][1], join(path, "gravity"))
         kw["dt"] = DEFAULT_DT
         if "dt" in items:
-            dt_node = items["dt"][1]
-            kw["dt"] = self.number(dt_node, join(path, "dt"), "positive")
-            if not MIN_DT <= kw["dt"] <= MAX_DT:
-                raise self.error(dt_node, join(path, "dt"),
-                                 f"expected a physics step from {MIN_DT:g} to {MAX_DT:g} seconds, "
-                                 f"got {kw['dt']:g} (1/240 = 0.004167 is the default; a smaller "
-                                 "step makes every simulated second cost more steps)")
+            kw["dt"] = self.number(items["dt"][1], join(path, "dt"))
         if "floor" in items:
             kw["floor"] = self.floor(items["floor"][1], join(path, "floor"))
 
@@ -214,34 +207,7 @@ class WorldReader(NodeReader):
             scene = SceneSpec(**kw)
         except ImaginationError as exc:
             raise self.error(node, path, str(exc)) from None
-        for i, m in enumerate(models):
-            if m.create is Creation.AT_START:
-                self._check_clear(m.ball, items["objects"][1].value[i],
-                                  join(join(path, "objects"), i), scene, path)
         return scene, models
-
-    def _check_clear(self, ball: Ball, node: Node, path: str, scene: SceneSpec,
-                     world_path: str) -> None:
-        """Refuse a ball that starts inside a wall or an obstacle (touching is allowed): the
-        ball's footprint (:class:`~adapt.imagination.footprint.Footprint`) must be clear."""
-        hit = Footprint(scene, ball.radius).collision(ball.position, touch=_TOUCH)
-        if hit is None:
-            return
-        items = self.mapping(node, path)
-        where, at = (items["position"][1], join(path, "position")) if "position" in items else (node, path)
-        x, y = ball.position
-        r = ball.radius
-        if hit.wall is not None:
-            raise self.error(where, at,
-                             f"the ball {ball.name!r} (radius {r:g} m) at [{x:g}, {y:g}] "
-                             f"crosses the wall {hit.name!r} ({join(join(world_path, 'walls'), hit.index)}"
-                             "): its centre is {hit.gap:.3g} m from it; expected at "
-                             "least the radius")
-        what = "has its centre inside" if hit.inside else f"is {hit.gap:.3g} m from, so overlaps,"
-        raise self.error(where, at,
-                         f"the ball {ball.name!r} (radius {r:g} m) at [{x:g}, {y:g}] {what} "
-                         f"the obstacle {hit.name!r} ({join(join(world_path, 'obstacles'), hit.index)}"
-                         "); expected a ball clear of every obstacle")
 
     def world_appearance(self, node: Node, path: str) -> Path | None:
         """``world.appearance``: a folder of learned surface looks (``index.json``
@@ -264,7 +230,7 @@ class WorldReader(NodeReader):
     def floor(self, node: Node, path: str) -> Floor:
         spec: dict[str, Callable[[Node, str], Any]] = {
             "texture": self.texture,
-            "tile": lambda n, p: self.number(n, p, "positive"),
+            "tile": self.number,
             "color": self.color,
             "extent": lambda n, p: self.vector(n, p, 4),
         }
@@ -276,12 +242,12 @@ class WorldReader(NodeReader):
     def _surface_spec(self) -> dict[str, Callable[[Node, str], Any]]:
         return {
             "name": self.string,
-            "height": lambda n, p: self.number(n, p, "positive"),
+            "height": self.number,
             "texture": self.texture,
-            "tile": lambda n, p: self.number(n, p, "positive"),
+            "tile": self.number,
             "color": self.color,
-            "restitution": lambda n, p: self.number(n, p, "unit"),
-            "friction": lambda n, p: self.number(n, p, "nonnegative"),
+            "restitution": self.number,
+            "friction": self.number,
         }
 
     def wall(self, node: Node, path: str, index: int) -> Wall:
@@ -307,13 +273,13 @@ class WorldReader(NodeReader):
         """One ``world.objects[i]``: a ball model and what is known of it."""
         spec: dict[str, Callable[[Node, str], Any]] = {
             "name": self.string,
-            "radius": lambda n, p: self.number(n, p, "positive"),
-            "mass": lambda n, p: self.number(n, p, "positive"),
-            "restitution": lambda n, p: self.number(n, p, "unit"),
-            "friction": lambda n, p: self.number(n, p, "nonnegative"),
-            "rolling_resistance": lambda n, p: self.number(n, p, "nonnegative"),
-            "floor_friction": lambda n, p: self.number(n, p, "nonnegative"),
-            "drag": lambda n, p: self.number(n, p, "nonnegative"),
+            "radius": self.number,
+            "mass": self.number,
+            "restitution": self.number,
+            "friction": self.number,
+            "rolling_resistance": self.number,
+            "floor_friction": self.number,
+            "drag": self.number,
             "position": lambda n, p: self.vector(n, p, 2),
             "velocity": lambda n, p: self.vector(n, p, 2),
             "color": self.color,
@@ -350,22 +316,21 @@ class WorldReader(NodeReader):
         self.check_keys(items, MODEL_RANGE_PARAMETERS, path)
         out = {}
         for key, (_, v) in items.items():
-            check = "unit" if key == "restitution" else "nonnegative"
-            out[key] = self.range(v, join(path, key), check)
+            out[key] = self.range(v, join(path, key))
         return out
 
     def robot(self, node: Node, path: str) -> RobotSpec:
         spec: dict[str, Callable[[Node, str], Any]] = {
             "name": self.string,
             "shape": lambda n, p: self.choice(n, p, ("disc", "box")),
-            "radius": lambda n, p: self.number(n, p, "positive"),
+            "radius": self.number,
             "size": lambda n, p: self.vector(n, p, 2),
             "position": lambda n, p: self.vector(n, p, 2),
             "heading_deg": self.number,
-            "max_speed": lambda n, p: self.number(n, p, "positive"),
-            "max_accel": lambda n, p: self.number(n, p, "positive"),
-            "mass": lambda n, p: self.number(n, p, "positive"),
-            "height": lambda n, p: self.number(n, p, "positive"),
+            "max_speed": self.number,
+            "max_accel": self.number,
+            "mass": self.number,
+            "height": self.number,
             "color": self.color,
         }
         kw = self.fields(node, path, spec, required=("max_speed", "max_accel"))

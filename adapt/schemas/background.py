@@ -75,6 +75,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import VisionError
+from adapt.geometry import MAX_PIXELS
 from adapt.mirror.structure import face_labels
 from adapt.scenario import RealityKind
 from adapt.schemas.base import BBox, Schema, Status
@@ -88,7 +89,7 @@ from adapt.vision.matching import PreparedImage, prepare
 from adapt.vision.mmd import MMDResult
 from adapt.vision.regions import best_overlap, find_regions, to_input
 from adapt.vision.registration import structure_homography
-from adapt.vision.scale import image_scale
+from adapt.vision.scale import MAX_WORK_PIXELS_LIMIT, image_scale
 from adapt.vision.stillness import FrameHistory
 from adapt.vision.sync import sync_step
 
@@ -647,34 +648,36 @@ SCENE_BACKGROUND = SchemaSpec(
         Parameter("gain", float, 0.5, "fraction g of the camera correction applied per frame",
                   low=0.0, high=1.0, low_open=True),
         Parameter("tolerance", float, 0.5, "no correction below this pixel error", unit="px",
-                  low=0.0),
+                  low=0.0, high=1000.0),
         Parameter("correct", bool, True, "correct the synthetic camera (off: only compare)"),
         Parameter("full_pose", bool, False,
                   "correct the position too, from the floor's homography"),
         Parameter("threshold", float, 30.0, "MMD difference that counts", unit="grey levels",
                   low=0.0, high=255.0, low_open=True),
         Parameter("min_area", int, 40, "smallest region reported, at 640x480 (scaled with the "
-                  "image's area)", unit="px", low=1),
+                  "image's area)", unit="px", low=1, high=MAX_PIXELS),
         Parameter("max_jump", float, 12.0, "once synchronised, a pixel error above this (at "
                   "640x480, scaled) is a false alignment, ignored", unit="px", low=0.0,
-                  low_open=True),
+                  high=10000.0, low_open=True),
         Parameter("glitches", int, 5, "frames in a row a false alignment is ignored before it "
-                  "is believed", low=0),
+                  "is believed", low=0, high=1000),
         Parameter("mmd_pixels", int, 640 * 480, "largest image the MMD works on (a larger "
                   "frame is reduced first; fewer pixels: faster, a coarser H_e)", unit="px",
-                  low=32 * 32),
+                  low=32 * 32, high=MAX_WORK_PIXELS_LIMIT),
         Parameter("appearance", str, "auto", "learn the surfaces' look from the frames: on, off, "
                   "or auto (on for any reality but a synthetic one)", choices=("auto", "on", "off")),
         Parameter("learn_every", int, 10, "once learned, refine the look every this many "
-                  "synchronised frames", unit="frames", low=1),
+                  "synchronised frames", unit="frames", low=1,
+                  high=1_000_000),
         Parameter("learn_rate", float, 0.1, "fraction a learned pixel moves towards the frame "
                   "per refinement (slow lighting drift is absorbed)", low=0.0, high=1.0,
                   low_open=True),
         Parameter("learn_gate", float, 40.0, "a learned pixel that differs from the frame by more "
-                  "than this is not refined", unit="grey levels", low=0.0, low_open=True),
+                  "than this is not refined", unit="grey levels", low=0.0, high=255.0,
+                  low_open=True),
         Parameter("still_s", float, 0.4, "a pixel is learned only once it held still this long "
                   "(the first look: the median of this many seconds of frames)", unit="s",
-                  low=0.0, low_open=True),
+                  low=0.0, high=2.0, low_open=True),
     ),
     singleton=True,
 )

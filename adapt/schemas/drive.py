@@ -183,11 +183,11 @@ DRIVE = SchemaSpec(
     consumes=(Port("camera", "the synchronised camera (the robot's own pose)"),),
     parameters=(
         Parameter("tolerance", float, 0.05, "arrived when this close", unit="m", low=0.0,
-                  low_open=True),
+                  high=100.0, low_open=True),
         Parameter("speed", float, 1.0, "fraction of the robot's max_speed to use", low=0.0,
                   high=1.0, low_open=True),
         Parameter("timeout", float, 30.0, "give up after this long", unit="s", low=0.0,
-                  low_open=True),
+                  high=86400.0, low_open=True),
     ),
     singleton=False,
 )

@@ -52,7 +52,9 @@ from typing import TYPE_CHECKING, Any, Mapping
 import numpy as np
 
 from adapt.errors import SchemaError
+from adapt.geometry import MAX_PIXELS
 from adapt.imagination import Ball
+from adapt.imagination.scene import MAX_ACCEL
 from adapt.imagination.sight import hidden_by
 from adapt.kalman import ConstantVelocityKF
 from adapt.mirror.identify import Fit, Identifier
@@ -689,23 +691,26 @@ FOREGROUND_OBJECT = SchemaSpec(
         Parameter("object", str, "", "the world object it monitors (empty: an object the "
                   "scenario does not declare, named after the schema)"),
         Parameter("region", int, 0, "the tracked difference region it was spawned for "
-                  "(0: none)", low=0),
+                  "(0: none)", low=0, high=2**31 - 1),
         Parameter("k", float, 632.0, "spring stiffness (acceleration per metre of error); "
-                  "0 leaves the imagination uncorrected", unit="1/s^2", low=0.0),
-        Parameter("damping", float, 1.0, "damping ratio of the spring (1: critical)", low=0.0),
+                  "0 leaves the imagination uncorrected", unit="1/s^2", low=0.0, high=1.0e5),
+        Parameter("damping", float, 1.0, "damping ratio of the spring (1: critical)", low=0.0,
+                  high=100.0),
         Parameter("max_accel", float, 400.0, "the spring's largest acceleration (a target "
                   "behind a wall or far off pulls no harder)", unit="m/s^2", low=0.0,
-                  low_open=True),
+                  high=MAX_ACCEL, low_open=True),
         Parameter("confirm", int, 2, "sightings before the object is created in the imagination",
-                  low=1),
-        Parameter("lost_after", int, 5, "frames without a sighting before it is lost", low=0),
-        Parameter("min_area", int, 12, "smallest blob taken for the object", unit="px", low=1),
+                  low=1, high=1000),
+        Parameter("lost_after", int, 5, "frames without a sighting before it is lost", low=0,
+                  high=1000),
+        Parameter("min_area", int, 12, "smallest blob taken for the object", unit="px", low=1,
+                  high=MAX_PIXELS),
         Parameter("process_noise", float, 0.3, "Kalman white-acceleration density",
-                  unit="m^2/s^3", low=0.0, low_open=True),
+                  unit="m^2/s^3", low=0.0, high=1.0e4, low_open=True),
         Parameter("measurement_noise", float, 0.005, "Kalman position noise", unit="m",
-                  low=0.0, low_open=True),
+                  low=0.0, high=10.0, low_open=True),
         Parameter("gate", float, 6.0, "innovation (sigmas) beyond which the filter restarts "
-                  "from the last two sightings (a bounce)", low=0.0, low_open=True),
+                  "from the last two sightings (a bounce)", low=0.0, high=1000.0, low_open=True),
         Parameter("adapt", bool, True, "estimate restitution, friction and rolling resistance "
                   "(and floor friction and drag, given ranges) online and give them to the "
                   "imagined body"),
@@ -713,9 +718,9 @@ FOREGROUND_OBJECT = SchemaSpec(
                   "rollouts to the last sightings (false: the Kalman filter's state, line fits "
                   "at bounces and quadratic fits of rolling)"),
         Parameter("identify_window", float, 0.9, "seconds of sightings the identification "
-                  "fits", unit="s", low=0.2),
+                  "fits", unit="s", low=0.2, high=10.0),
         Parameter("identify_every", int, 2, "frames with a sighting between two steps of the "
-                  "identification", low=1),
+                  "identification", low=1, high=1000),
         Parameter("predict", bool, True, "predict at the scenario's horizons (predict section)"),
     ),
 )

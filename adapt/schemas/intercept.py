@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
-from adapt.imagination.predict import Trajectory, intercept_reach
+from adapt.imagination.predict import Trajectory, intercept_reach, meets
 from adapt.imagination.reach import meet, standing_point
 from adapt.schemas.drive import Drive
 from adapt.schemas.links import Structure
@@ -192,7 +192,7 @@ class Intercept(Drive):
         d = self.object_distance()
         node.set("object-distance", None if d is None else round(d, 4))
         node.set("caught", None if d is None or obj is None or obj.ball is None
-                 else d <= intercept_reach(obj.ball, self.robot))
+                 else meets(d, intercept_reach(obj.ball, self.robot)))
 
     def object_distance(self) -> float | None:
         """How far the robot is from the object: the sighting when there is one this frame,
@@ -233,11 +233,11 @@ INTERCEPT = SchemaSpec(
     parameters=(
         Parameter("object", str, "ball", "the world object to intercept"),
         Parameter("tolerance", float, 0.05, "arrived when this close to the target", unit="m",
-                  low=0.0, low_open=True),
+                  low=0.0, high=100.0, low_open=True),
         Parameter("speed", float, 1.0, "fraction of the robot's max_speed to use", low=0.0,
                   high=1.0, low_open=True),
         Parameter("timeout", float, 30.0, "give up a target after this long", unit="s",
-                  low=0.0, low_open=True),
+                  low=0.0, high=86400.0, low_open=True),
         Parameter("reach", float, 1.0, "plan with this fraction of the catch reach (the robot "
                   "stops at 0.9 of what it plans with)", low=0.0, high=1.0, low_open=True),
         Parameter("turn_rate", float, 1.5, "turn the robot to face the object at most this fast "

@@ -55,12 +55,17 @@ class ParameterError(ValueError):
     """A parameter value does not fit its declaration (the caller adds where)."""
 
 
+def _num(v: float) -> str:
+    """A bound as messages show it: whole numbers in full (``4915200``), others by ``:g``."""
+    return str(int(v)) if float(v).is_integer() else f"{v:g}"
+
+
 @dataclass(frozen=True, slots=True)
 class Parameter:
     """One parameter of a schema type.
 
     ``kind`` is ``float``, ``int``, ``bool`` or ``str``; ``low``/``high``
-    bound numbers (``low_open``/``high_open`` exclude the bound itself);
+    bound numbers (every number has both: a value beyond them could only fail later) (``low_open``/``high_open`` exclude the bound itself);
     ``choices`` restricts strings.
     """
 
@@ -91,21 +96,38 @@ class Parameter:
             return value
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise ParameterError(f"expected a number, got {value!r}")
-        if self.kind is int:
-            if isinstance(value, float) and not value.is_integer():
-                raise ParameterError(f"expected an integer, got {value!r}")
-            v: float = int(value)
-        else:
-            v = float(value)
-            if not math.isfinite(v):
-                raise ParameterError(f"expected a finite number, got {value!r}")
-        if self.low is not None and (v < self.low or (self.low_open and v == self.low)):
+        if isinstance(value, float) and not math.isfinite(value):
+            raise ParameterError(f"expected a finite number, got {value!r}")
+        if self.kind is int and isinstance(value, float) and not value.is_integer():
+            raise ParameterError(f"expected an integer, got {value!r}")
+        shown = f"{value:g}" if isinstance(value, float) or abs(value) < 10**16 else \
+            f"a {len(str(abs(value)))}-digit number"
+        if self.low is not None and (value < self.low or (self.low_open and value == self.low)):
             raise ParameterError(f"expected {'more than' if self.low_open else 'at least'} "
-                                 f"{self.low:g}, got {value!r}")
-        if self.high is not None and (v > self.high or (self.high_open and v == self.high)):
+                                 f"{_num(self.low)}, got {shown}")
+        if self.high is not None and (value > self.high or (self.high_open and value == self.high)):
             raise ParameterError(f"expected {'less than' if self.high_open else 'at most'} "
-                                 f"{self.high:g}, got {value!r}")
-        return v
+                                 f"{_num(self.high)}, got {shown}")
+        try:
+            return int(value) if self.kind is int else float(value)
+        except OverflowError:  # an integer of hundreds of digits where no bound applies
+            raise ParameterError(f"expected a number, got {shown}") from None
+
+    @property
+    def range_text(self) -> str:
+        """The type and bounds as ``docs/schemas.md`` writes them (``float in (0, 1]``), or
+        "" for a parameter that is not a number.
+
+        Examples
+        --------
+        >>> Parameter("gain", float, 0.5, "", low=0.0, high=1.0, low_open=True).range_text
+        'float in (0, 1]'
+        """
+        if self.kind not in (int, float) or self.low is None or self.high is None:
+            return ""
+        lo, hi = _num(self.low), _num(self.high)
+        return (f"{self.kind.__name__} in {'(' if self.low_open else '['}{lo}, "
+                f"{hi}{')' if self.high_open else ']'}")
 
     def describe(self) -> str:
         """``name (type, unit, range): doc``, for ``adapt schemas list``."""

@@ -33,7 +33,7 @@ Examples
 ...           sets=["reality.appearance.noise=1,300"])
 Traceback (most recent call last):
 ...
-adapt.errors.ScenarioError: --set:1:28: reality.appearance.noise: expected at most 100, got 300
+adapt.errors.ScenarioError: --set:1:28: reality.appearance.noise: expected a number from 0 to 100 grey levels, got 300
     reality.appearance.noise=1,300
                                ^
 """

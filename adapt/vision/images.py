@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 
 from adapt.errors import ImageError, VisionError
 from adapt.files import write_atomic
+from adapt.geometry import MIN_IMAGE_SIDE
 from adapt.native import native_messages
 
 __all__ = [
@@ -51,7 +52,7 @@ __all__ = [
 ]
 
 #: Smallest image side MMD accepts (the LK pyramid and the mask need some room).
-MIN_SIDE = 32
+MIN_SIDE = MIN_IMAGE_SIDE
 #: Float images may stray this far outside [0, 1] (rounding in a conversion).
 FLOAT_SLACK = 1.0 / 512.0
 

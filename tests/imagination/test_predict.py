@@ -126,6 +126,19 @@ def test_intercept_reach_is_the_ball_radius_plus_the_robots_half_width() -> None
     assert intercept_reach(ball, RobotSpec(shape=RobotShape.BOX, size=(0.6, 0.4))) == pytest.approx(0.31)
 
 
+def test_caught_is_the_robots_body_meeting_the_ball() -> None:
+    """One definition for the agent's ^caught, the evaluation and the baselines (issue 21: the
+    evaluation counted 2 cm the schema did not, and they disagreed on a glance at 0.3698 m)."""
+    from adapt.imagination.predict import CONTACT, meets
+    from adapt.runner import evaluation
+    from adapt.schemas import intercept
+
+    reach = 0.36
+    assert meets(0.3698, reach) and meets(reach + CONTACT, reach)
+    assert not meets(reach + CONTACT + 1e-6, reach)
+    assert evaluation.meets is meets and intercept.meets is meets
+
+
 def test_rollouts_and_ensembles_refuse_unbounded_work() -> None:
     from adapt.imagination import MAX_SAMPLES
 

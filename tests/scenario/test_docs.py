@@ -15,6 +15,7 @@ from adapt.scenario import bullet as BU
 from adapt.scenario import reality as R
 from adapt.scenario import run as RUN
 from adapt.scenario import world as W
+from adapt.scenario.bounds import BOUNDS, BULLET_BOUNDS, bullet_bound
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "scenario.md"
 
@@ -102,6 +103,61 @@ def test_documented_defaults_are_the_records_defaults(heading: str) -> None:
         elif isinstance(value, str) and isinstance(default, str) and value in (default, f"'{default}'"):
             checked += 1
     assert checked >= 1, f"no default of {heading} could be compared"
+
+
+#: heading -> the key paths its table's keys are under
+PREFIXES = {"Top level": ("",), "`reality` with `kind: synthetic` (the default)": ("reality",),
+            "`reality` with `kind: video`": ("reality",),
+            "`world.objects[i]` (balls)": ("world.objects[i]",),
+            "`reality` with `kind: bullet`": ("reality",),
+            "`reality.floor`, `reality.walls` and `reality.obstacles` (bullet)":
+                ("reality.floor", "reality.walls", "reality.obstacles"),
+            "`reality.objects[i]` (bullet)": ("reality.objects[i]",),
+            "`reality.objects[i].throw` (bullet)": ("reality.objects[i].throw",),
+            "`reality.look` (bullet)": ("reality.look",),
+            "`reality.robot` (bullet)": ("reality.robot",)}
+
+
+def typed_rows(bullet: bool = False) -> dict[str, str]:
+    """Every documented key path -> its type cell: of the tables of a ``kind: bullet``
+    reality, or (``bullet=False``) of the others (a key both document, ``reality.dt`` say,
+    may be bounded otherwise in each)."""
+    out: dict[str, str] = {}
+    heading = None
+    for line in DOC.read_text(encoding="utf-8").splitlines():
+        m = re.match(r"#+ (.*)", line)
+        if m:
+            heading = m.group(1).strip()
+            continue
+        if heading in TABLES and line.startswith("| `") and ("bullet" in heading) == bullet:
+            cells = [c.strip() for c in line.strip("|").split("|")]
+            for prefix in PREFIXES.get(heading, (heading.strip("`"),)):
+                for key in re.findall(r"`([^`]+)`", cells[0]):
+                    out[f"{prefix}.{key}" if prefix else key] = cells[1]
+    return out
+
+
+def test_every_bound_is_documented_in_its_keys_row() -> None:
+    """The type column states each number's bound as adapt/scenario/bounds.py declares it
+    (in the tables of a ``kind: bullet`` reality, as it bounds them)."""
+    rows, bullet_rows = typed_rows(), typed_rows(bullet=True)
+    for key, bound in BOUNDS.items():
+        if ".ranges." in key:  # documented in the ranges row: each end within the key's bounds
+            assert key.replace(".ranges.", ".") in BOUNDS
+            continue
+        assert key in rows or key in bullet_rows, f"{key} has a bound but no row in docs/scenario.md"
+        if key in rows:
+            assert bound.text in rows[key], (key, rows[key], bound.text)
+    for key, cell in bullet_rows.items():
+        if key in BOUNDS or key in BULLET_BOUNDS:
+            assert bullet_bound(key).text in cell, (key, cell, bullet_bound(key).text)
+
+
+def test_every_documented_number_has_a_bound() -> None:
+    for bullet in (False, True):
+        for key, cell in typed_rows(bullet).items():
+            if re.search(r"\bnumber|\binteger|\[x, y", cell):
+                assert key in BOUNDS or (bullet and key in BULLET_BOUNDS), (key, cell)
 
 
 def test_the_engine_key_is_documented_with_its_choices_and_default() -> None:

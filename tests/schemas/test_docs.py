@@ -49,6 +49,24 @@ def test_every_parameter_is_documented() -> None:
         assert {p.name for p in spec.parameters} == table.get(spec.name, set()), spec.name
 
 
+def test_every_numeric_parameter_is_bounded_as_documented() -> None:
+    """Each number a schema takes has both bounds (a value beyond them could only fail later
+    in a run), and docs/schemas.md shows them."""
+    text = DOC.split("## Parameters", 1)[1].split("\n## ", 1)[0]
+    cells: dict[tuple[str, str], str] = {}
+    kind = ""
+    for line in text.splitlines():
+        if line.startswith("| `") or line.startswith("| | `"):
+            row = [c.strip() for c in line.strip("|").split("|")]
+            kind = row[0].strip("`") or kind
+            cells[(kind, row[1].strip("`"))] = row[2]
+    for spec in REGISTRY:
+        for p in spec.parameters:
+            if p.kind in (int, float):
+                assert p.range_text, (spec.name, p.name)
+                assert cells[(spec.name, p.name)] == p.range_text, (spec.name, p.name)
+
+
 def test_every_attribute_a_schema_writes_is_documented() -> None:
     sc = load_scenario(ROOT / "scenarios" / "bouncing-ball.yaml", overrides=SMALL)
     written: dict[str, set[str]] = {}
