@@ -121,6 +121,11 @@ class ConstantVelocityKF:
         self._last = (float(time), zz)
 
     @property
+    def position_sigma(self) -> float:
+        """RMS standard deviation of the position estimate, m."""
+        return math.sqrt(max(0.0, (self.P[0, 0] + self.P[1, 1]) / 2.0))
+
+    @property
     def velocity_sigma(self) -> float:
         """RMS standard deviation of the velocity estimate, m/s."""
         return math.sqrt(max(0.0, (self.P[2, 2] + self.P[3, 3]) / 2.0))

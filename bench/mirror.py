@@ -1,4 +1,4 @@
-"""The mirror on randomised throws: tracking, prediction beside a Kalman baseline,
+"""The mirror on randomised throws: tracking, prediction beside a Kalman and a map-aware baseline,
 the confidence's meaning and interception (figures, not tests; issue 10).
 
 Run ``python bench/mirror.py`` (50 throws; about 4-6 minutes on 2 cores) or
@@ -8,7 +8,8 @@ with its own seed and wider throw and ball ranges than the scenario's (the
 true parameters, the camera's offset and the wheel slip from the seed.  The
 peer of every figure is in the same run: the uncorrected imagination beside
 the corrected one, and a constant-velocity Kalman filter on the same
-sightings beside the mirror's predictions.
+sightings, and the map-aware baseline (the same filter's estimate rolled and reflected off the
+known walls and obstacles, ``adapt/runner/mapaware.py``), beside the mirror's predictions.
 
 Aggregation: per-throw medians, then the median over throws (a throw counts
 for a horizon when it had predictions with and without a bounce there).
@@ -125,29 +126,35 @@ def main() -> int:
           f"(target <= 1 ball radius = {100 * RADIUS:.0f} cm: "
           f"{'meets' if (med(corrected) or 1) <= RADIUS else 'MISSES'}); uncorrected "
           f"{fmt(med(uncorrected))}")
-    print("prediction error (mirror beside the Kalman baseline, same throws):")
+    print("prediction error (mirror beside the Kalman and the map-aware baselines, same throws):")
     for h in ("0.5", "1"):
         for kind, label in (("bounce", "a bounce inside the horizon"),
                             ("no_bounce", "no bounce")):
-            mine, theirs, ratios = [], [], []
+            mine, theirs, aware, ratios, aware_ratios = [], [], [], [], []
             for r in ok:
                 p = (r.get("prediction_error_m") or {}).get(h) or {}
                 m = (p.get("mirror") or {}).get(f"{kind}_median")
                 b = (p.get("baseline") or {}).get(f"{kind}_median")
+                a = (p.get("mapaware") or {}).get(f"{kind}_median")
                 if m is not None and b is not None:
                     mine.append(m)
                     theirs.append(b)
                     if b > 0:
                         ratios.append(m / b)
+                if m is not None and a is not None:
+                    aware.append(a)
+                    if a > 0:
+                        aware_ratios.append(m / a)
             target = ""
             if kind == "bounce" and h == "1":
                 target = " (target <= 0.10x)"
             elif kind == "no_bounce":
                 target = " (target <= 1x)"
-            ratio = med(ratios)
+            ratio, aware_ratio = med(ratios), med(aware_ratios)
             print(f"  {h} s, {label:<28} mirror {fmt(med(mine))}, baseline {fmt(med(theirs))}; "
                   f"ratio {'n/a' if ratio is None else f'{ratio:.2f}x'}{target} "
-                  f"[{len(ratios)} throws]")
+                  f"[{len(ratios)} throws]; map-aware {fmt(med(aware))}, mirror/map-aware "
+                  f"{'n/a' if aware_ratio is None else f'{aware_ratio:.2f}x'}")
     confident = sum((r.get("confidence") or {}).get("confident", 0) for r in ok)
     within = sum(round(((r.get("confidence") or {}).get("within_reach") or 0.0)
                        * (r.get("confidence") or {}).get("confident", 0)) for r in ok)
@@ -158,10 +165,12 @@ def main() -> int:
     reachable = [r for r in ok if (r.get("intercept") or {}).get("reachable")]
     caught = [r for r in reachable if r["intercept"]["caught"]]
     base = [r for r in reachable if (r.get("baseline") or {}).get("caught")]
+    aware_caught = [r for r in reachable if (r.get("mapaware") or {}).get("caught")]
     n = len(reachable)
     print(f"interception: {len(caught)}/{n} reachable throws caught "
           f"({100 * len(caught) / n if n else 0:.0f}%; target >= 95%); the Kalman-driven robot "
-          f"{len(base)}/{n} ({100 * len(base) / n if n else 0:.0f}%); "
+          f"{len(base)}/{n} ({100 * len(base) / n if n else 0:.0f}%); the map-aware robot "
+          f"{len(aware_caught)}/{n} ({100 * len(aware_caught) / n if n else 0:.0f}%); "
           f"{len(ok) - n} throws out of reach")
     agree = [r for r in ok if bool(r.get("agent_caught_t") is not None)
              == bool((r.get("intercept") or {}).get("caught"))]

@@ -14,7 +14,9 @@ Figures (issue 9, issue 10):
 * **the whole loop** (``scenarios/bouncing-ball.yaml``: camera on a moving
   robot, MMD and full-pose correction every frame, the ball's schema with
   prediction, the intercept schema, decision cycles): the same figures, and
-  how many times real time the rollouts inside the loop run;
+  how many times real time the rollouts inside the loop run; and the same loop
+  with the ball's identification off, its peer (the object schema's ms a frame
+  with and without it);
 * **the decision stage on both engines** (``--only engines``; issue 23): the
   bouncing ball's loop run on adapt's own engine and on the Soar kernel
   (``engine: soar``), the two alternating round by round in this process;
@@ -219,6 +221,9 @@ def main() -> int:
            loop(ROOT / "scenarios" / "background-sync.yaml", args.frames, 30))
     report("whole loop (bouncing-ball.yaml: camera on the robot, ball, intercept, 640x480)",
            loop(ROOT / "scenarios" / "bouncing-ball.yaml", args.frames, 30))
+    report("the same, identification off (its peer: schemas.foreground-object.identify=false)",
+           loop(ROOT / "scenarios" / "bouncing-ball.yaml", args.frames, 30,
+                ("schemas.foreground-object.identify=false",)))
     engines(args.frames, args.rounds)
     memory(args.memory_frames)
     return 0

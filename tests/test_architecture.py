@@ -126,6 +126,8 @@ ALLOWED = {
     "mirror": ("adapt.mirror", "adapt.imagination", "adapt.geometry", "adapt.errors",
                "adapt.files", "adapt.native"),
     "kalman.py": (),
+    # the map-aware analytic predictor: geometry from the scene's records, nothing else
+    "reflection.py": ("adapt.imagination.scene",),
     "seeds.py": (),
     "frames.py": ("adapt.errors", "adapt.files"),
     # scenario: of the engine, only its interface (the engine names a scenario's engine: takes)
@@ -440,3 +442,26 @@ def test_the_runner_and_the_schemas_use_the_engine_interface_only(path: Path) ->
         if name == "adapt.engine" or name.startswith("adapt.engine."):
             assert name in ENGINE_SURFACE, (
                 f"{path.parent.name}/{path.name} imports {name}: use adapt.engine.interface")
+
+
+def test_the_bullet_reality_shares_no_code_with_the_imagination() -> None:
+    # another physics engine and renderer: of the imagination it reads the world's records
+    # (geometry) and where the bundled textures' files are, nothing else
+    for path in modules_in("reality/bullet"):
+        for name in imports_of(path):
+            if name.startswith("adapt.imagination"):
+                assert name in ("adapt.imagination.scene", "adapt.imagination.texture"), (
+                    f"reality/bullet/{path.name} imports {name}")
+            assert not name.startswith(("adapt.mirror", "adapt.schemas", "adapt.runner")), (
+                f"reality/bullet/{path.name} imports {name}")
+
+
+def test_only_the_bullet_client_imports_pybullet() -> None:
+    # `import adapt` and every other module work without the optional extra
+    for path in PACKAGE.rglob("*.py"):
+        if path == PACKAGE / "reality" / "bullet" / "client.py":
+            continue
+        for name in imports_of(path):
+            assert name.split(".")[0] != "pybullet", f"{path} imports {name}"
+    text = (PACKAGE / "reality" / "bullet" / "client.py").read_text(encoding="utf-8")
+    assert "import pybullet" not in text  # imported inside load_pybullet, by name

@@ -147,7 +147,25 @@ def summary_lines(s: dict[str, Any]) -> list[str]:
     if pos and rot:
         lines.append(f"camera vs truth at the end: {100 * pos['last']:.2f} cm, "
                      f"{rot['last']:.3f} deg")
-    return lines + _tracking_lines(s) + _intercept_lines(s) + _prediction_lines(s)
+    return (lines + _goal_lines(s) + _tracking_lines(s) + _intercept_lines(s)
+            + _prediction_lines(s))
+
+
+def _goal_lines(s: dict[str, Any]) -> list[str]:
+    """What went wrong with the sight of the goals' objects (summary.goal_objects)."""
+    lines = []
+    for name, g in (s.get("goal_objects") or {}).items():
+        if g["never_seen"]:
+            lines.append(f"the goal's object {name!r} was never seen ({g['unseen_s']:g} s)")
+            continue
+        if g["lost"]:
+            lines.append(f"the goal's object {name!r} was lost {g['lost']} time(s), "
+                         f"{g['lost_s']:g} s in all (longest {g['longest_lost_s']:g} s"
+                         + (", until the end)" if g["lost_at_end"] else ")"))
+        if g["first_seen_s"] > 1.0:
+            lines.append(f"the goal's object {name!r} was first seen after "
+                         f"{g['first_seen_s']:g} s")
+    return lines
 
 
 def _tracking_lines(s: dict[str, Any]) -> list[str]:
@@ -169,23 +187,29 @@ def _intercept_lines(s: dict[str, Any]) -> list[str]:
     icpt = s.get("intercept")
     if not icpt:
         return []
-    base = s.get("baseline") or {}
     reach = "" if icpt.get("reachable") is not False else " (out of reach of this robot)"
     mine = (f"caught {icpt['object']} at t={icpt['t']:.2f} s" if icpt["caught"]
             else f"did not catch {icpt['object']}{reach}")
-    theirs = (f"at t={base['t']:.2f} s" if base.get("caught") else "did not")
-    return [f"intercept: {mine}; the Kalman baseline's robot {theirs}"
-            + (" catch it" if not base.get("caught") else "")]
+    line = f"intercept: {mine}"
+    for key, label in (("baseline", "Kalman"), ("mapaware", "map-aware")):
+        base = s.get(key)
+        if base is not None:
+            line += (f"; the {label} baseline's robot "
+                     + (f"at t={base['t']:.2f} s" if base.get("caught") else "did not catch it"))
+    return [line]
 
 
 def _prediction_lines(s: dict[str, Any]) -> list[str]:
     lines = []
     for horizon, by in sorted((s.get("prediction_error_m") or {}).items()):
-        m, b = by.get("mirror") or {}, by.get("baseline") or {}
+        m = by.get("mirror") or {}
         for kind, label in (("bounce", "with a bounce"), ("no_bounce", "without")):
-            mm, bm = m.get(f"{kind}_median"), b.get(f"{kind}_median")
+            mm = m.get(f"{kind}_median")
             if mm is not None:
-                beside = "" if bm is None else f", Kalman baseline {100 * bm:.1f} cm"
+                beside = "".join(
+                    f", {name} baseline {100 * v:.1f} cm"
+                    for key, name in (("baseline", "Kalman"), ("mapaware", "map-aware"))
+                    if (v := (by.get(key) or {}).get(f"{kind}_median")) is not None)
                 lines.append(f"prediction {horizon} s ahead, {label}: mirror {100 * mm:.1f} cm"
                              f"{beside} (median of {m.get(kind + '_n')})")
     conf = s.get("confidence")

@@ -82,6 +82,8 @@ ENSEMBLE_PARAMETERS = (
     "friction",
     "rolling_resistance",
     "mass",
+    "floor_friction",
+    "drag",
     "speed_scale",
     "heading_deg",
 )
@@ -433,8 +435,8 @@ def ensemble(
     fork = World(scene, dt=world.dt, seed=world.seed, state=start, record_contacts=False)
     for m in range(n):
         values = {k: float(v[m]) for k, v in drawn.items()}
-        params = {k: values[k] for k in ("restitution", "friction", "rolling_resistance", "mass")
-                  if k in values}
+        params = {k: values[k] for k in ("restitution", "friction", "rolling_resistance", "mass",
+                                          "floor_friction", "drag") if k in values}
         if params:
             fork.set_ball_parameters(name, **params)
         fork.set_state(_member_state(start, name, values))
@@ -464,6 +466,6 @@ def _member_state(state: WorldState, name: str, values: dict[str, float]) -> Wor
             vx, vy = b.velocity
             b = BodyState(b.name, b.position,
                           (scale * (c * vx - s * vy), scale * (s * vx + c * vy)),
-                          b.angle, b.angular_velocity)
+                          b.angle, b.angular_velocity, b.slip)
         bodies.append(b)
     return replace(state, bodies=tuple(bodies))

@@ -40,6 +40,7 @@ adapt.errors.ImaginationError: radius: expected a positive number of metres, got
 
 from __future__ import annotations
 
+import copy
 import enum
 import math
 from dataclasses import dataclass, field
@@ -381,7 +382,17 @@ class Ball:
 
     ``rolling_resistance`` is the dimensionless coefficient ``c`` of a
     resisting force ``c m g`` against the motion (a ball rolling freely at
-    speed ``v`` stops after ``v**2 / (2 c g)`` metres).
+    speed ``v`` stops after ``v**2 / (2 c g)`` metres); ``drag`` (1/m) adds a
+    speed-dependent one, ``drag m v**2`` (air, and a floor that gives more at
+    speed).
+
+    ``floor_friction`` says whether the ball has spin of its own.  ``None``
+    (the default): it always rolls, its spin following its velocity at once,
+    through a bounce too.  A coefficient ``mu``: it is a solid sphere that
+    keeps its spin through a bounce but for what the surface's friction
+    takes (the contact is at the height of its centre), and slides on the
+    floor, with friction ``mu m g``, until spin and velocity agree (see
+    :mod:`adapt.imagination.world`).
     """
 
     name: str
@@ -394,6 +405,8 @@ class Ball:
     velocity: Vec2 = (0.0, 0.0)
     color: Color = (220, 60, 40)
     texture: str | None = None
+    floor_friction: float | None = None
+    drag: float = 0.0
 
     def __post_init__(self) -> None:
         _name(self.name)
@@ -410,6 +423,43 @@ class Ball:
         object.__setattr__(self, "velocity", _velocity("velocity", self.velocity))
         object.__setattr__(self, "color", _color("color", self.color))
         object.__setattr__(self, "texture", _texture("texture", self.texture))
+        if self.floor_friction is not None:
+            object.__setattr__(self, "floor_friction", _nonnegative(
+                "floor_friction", self.floor_friction, "(coefficient)"))
+        object.__setattr__(self, "drag", _nonnegative("drag", self.drag, "1/m"))
+
+    def with_parameters(self, **values: float | None) -> "Ball":
+        """A copy with new physical parameters (``restitution``, ``friction``,
+        ``rolling_resistance``, ``mass``, ``floor_friction``, ``drag``), each checked as on
+        construction; cheaper than :func:`dataclasses.replace`, which checks every field.
+
+        Examples
+        --------
+        >>> Ball("b").with_parameters(restitution=0.5, drag=0.1).restitution
+        0.5
+        >>> Ball("b").with_parameters(restitution=1.5)
+        Traceback (most recent call last):
+        ...
+        adapt.errors.ImaginationError: restitution: expected a number from 0 to 1, got 1.5
+        """
+        out = copy.copy(self)
+        for key, value in values.items():
+            if key == "restitution":
+                v: float | None = _unit_interval(key, value)  # type: ignore[arg-type]
+            elif key in ("friction", "rolling_resistance"):
+                v = _nonnegative(key, value, "(coefficient)")  # type: ignore[arg-type]
+            elif key == "drag":
+                v = _nonnegative(key, value, "1/m")  # type: ignore[arg-type]
+            elif key == "mass":
+                v = _positive(key, value, "kilograms", MIN_MASS, MAX_MASS)  # type: ignore[arg-type]
+            elif key == "floor_friction":
+                v = None if value is None else _nonnegative(key, value, "(coefficient)")
+            else:
+                raise ImaginationError(
+                    f"cannot set {key!r} of a ball; expected restitution, friction, "
+                    "rolling_resistance, mass, floor_friction or drag")
+            object.__setattr__(out, key, v)
+        return out
 
 
 class RobotShape(enum.Enum):

@@ -13,6 +13,28 @@ Modelling choices, all inside pymunk's C solver so a step stays cheap:
   with ``max_bias = 0`` and ``max_force = c m g``.  It removes at most
   ``c g dt`` of speed per step and never reverses the motion: a ball rolling
   at ``v`` stops after ``v**2 / (2 c g)`` metres.  There is no global damping.
+* **Drag** (a ball's ``drag``, ``d``): the rolling resistance's joint
+  resists with ``(c g + d v**2) m`` instead, its force following the speed
+  every :data:`DRAG_EVERY` steps (counted from the world's step 0, so a
+  world run in one call and step by step still agree).
+* **Spin** (a ball with ``floor_friction``): a solid sphere's spin is a
+  second velocity ``w``, the one it would roll at, carried by a body of mass
+  ``2/5 m`` (the sphere's ``I / r**2``) that touches nothing.  A pivot joint
+  with ``max_bias = 0`` and ``max_force = mu m g`` between the ball and that
+  body is the floor's sliding friction: while the slip ``w - v`` is not zero
+  it pulls the velocity towards the spin at ``mu g`` and the spin towards the
+  velocity at ``5/2 mu g`` until they agree, and then the two roll on as one
+  (the rolling resistance acts on the spin, ``7/5 c m g``, so a rolling ball
+  still slows at ``c g``).  A bounce changes the velocity, not the spin, but
+  for the friction of the surface hit: its contact is at the height of the
+  ball's centre, where the spin makes the ball's surface slide vertically,
+  and friction ``mu_pair`` times the normal impulse ``J`` takes up to
+  ``5/2 mu_pair J / m`` of the spin's normal part, at most the ``5/7`` of it
+  at which the contact sticks.  A ball rolling head-on at ``V`` into a wall
+  of restitution ``e`` with no friction thus leaves at ``e V`` and rolls on
+  at ``(5 e - 2) V / 7`` back from the wall (forwards, for ``e < 2/5``); with
+  a sticking contact at ``(5 e - 4/7) V / 7``.  The hop a sticking contact
+  gives (its vertical impulse) is not modelled: the floor plane is 2D.
 * **The robot** is velocity-controlled: a kinematic control body moves at the
   commanded velocity (clipped to ``max_speed``) and a pivot joint with
   ``max_force = m * max_accel`` drags the robot after it, so the robot never
@@ -59,6 +81,7 @@ Examples
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, replace
 from typing import Any, Callable, Sequence
@@ -102,16 +125,30 @@ COLLISION_SLOP = 5e-4
 #: The robot's shape restitution (a contact's is the product with the ball's).
 ROBOT_RESTITUTION = 0.5
 
+#: Steps between two updates of a drag's force (1/60 s at the default ``dt``).
+DRAG_EVERY = 4
+
+#: A solid sphere's ``I / (m r**2)``: the mass its spin velocity carries, per unit of its mass.
+SPIN_MASS = 2.0 / 5.0
+#: The share of the spin's normal part a sticking wall contact takes (``(5/2) / (1 + 5/2)``).
+STICK = 5.0 / 7.0
+
 
 @dataclass(frozen=True, slots=True)
 class BodyState:
-    """Pose and velocity of one moving body (a ball or the robot)."""
+    """Pose and velocity of one moving body (a ball or the robot).
+
+    ``slip`` is a spinning ball's spin velocity minus its velocity (zero while
+    it rolls; always zero for a ball without ``floor_friction`` and for the
+    robot).
+    """
 
     name: str
     position: Vec2
     velocity: Vec2
     angle: float = 0.0
     angular_velocity: float = 0.0
+    slip: Vec2 = (0.0, 0.0)
 
 
 @dataclass(frozen=True, slots=True)
@@ -174,6 +211,10 @@ class World:
         Start from this snapshot instead of the scene's initial state.
     record_contacts : bool
         Keep a log of :class:`Contact` events in :attr:`contacts`.
+    ball_collisions : bool
+        Whether balls collide with each other; ``False`` makes each ball a
+        copy that runs as if alone in the scene (many rollouts of one ball,
+        differently started, in one world: cheaper than as many worlds).
 
     Attributes
     ----------
@@ -190,6 +231,7 @@ class World:
         seed: int | None = None,
         state: WorldState | None = None,
         record_contacts: bool = True,
+        ball_collisions: bool = True,
     ) -> None:
         self.scene = scene
         value = scene.dt if dt is None else dt
@@ -208,6 +250,14 @@ class World:
         self._command = (0.0, 0.0, 0.0)
         self._balls: dict[str, pymunk.Body] = {}
         self._parts: dict[str, tuple[pymunk.Shape, tuple[pymunk.Constraint, ...]]] = {}
+        # a spinning ball's spin body and the floor's friction joint (see the module docstring)
+        self._spins: dict[str, tuple[pymunk.Body, pymunk.PivotJoint]] = {}
+        self._spin_handlers = False
+        # balls with drag: their resistance joint, its force at rest per (m/s)^2, and at rest
+        self._drag: dict[str, tuple[pymunk.Constraint, float, float]] = {}
+        # a spinning ball's contacts under way: velocity before, normal, friction
+        self._touching: dict[tuple[pymunk.Shape, pymunk.Shape],
+                             tuple[float, float, float, float, float]] = {}
         self._radius: dict[str, float] = {}  # what a body's travel per sub-step is measured by
         self._robot: pymunk.Body | None = None
         self._names: dict[pymunk.Shape, str] = {}
@@ -218,6 +268,7 @@ class World:
         # outside change (a force, a state, a ball, a command): see _bound_substeps.
         self._calm = False
         self._record = record_contacts
+        self._ball_filter = None if ball_collisions else pymunk.ShapeFilter(group=BALL_TYPE)
         self.space = self._build()
         self._update_extremes()
         if state is not None:
@@ -263,22 +314,94 @@ class World:
         shape.elasticity = ball.restitution
         shape.friction = ball.friction
         shape.collision_type = BALL_TYPE
+        if self._ball_filter is not None:
+            shape.filter = self._ball_filter
         space.add(body, shape)
         joints: tuple[pymunk.Constraint, ...] = ()
-        if ball.rolling_resistance > 0:
-            rr = pymunk.PivotJoint(space.static_body, body, (0.0, 0.0), (0.0, 0.0))
+        rolling = body
+        if ball.floor_friction is not None:
+            rolling = pymunk.Body(SPIN_MASS * ball.mass, SPIN_MASS * ball.mass * ball.radius**2)
+            rolling.position = ball.position
+            rolling.velocity = ball.velocity
+            floor = pymunk.PivotJoint(body, rolling, (0.0, 0.0), (0.0, 0.0))
+            floor.max_bias = 0.0
+            floor.max_force = ball.floor_friction * ball.mass * self.scene.gravity
+            space.add(rolling, floor)
+            self._spins[ball.name] = (rolling, floor)
+            if not self._spin_handlers:
+                for other in (STATIC_TYPE, ROBOT_TYPE):
+                    space.on_collision(BALL_TYPE, other, begin=self._on_touch,
+                                       separate=self._on_part)
+                self._spin_handlers = True
+        if ball.rolling_resistance > 0 or ball.drag > 0:
+            rr = pymunk.PivotJoint(space.static_body, rolling, (0.0, 0.0), (0.0, 0.0))
             rr.max_bias = 0.0
-            rr.max_force = ball.rolling_resistance * ball.mass * self.scene.gravity
+            rr.max_force = self._rolling_force(ball)
             # The same resistance against spinning about the vertical axis.
             spin = pymunk.GearJoint(space.static_body, body, 0.0, 1.0)
             spin.max_bias = 0.0
-            spin.max_force = rr.max_force * ball.radius
+            spin.max_force = ball.rolling_resistance * ball.mass * self.scene.gravity * ball.radius
             space.add(rr, spin)
             joints = (rr, spin)
+            self._set_drag(ball, rr)
         self._balls[ball.name] = body
+        if ball.name in self._drag:
+            self._update_drag()
         self._parts[ball.name] = (shape, joints)
         self._radius[ball.name] = ball.radius
         self._names[shape] = ball.name
+
+    def _set_drag(self, ball: Ball, rr: pymunk.Constraint) -> None:
+        if ball.drag > 0:
+            share = (1.0 + SPIN_MASS) if ball.floor_friction is not None else 1.0
+            self._drag[ball.name] = (rr, self._rolling_force(ball), ball.drag * ball.mass * share)
+            self._update_drag()
+        else:
+            self._drag.pop(ball.name, None)
+
+    def _update_drag(self) -> None:
+        """Each drag's force for the speed now."""
+        for name, (rr, rest, per) in self._drag.items():
+            body = self._balls.get(name)
+            if body is not None:  # (not yet while it is being added)
+                vx, vy = body.velocity
+                rr.max_force = rest + per * (vx * vx + vy * vy)
+
+    def _rolling_force(self, ball: Ball) -> float:
+        """The rolling resistance's largest force: ``c m g``, on the spin of a spinning ball
+        ``c (m + 2/5 m) g`` (ball and spin roll together)."""
+        mass = ball.mass * (1.0 + SPIN_MASS) if ball.floor_friction is not None else ball.mass
+        return ball.rolling_resistance * mass * self.scene.gravity
+
+    def _on_touch(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
+        """A spinning ball touches something: keep its velocity and the contact's normal and
+        friction until they part (a ball that rests against a wall costs nothing more)."""
+        ball, other = arbiter.shapes
+        if ball in self._names and self._names[ball] in self._spins:
+            v = ball.body.velocity  # type: ignore[union-attr]
+            n = arbiter.normal
+            self._touching[(ball, other)] = (float(v[0]), float(v[1]), float(n[0]), float(n[1]),
+                                             float(arbiter.friction))
+
+    def _on_part(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: Any) -> None:
+        """A spinning ball's contact ends: the surface's friction takes spin for the impulse
+        it gave (the change of the normal velocity), see the module docstring."""
+        ball, other = arbiter.shapes
+        touch = self._touching.pop((ball, other), None)
+        name = self._names.get(ball)
+        spin = self._spins.get(name) if name is not None else None
+        if touch is None or spin is None or ball.body is None:
+            return  # (or the ball has just been taken out of the world)
+        vx0, vy0, nx, ny, mu = touch
+        v = ball.body.velocity  # type: ignore[union-attr]
+        push = abs((v[0] - vx0) * nx + (v[1] - vy0) * ny)  # the normal impulse over the mass
+        if push <= 0.0 or mu <= 0.0:
+            return
+        rolling = spin[0]
+        w = rolling.velocity
+        wn = w[0] * nx + w[1] * ny  # the spin's normal part
+        take = math.copysign(min(2.5 * mu * push, STICK * abs(wn)), wn)
+        rolling.velocity = (w[0] - take * nx, w[1] - take * ny)
 
     def _add_robot(self, space: pymunk.Space, robot: RobotSpec) -> None:
         if robot.shape is RobotShape.DISC:
@@ -384,6 +507,10 @@ class World:
         body = self._balls.pop(name)
         shape, joints = self._parts.pop(name)
         self.space.remove(*joints, shape, body)
+        self._drag.pop(name, None)
+        spin = self._spins.pop(name, None)
+        if spin is not None:
+            self.space.remove(spin[1], spin[0])
         del self._names[shape]
         del self._radius[name]
         self._forces.pop(name, None)
@@ -391,10 +518,11 @@ class World:
         self._update_extremes()
         self._calm = False
 
-    def set_ball_parameters(self, name: str, **values: float) -> None:
-        """Give a ball new ``restitution``, ``friction``, ``rolling_resistance`` or
-        ``mass`` in place (cheaper than building a world; ensembles reuse one world
-        this way).  Its position and velocity are kept.
+    def set_ball_parameters(self, name: str, **values: float | None) -> None:
+        """Give a ball new ``restitution``, ``friction``, ``rolling_resistance``,
+        ``mass`` or ``floor_friction`` in place (cheaper than building a world;
+        ensembles reuse one world this way).  Its position, velocity and slip are
+        kept.
 
         Examples
         --------
@@ -405,33 +533,45 @@ class World:
         """
         if name not in self._balls:
             raise ImaginationError(f"no ball called {name!r} in the world; balls: {list(self._balls)}")
-        unknown = set(values) - {"restitution", "friction", "rolling_resistance", "mass"}
+        unknown = set(values) - {"restitution", "friction", "rolling_resistance", "mass",
+                                 "floor_friction", "drag"}
         if unknown:
             raise ImaginationError(f"cannot set {sorted(unknown)} of a ball; expected restitution, "
-                                   "friction, rolling_resistance or mass")
+                                   "friction, rolling_resistance, mass, floor_friction or drag")
         old = next(b for b in self.scene.balls if b.name == name)
-        changes: dict[str, Any] = dict(values)
-        new = replace(old, **changes)  # validates the values
+        new = old.with_parameters(**values)  # checks the values
         shape, joints = self._parts[name]
-        if (new.rolling_resistance > 0) != bool(joints):
-            body = self._balls[name]
-            p, v = (float(body.position[0]), float(body.position[1])), (float(body.velocity[0]),
-                                                                       float(body.velocity[1]))
+        if (new.rolling_resistance > 0 or new.drag > 0) != bool(joints) or \
+                (new.floor_friction is None) != (old.floor_friction is None):
+            state = next(b for b in self.snapshot().bodies if b.name == name)
             self.remove_ball(name)
-            self.add_ball(new, position=p, velocity=v)
+            self.add_ball(new, position=state.position, velocity=state.velocity)
+            if name in self._spins:
+                vx, vy = state.velocity
+                self._spins[name][0].velocity = (vx + state.slip[0], vy + state.slip[1])
             return
         body = self._balls[name]
         shape.elasticity = new.restitution
         shape.friction = new.friction
+        spin_parts = self._spins.get(name)
         if new.mass != old.mass:
             body.mass = new.mass
             body.moment = pymunk.moment_for_circle(new.mass, 0.0, new.radius)
+            if spin_parts is not None:
+                spin_parts[0].mass = SPIN_MASS * new.mass
+                spin_parts[0].moment = SPIN_MASS * new.mass * new.radius**2
+        if spin_parts is not None and new.floor_friction is not None:
+            spin_parts[1].max_force = new.floor_friction * new.mass * self.scene.gravity
         if joints:
             rr, spin = joints
-            rr.max_force = new.rolling_resistance * new.mass * self.scene.gravity
-            spin.max_force = rr.max_force * new.radius
-        self.scene = replace(self.scene, balls=tuple(new if b.name == name else b
-                                                     for b in self.scene.balls))
+            rr.max_force = self._rolling_force(new)
+            spin.max_force = new.rolling_resistance * new.mass * self.scene.gravity * new.radius
+            self._set_drag(new, rr)
+        # the same names, the same shapes: the scene's checks hold, so it is copied, not rebuilt
+        scene = copy.copy(self.scene)
+        object.__setattr__(scene, "balls", tuple(new if b.name == name else b
+                                                 for b in self.scene.balls))
+        self.scene = scene
         self._update_extremes()
         self._calm = False
 
@@ -492,6 +632,17 @@ class World:
             raise ImaginationError(
                 f"steps: expected 0 to {MAX_STEPS:,} steps per call, got {n:,}"
             )
+        if not self._drag:
+            self._step(n)
+            return
+        while n > 0:  # a drag's force follows the speed every DRAG_EVERY steps
+            if self._steps % DRAG_EVERY == 0:
+                self._update_drag()
+            chunk = min(n, DRAG_EVERY - self._steps % DRAG_EVERY)
+            self._step(chunk)
+            n -= chunk
+
+    def _step(self, n: int) -> None:
         if n == 0:
             return
         if self._hooks:
@@ -576,13 +727,16 @@ class World:
         keeps below ``max(v, 3 V)``; contacts between balls only share energy.
         Hence no ball is faster than ``sqrt(2 (E + 4.5 V^2 M) / m_min)`` (``E``
         the balls' kinetic energy, spin included as it can turn into speed at a
-        contact; ``M`` their mass).  A margin of 20% covers pymunk's overlap
-        correction.  (pymunk's ``kinetic_energy`` is ``m v^2 + I w^2``: twice
+        contact; ``M`` their mass), or, when balls pass through each other, than
+        ``sqrt(E_i / m_i + 9 V^2)`` for each ball alone.  A margin of 20% covers
+        pymunk's overlap correction.  (pymunk's ``kinetic_energy`` is ``m v^2 + I w^2``: twice
         the energy.)
         """
         twice = 0.0
         for body in self._balls.values():
             twice += body.kinetic_energy
+        for rolling, _ in self._spins.values():  # spin can turn into speed
+            twice += rolling.kinetic_energy
         rate = 0.0
         vr = 0.0
         robot = self._robot
@@ -592,7 +746,15 @@ class World:
             vr = (max(math.sqrt(robot.kinetic_energy / spec.mass), spec.max_speed)
                   + math.sqrt(twice / spec.mass))
             rate = vr / self._radius[spec.name]
-        if self._balls:
+        if self._balls and self._ball_filter is not None:
+            # balls that pass through each other share no energy: each is bounded alone
+            for name, body in self._balls.items():
+                own = body.kinetic_energy
+                if name in self._spins:
+                    own += self._spins[name][0].kinetic_energy
+                top = math.sqrt(own / body.mass + 9.0 * vr * vr)
+                rate = max(rate, top / self._radius[name])
+        elif self._balls:
             mass, light, small = self._ball_extremes
             top = math.sqrt((twice + 9.0 * vr * vr * mass) / light)
             rate = max(rate, top / small)
@@ -683,12 +845,41 @@ class World:
         v = self.body(name).velocity
         return (float(v[0]), float(v[1]))
 
+    def slip(self, name: str) -> Vec2:
+        """Current spin velocity minus velocity of a body (zero for one without spin).
+
+        Examples
+        --------
+        >>> from adapt.imagination.scene import Wall
+        >>> scene = SceneSpec(balls=(Ball("b", velocity=(1.0, 0.0), restitution=0.5,
+        ...                                friction=0.0, floor_friction=0.3),),
+        ...                   walls=(Wall("east", (0.5, -1.0), (0.5, 1.0)),))
+        >>> w = World(scene)
+        >>> w.run(0.405)         # the bounce reverses the velocity, not the spin
+        >>> [round(c, 1) for c in w.velocity("b")], [round(c, 1) for c in w.slip("b")]
+        ([-0.5, 0.0], [1.5, 0.0])
+        >>> w.run(1.0)           # rolling again, at about (5 e - 2) / 7 of the speed it came at
+        >>> [round(c, 2) for c in w.velocity("b")], [round(c, 3) for c in w.slip("b")]
+        ([-0.08, 0.0], [0.0, 0.0])
+        """
+        self.body(name)
+        spin = self._spins.get(name)
+        if spin is None:
+            return (0.0, 0.0)
+        w, v = spin[0].velocity, self.body(name).velocity
+        return (float(w[0] - v[0]), float(w[1] - v[1]))
+
     def snapshot(self) -> WorldState:
         """A frozen copy of the current state."""
         bodies = []
         for name in self.names:
             body = self.body(name)
             p, v = body.position, body.velocity
+            slip = (0.0, 0.0)
+            spin = self._spins.get(name)
+            if spin is not None:
+                w = spin[0].velocity
+                slip = (float(w[0] - v[0]), float(w[1] - v[1]))
             bodies.append(
                 BodyState(
                     name,
@@ -696,6 +887,7 @@ class World:
                     (float(v[0]), float(v[1])),
                     float(body.angle),
                     float(body.angular_velocity),
+                    slip,
                 )
             )
         return WorldState(self.time, self._steps, tuple(bodies), self._command)
@@ -720,6 +912,10 @@ class World:
             body.angle = b.angle
             body.angular_velocity = b.angular_velocity
             self.space.reindex_shapes_for_body(body)
+            spin = self._spins.get(b.name)
+            if spin is not None:
+                spin[0].position = b.position
+                spin[0].velocity = (b.velocity[0] + b.slip[0], b.velocity[1] + b.slip[1])
         self._calm = False
         self._time0 = state.time - state.step * self.dt
         self._steps = state.step

@@ -204,13 +204,14 @@ class Mirror:
 
     def learn_appearance(self, image: NDArray[np.uint8], labels: NDArray[np.integer], *,
                          exclude: NDArray[np.bool_] | None = None, margin: float = 0.0,
-                         rate: float = 0.1, gate: float | None = None) -> Learning:
+                         rate: float = 0.1, gate: float | None = None,
+                         relearn: NDArray[np.bool_] | None = None) -> Learning:
         """Learn the surfaces' look from a real ``image`` seen through the current
         camera (:meth:`AppearanceModel.learn
         <adapt.mirror.appearance.AppearanceModel.learn>`; ``labels`` is this
         camera's render's label image) and show it in every render from now on."""
         learned = self.appearance.learn(image, self.camera, labels, exclude=exclude,
-                                        margin=margin, rate=rate, gate=gate)
+                                        margin=margin, rate=rate, gate=gate, relearn=relearn)
         self.appearance.apply(self._renderer)
         return learned
 
@@ -259,6 +260,11 @@ class Mirror:
         assert robot is not None
         body = self.world.body(robot.name)
         return (float(body.position[0]), float(body.position[1])), float(body.angle)
+
+    @property
+    def mounted(self) -> bool:
+        """True when the camera rides on the robot (it moves when the robot drives)."""
+        return self._mount is not None
 
     def robot_pose(self) -> tuple[tuple[float, float], float] | None:
         """The imagined robot's ``((x, y), heading)`` (odometry), or None without a robot."""

@@ -428,7 +428,7 @@ class AppearanceModel:
 
     def learn(self, image: NDArray[np.uint8], camera: Camera, labels: NDArray[np.integer], *,
               exclude: NDArray[np.bool_] | None = None, margin: float = 0.0, rate: float = 0.1,
-              gate: float | None = None) -> Learning:
+              gate: float | None = None, relearn: NDArray[np.bool_] | None = None) -> Learning:
         """Back-project ``image`` onto every plane ``camera`` sees and learn it.
 
         Parameters
@@ -449,6 +449,10 @@ class AppearanceModel:
         gate : float, optional
             Grey levels: a pixel seen before that differs more than this (in
             any channel) is not updated.
+        relearn : (H, W) bool ndarray, optional
+            Pixels whose texels are learned afresh, taking the frame's value
+            whatever was learned before and past the ``gate`` (background
+            that an object covered when it was learned, seen uncovered since).
 
         Raises
         ------
@@ -458,9 +462,14 @@ class AppearanceModel:
         """
         started = time.perf_counter()
         _check_image(image, labels, exclude, camera)
+        if relearn is not None:
+            _check_image(image, labels, relearn, camera)
         if not 0.0 < rate <= 1.0:
             raise AppearanceError(f"rate: expected a fraction in (0, 1], got {rate!r}")
         keep = None if exclude is None else (~exclude.astype(bool)).view(np.uint8)
+        anew = None if relearn is None or not relearn.any() else np.asarray(
+            cv2.copyMakeBorder(relearn.astype(np.uint8), _PAD, _PAD, _PAD, _PAD,
+                               cv2.BORDER_CONSTANT, value=0), np.uint8)
         m = max(0, int(math.ceil(margin)))
         kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * m + 1, 2 * m + 1)) if m else None
         present = np.unique(labels[::_SAMPLE, ::_SAMPLE]).tolist()
@@ -489,7 +498,8 @@ class AppearanceModel:
             outline = np.concatenate([c.reshape(-1, 2) for c in contours]).astype(np.float64)
             for plane, pts in self._planes_seen(label, camera, shift, outline):
                 got = self._update(plane, plane_to_frame=shift @ plane.to_pixels(camera),
-                                   image=pad, region=region, points=pts, rate=rate, gate=gate)
+                                   image=pad, region=region, points=pts, rate=rate, gate=gate,
+                                   relearn=anew)
                 if got is not None:
                     done[plane.name] = got[0]
                     new += got[1]
@@ -539,10 +549,11 @@ class AppearanceModel:
         return out
 
     def _update(self, plane: _Plane, *, plane_to_frame: FloatArray, image: NDArray[np.uint8],
-                region: NDArray[np.uint8], points: FloatArray, rate: float, gate: float | None
-                ) -> tuple[int, int] | None:
+                region: NDArray[np.uint8], points: FloatArray, rate: float, gate: float | None,
+                relearn: NDArray[np.uint8] | None = None) -> tuple[int, int] | None:
         """Learn ``plane`` from ``image`` where ``region`` is set; ``points`` (plane
-        pixels) bound what is seen.  Returns (pixels updated, of them new)."""
+        pixels) bound what is seen; where ``relearn`` is set the texels start afresh.
+        Returns (pixels updated, of them new)."""
         w, h = plane.size
         x0 = max(0, int(math.floor(points[:, 0].min())) - 2)
         y0 = max(0, int(math.floor(points[:, 1].min())) - 2)
@@ -569,6 +580,11 @@ class AppearanceModel:
         img = plane.image[y0:y1, x0:x1]
         cnt = plane.count[y0:y1, x0:x1]
         unseen = cv2.compare(cnt, 0, cv2.CMP_EQ)  # type: ignore[call-overload]
+        if relearn is not None:
+            anew = cv2.warpPerspective(relearn, m, (rw, rh),
+                                       flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP,
+                                       borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+            unseen = cv2.bitwise_or(unseen, cv2.compare(anew, 0, cv2.CMP_GT))  # type: ignore[call-overload]
         fresh = cv2.bitwise_and(seen, unseen)
         old = cv2.bitwise_and(seen, cv2.bitwise_not(unseen))
         n_old = cv2.countNonZero(old)

@@ -22,6 +22,8 @@ Modules, one noun each:
   render (tint, lighting, contrast, colour, blur, noise, spin markers);
 * :mod:`~adapt.reality.surfaces` - the real surfaces' texture phase;
 * :mod:`~adapt.reality.video` - a video file or an image sequence;
+* :mod:`~adapt.reality.bullet` - a reality on PyBullet (another physics engine
+  and renderer; the optional extra ``adapt[bullet]``);
 * :mod:`~adapt.reality.truth` - ground-truth records and the CSV reader;
 * :mod:`~adapt.reality.record` - a synthetic reality written out as an image
   sequence with its truth (how the bundled video scenario was made);
@@ -67,7 +69,7 @@ from adapt.reality.truth import (
 )
 from adapt.reality.video import VideoSource
 from adapt.reality.warning import RealityWarning
-from adapt.scenario import Scenario, SyntheticReality
+from adapt.scenario import BulletReality, Scenario, SyntheticReality
 from adapt.seeds import Streams
 
 __all__ = [
@@ -137,7 +139,14 @@ def open_reality(scenario: Scenario, *, streams: Streams) -> RealitySource:
         rate.
     GroundTruthError
         A ground-truth file with a bad header or row.
+    RealityError
+        A ``bullet`` reality without PyBullet installed (the message says what to
+        install), or one whose drawn camera ends up inside a wall.
     """
     if isinstance(scenario.reality, SyntheticReality):
         return SyntheticSource(scenario, streams=streams)
+    if isinstance(scenario.reality, BulletReality):
+        from adapt.reality.bullet import BulletSource
+
+        return BulletSource(scenario, streams=streams)
     return VideoSource.from_scenario(scenario)

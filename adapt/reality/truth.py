@@ -80,11 +80,15 @@ class ObjectTruth:
 
     ``position`` and ``velocity`` are its centre's ``(x, y)`` on the floor,
     metres and m/s; ``velocity`` is None when the source does not know it (a
-    ground-truth CSV without ``vx, vy``).
+    ground-truth CSV without ``vx, vy``).  ``height`` is its centre's height
+    and ``pixels`` how many pixels of it the true camera shows (a PyBullet
+    reality's; None where the source does not know).
     """
 
     position: Vec2
     velocity: Vec2 | None
+    height: float | None = None
+    pixels: int | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -148,6 +152,9 @@ class TrueParameters:
         The real robot's limits (None: no robot).
     robot_slip : float
         Wheel-slip standard deviation, a fraction of the commanded velocity.
+    details : mapping
+        What else a reality drew or measured (a PyBullet reality: its own
+        coefficients, the look, the contacts' measured effects), JSON-ready.
     """
 
     seed: int
@@ -157,6 +164,7 @@ class TrueParameters:
     robot_max_speed: float | None = None
     robot_max_accel: float | None = None
     robot_slip: float = 0.0
+    details: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
 
     def object(self, name: str) -> ObjectParameters:
         """The drawn values of the object called ``name``."""
@@ -175,6 +183,7 @@ class TrueParameters:
             "robot": None if self.robot_max_speed is None else {
                 "max_speed": self.robot_max_speed, "max_accel": self.robot_max_accel,
                 "slip": self.robot_slip},
+            **({"details": dict(self.details)} if self.details else {}),
         }
 
 

@@ -1,7 +1,7 @@
 """The baselines the mirror is measured against, run in the same run on the same sightings.
 
-Baselines are a keyed collection (:func:`default_baselines`; today one,
-``kalman``), each a :class:`BaselineSet`: one baseline per object
+Baselines are a keyed collection (:func:`default_baselines`: ``kalman`` and
+``mapaware``, :mod:`adapt.runner.mapaware`), each a :class:`BaselineSet`: one baseline per object
 (:class:`ObjectBaseline`, made by the set's factory when the object is first
 perceived with a size), stepped by the loop every frame on the object's
 sighting, returning a :class:`BaselineState` (its predictions and the
@@ -45,7 +45,7 @@ from typing import Callable, Mapping, Protocol, Sequence
 
 import numpy as np
 
-from adapt.imagination import RobotSpec, SceneSpec
+from adapt.imagination import Ball, RobotSpec, SceneSpec
 from adapt.imagination.footprint import Footprint
 from adapt.imagination.predict import Trajectory, intercept, intercept_reach
 from adapt.kalman import ConstantVelocityKF
@@ -97,14 +97,16 @@ class ObjectBaseline(Protocol):
 @dataclass(frozen=True, slots=True)
 class BaselineSetup:
     """What a baseline for one object is made with: the real robot's model (None without
-    a robot), the catch reach for this object, the horizons, the frame interval and the
-    scene (its walls and obstacles)."""
+    a robot), the catch reach for this object, the horizons, the frame interval, the
+    scene (its walls and obstacles) and the object's model (its size and nominal
+    parameters, as perception knows them)."""
 
     robot: RobotSpec | None
     reach: float
     horizons: tuple[float, ...]
     dt: float
     scene: SceneSpec
+    ball: Ball | None = None
 
 
 #: Makes a baseline for one object.
@@ -146,7 +148,7 @@ class BaselineSet:
             if b is None:
                 reach = 0.0 if self.robot is None else intercept_reach(p.ball, self.robot)
                 b = self.objects[p.object] = self.factory(BaselineSetup(
-                    self.robot, reach, self.horizons, self.dt, self.scene))
+                    self.robot, reach, self.horizons, self.dt, self.scene, p.ball))
             b.step(time, None if p.sighting is None else p.sighting.position)
             preds[p.object] = b.predictions()
             robots[p.object] = b.robot_position
@@ -161,9 +163,11 @@ def kalman(setup: BaselineSetup) -> "Baseline":
 
 def default_baselines(robot: RobotSpec | None, *, horizons: Sequence[float], dt: float,
                       scene: SceneSpec) -> dict[str, BaselineSet]:
-    """The baselines every run has, by name: ``kalman``."""
-    return {"kalman": BaselineSet("kalman", kalman, robot=robot, horizons=horizons, dt=dt,
-                                  scene=scene)}
+    """The baselines every run has, by name: ``kalman`` and ``mapaware``."""
+    from adapt.runner.mapaware import mapaware  # it derives from Baseline, below
+
+    return {name: BaselineSet(name, factory, robot=robot, horizons=horizons, dt=dt, scene=scene)
+            for name, factory in (("kalman", kalman), ("mapaware", mapaware))}
 
 
 class SimulatedRobot:
@@ -241,10 +245,10 @@ class Baseline:
         if self.robot is None:
             return
         if self.kf.initialised and self.kf.updates >= 3:
-            p, v = np.array(self.kf.position), np.array(self.kf.velocity)
-            times = np.linspace(time, time + self.plan, 91)
-            path = Trajectory("baseline", times, p[None, :] + (times - time)[:, None] * v[None, :],
-                              np.tile(v, (len(times), 1)), ())
+            p = self.kf.position
+            times = np.linspace(0.0, self.plan, 91)
+            positions, velocities = self.path(times)
+            path = Trajectory("baseline", time + times, positions, velocities, ())
             hit = intercept(path, self.robot.position, self.robot.max_speed, self.robot.max_accel,  # type: ignore[arg-type]
                             reach=self.reach, start=time)
             self.target = hit.position if hit is not None else (float(p[0]), float(p[1]))
@@ -260,12 +264,20 @@ class Baseline:
         way = fp.route(tuple(self.robot.position), self.target)
         return self.target if way is None else way[0]
 
+    def path(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and velocities ``(N, 2)`` the baseline expects ``times`` seconds after
+        the filter's time: a straight line at the filtered velocity."""
+        p, v = np.array(self.kf.position), np.array(self.kf.velocity)
+        t = np.asarray(times, float)
+        return p[None, :] + t[:, None] * v[None, :], np.tile(v, (len(t), 1))
+
     def predict(self, horizon: float) -> tuple[float, float]:
-        """Where the filter expects the object ``horizon`` seconds after its last time."""
-        return self.kf.predict_position(horizon)
+        """Where the baseline expects the object ``horizon`` seconds after the filter's time."""
+        x, y = self.path(np.array([horizon]))[0][0]
+        return (float(x), float(y))
 
     def predictions(self) -> tuple[BaselinePrediction, ...]:
-        """Straight-line predictions at the horizons (empty before any sighting)."""
+        """Predictions at the horizons along :meth:`path` (empty before any sighting)."""
         if not self.kf.initialised:
             return ()
         return tuple(BaselinePrediction(h, self.predict(h)) for h in self.horizons)

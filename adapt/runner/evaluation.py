@@ -9,7 +9,7 @@ the truth), and the summary gets:
 * the **tracking** errors' medians (observed, imagined with correction, and
   the uncorrected imagination beside them);
 * the **prediction** errors at each horizon, of the mirror and of each
-  baseline (the constant-velocity Kalman filter), for the predictions made in frames
+  baseline (the constant-velocity Kalman filter, the map-aware one), for the predictions made in frames
   where the object was seen and about times before the robot caught it,
   split by whether the true object bounced within the horizon (its velocity
   turned by more than :data:`BOUNCE_TURN_DEG`);
@@ -22,7 +22,7 @@ the truth), and the summary gets:
   reached the object at all (from where the robot stood when the object
   first came into the true camera's view, knowing its whole true path: the
   earliest point of that path it could reach in time, straight, from rest);
-  the same for the baseline's simulated robot.
+  the same for each baseline's simulated robot.
 
 Nothing that perceives may call this module: it is the first listener on
 the frame records (:mod:`adapt.runner.record`), and scores each one into a

@@ -10,13 +10,13 @@
   synthetic camera's error against the true camera when there is ground truth;
 * ``floor.png`` -- the floor plan: walls, obstacles, the observed, imagined,
   uncorrected and true paths of every object, a few of the mirror's predicted
-  paths, and the robot's paths (odometry, truth, the Kalman baseline's);
+  paths, and the robot's paths (odometry, truth, each baseline's);
 * ``correction.png`` -- the paper's Figures 7 and 8: after an object was
   created in the imagination, the difference between the real frame and the
   uncorrected imagination (top row) and the corrected one (bottom row), on
   the same crop around the object;
 * ``prediction.png`` -- for runs with predictions and ground truth: the
-  mirror's and the baseline's prediction errors against the time they were
+  mirror's and the baselines' prediction errors against the time they were
   made, and the mirror's confidence;
 * ``appearance.png`` -- for runs whose Scene Background learned the surfaces'
   look: the real frame it learned from, the render before and after

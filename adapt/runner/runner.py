@@ -65,6 +65,7 @@ from adapt.runner.inputs import run_inputs
 from adapt.runner.panels import VideoOutput
 from adapt.runner.record import FrameListener, FrameRecord, RobotPose, TrackedObject
 from adapt.runner.report import ReportOutput
+from adapt.runner.sightings import GoalSightings
 from adapt.runner.summary import STAGES, RunStats
 from adapt.runner.trace import TraceOutput
 from adapt.runner.twin import UncorrectedTwin
@@ -207,7 +208,10 @@ class Runner:
             self.report: ReportOutput | None = None
             self.video: VideoOutput | None = None
             self.figures: FigureCollector | None = None
-            self.listeners: list[FrameListener] = [self.evaluation]
+            goal_objects = [str(v) for g in scenario.goals for k, v in g.attributes
+                            if k == "object" and str(v) in {m.name for m in scenario.objects}]
+            self.sightings = GoalSightings(goal_objects, self.fps)
+            self.listeners: list[FrameListener] = [self.evaluation, self.sightings]
             self.extra = tuple(listeners)
         except BaseException:
             self.close()
@@ -480,6 +484,7 @@ class Runner:
             schemas=self.network.names, schema_s=self.network.seconds,
             objects=self.network.published(ObjectPercept))
         out.update(self.evaluation.summary())
+        out["goal_objects"] = self.sightings.summary()
         return out
 
     def _finish(self, wall: float, interrupted: bool, error: str | None) -> RunResult:

@@ -60,6 +60,11 @@ from adapt.imagination.scene import SceneSpec
 from adapt.scenario.inputs import scenario_inputs
 from adapt.scenario.nodes import Override, join  # noqa: F401  (re-exported)
 from adapt.scenario.records import (
+    BulletLook,
+    BulletObject,
+    BulletReality,
+    BulletRobot,
+    BulletSurfaces,
     CameraMount,
     CameraOffset,
     Creation,
@@ -78,6 +83,7 @@ from adapt.scenario.records import (
     RunSettings,
     SchemaSettings,
     SyntheticReality,
+    TextureSource,
     Throw,
     TrueObject,
     VideoReality,
@@ -106,6 +112,12 @@ __all__ = [
     "RobotTruth",
     "SyntheticReality",
     "VideoReality",
+    "BulletReality",
+    "BulletObject",
+    "BulletSurfaces",
+    "BulletLook",
+    "BulletRobot",
+    "TextureSource",
     "Reality",
     "Goal",
     "GoalKind",
@@ -275,7 +287,8 @@ class _Reader(RunReader):
         scene, models = self.world(top["world"][1], "world")
         appearance = self.world_appearance(top["world"][1], "world")
         camera, mount = self.camera(top["camera"][1], "camera", scene.robot)
-        reality = self.reality(section("reality"), "reality", models, scene.robot)  # type: ignore[arg-type]
+        reality = self.reality(section("reality"), "reality", models, scene.robot,  # type: ignore[arg-type]
+                               scene=scene, camera=(camera, mount))
         goals = self.goals(top["goals"][1], "goals", models) if section("goals") else ()
         rules = self.rules(top["rules"][1], "rules") if section("rules") else ()
         engine = (EngineName(self.choice(top["engine"][1], "engine", ENGINE_NAMES))

@@ -46,7 +46,8 @@ from adapt.imagination.scene import (
     MIN_SIZE,
 )
 
-__all__ = ["Bound", "BOUNDS", "CHANNEL", "generic", "bound_of", "show", "MAX_STEP", "MIN_STEP", "MAX_BODY_SPEED",
+__all__ = ["Bound", "BOUNDS", "BULLET_BOUNDS", "CHANNEL", "generic", "bound_of", "bullet_bound",
+           "show", "MAX_STEP", "MIN_STEP", "MAX_BODY_SPEED",
            "MAX_OFFSET", "MAX_ANGLE", "MAX_SEED"]
 
 #: The physics steps a scenario may choose (``world.dt``, ``reality.dt``), seconds.
@@ -148,6 +149,7 @@ _COORD = _b(-MAX_COORDINATE, MAX_COORDINATE, "metres")
 _SIZE = _b(MIN_SIZE, MAX_COORDINATE, "metres")
 _MASS = _b(MIN_MASS, MAX_MASS, "kilograms")
 _COEFF = _b(0.0, MAX_COEFFICIENT)
+_DRAG = _b(0.0, MAX_COEFFICIENT, "per metre")
 _SPEED = _b(-MAX_BODY_SPEED, MAX_BODY_SPEED, "m/s")
 _TOP_SPEED = _b(0.0, MAX_BODY_SPEED, "m/s", low_open=True)
 _ACCEL = _b(0.0, MAX_ACCEL, "m/s²", low_open=True)
@@ -155,6 +157,11 @@ _ANGLE = _b(-MAX_ANGLE, MAX_ANGLE, "degrees")
 _STEP = _b(MIN_STEP, MAX_STEP, "seconds")
 _GREY = _b(-255.0, 255.0, "grey levels")
 _SURFACE = {"height": _SIZE, "tile": _SIZE, "restitution": _UNIT, "friction": _COEFF}
+#: PyBullet's rolling and spinning friction (a length).
+_BULLET_FRICTION = _b(0.0, 1.0, "metres")
+#: A PyBullet reality's contact parameters of the floor, the walls and the obstacles.
+_BULLET_SURFACE = {"restitution": _UNIT, "friction": _COEFF,
+                   "rolling_friction": _BULLET_FRICTION, "spinning_friction": _BULLET_FRICTION}
 
 #: Every numeric key of a scenario and its bound (a vector's bound holds for each of its
 #: numbers; a range's for both ends).
@@ -183,11 +190,15 @@ BOUNDS: dict[str, Bound] = {
     "world.objects[i].restitution": _UNIT,
     "world.objects[i].friction": _COEFF,
     "world.objects[i].rolling_resistance": _COEFF,
+    "world.objects[i].floor_friction": _COEFF,
+    "world.objects[i].drag": _DRAG,
     "world.objects[i].position": _COORD,
     "world.objects[i].velocity": _SPEED,
     "world.objects[i].ranges.restitution": _UNIT,
     "world.objects[i].ranges.friction": _COEFF,
     "world.objects[i].ranges.rolling_resistance": _COEFF,
+    "world.objects[i].ranges.floor_friction": _COEFF,
+    "world.objects[i].ranges.drag": _DRAG,
     "world.robot.radius": _SIZE,
     "world.robot.size": _SIZE,
     "world.robot.position": _COORD,
@@ -228,6 +239,27 @@ BOUNDS: dict[str, Bound] = {
     "reality.objects[i].throw.y": _COORD,
     "reality.objects[i].throw.speed": _b(0.0, MAX_BODY_SPEED, "m/s"),
     "reality.objects[i].throw.heading_deg": _ANGLE,
+    # kind: bullet (a key it shares with kind: synthetic has the bound above unless
+    # BULLET_BOUNDS narrows it)
+    "reality.wall_thickness": _b(MIN_SIZE, 100.0, "metres"),
+    **{f"reality.{group}.{k}": b for group in ("floor", "walls", "obstacles")
+       for k, b in _BULLET_SURFACE.items()},
+    "reality.objects[i].rolling_friction": _BULLET_FRICTION,
+    "reality.objects[i].spinning_friction": _BULLET_FRICTION,
+    "reality.objects[i].damping": _UNIT,
+    "reality.objects[i].side_spin": _b(-1000.0, 1000.0, "rad/s"),
+    "reality.objects[i].throw.height": _b(0.0, 100.0, "metres"),
+    "reality.look.texture_scale": _b(0.0, 100.0, low_open=True),
+    "reality.look.light_elevation_deg": _b(5.0, 90.0, "degrees"),
+    "reality.look.light_azimuth_deg": _ANGLE,
+    "reality.look.light_warmth": _b(-1.0, 1.0),
+    "reality.look.ambient": _b(0.0, 2.0),
+    "reality.look.diffuse": _b(0.0, 2.0),
+    "reality.look.specular": _b(0.0, 2.0),
+    "reality.look.gain": _b(0.0, 4.0, low_open=True),
+    "reality.look.vignette": _UNIT,
+    "reality.look.blur": _b(0.0, 20.0, "pixels"),
+    "reality.look.noise": _b(0.0, 100.0, "grey levels"),
     "run.fps": _b(0.1, 1000.0, "frames/s"),
     "run.duration": _b(0.0, None, "seconds", low_open=True),
     "run.max_frames": _b(1, 1_000_000, integer=True),
@@ -238,6 +270,13 @@ BOUNDS: dict[str, Bound] = {
     "predict.ensemble": _b(1, 1000, integer=True),
     "predict.evidence": _b(0, 100, integer=True),
     "outputs.trace_level": _b(1, 5, integer=True),
+}
+
+#: The keys a ``kind: bullet`` reality bounds otherwise than :data:`BOUNDS` (the same key
+#: path means another thing there, or PyBullet needs less).
+BULLET_BOUNDS: dict[str, Bound] = {
+    "reality.dt": _b(MIN_STEP, 0.01, "seconds"),  # restitution needs fine steps
+    "reality.objects[i].spin": _b(-10.0, 10.0),  # a share of rolling, negative: back-spin
 }
 
 #: A colour's channel (``[r, g, b]``).
@@ -260,4 +299,18 @@ def bound_of(path: str) -> Bound:
         For a key that has no declared bound (a reader reading an undeclared number).
     """
     return BOUNDS[generic(path)]
+
+
+def bullet_bound(path: str) -> Bound:
+    """The bound of the number at ``path`` in a ``kind: bullet`` reality.
+
+    Examples
+    --------
+    >>> bullet_bound("reality.dt").text, bound_of("reality.dt").text
+    ('number from 1e-05 to 0.01', 'number from 1e-05 to 0.1')
+    >>> bullet_bound("reality.objects[0].restitution").text
+    'number from 0 to 1'
+    """
+    key = generic(path)
+    return BULLET_BOUNDS[key] if key in BULLET_BOUNDS else BOUNDS[key]
 

@@ -330,20 +330,20 @@ class NodeReader:
                              + f", got {value!r}")
         return value
 
-    def range(self, node: Node, path: str) -> Range:
-        """A number, or ``[low, high]`` with ``low <= high`` (drawn per run), within the
-        bound declared for ``path``."""
+    def range(self, node: Node, path: str, bound: Bound | None = None) -> Range:
+        """A number, or ``[low, high]`` with ``low <= high`` (drawn per run), within ``bound``
+        (by default the bound declared for ``path``)."""
         self.source(node, path)
+        each = bound_of(path) if bound is None else bound
         if isinstance(node, yaml.SequenceNode):
             if len(node.value) != 2:
                 raise self.error(node, path, f"expected a number or [low, high], got {self.describe(node)}")
-            each = bound_of(path)
             low = self.number(node.value[0], join(path, 0), each)
             high = self.number(node.value[1], join(path, 1), each)
             if low > high:
                 raise self.error(node, path, f"expected [low, high] with low <= high, got [{low:g}, {high:g}]")
             return Range(low, high)
-        return Range.fixed(self.number(node, path))
+        return Range.fixed(self.number(node, path, each))
 
     def path_value(self, node: Node, path: str) -> Path:
         """A file path, relative to the scenario file (not checked for existence)."""

@@ -2,7 +2,8 @@
 
 ``kind: synthetic`` (the default, also when the section is absent) describes
 a ground-truth world that differs from the imagination as reality does;
-``kind: video`` names a video file or an image sequence.  See
+``kind: video`` names a video file or an image sequence; ``kind: bullet`` a
+reality on PyBullet (read by :mod:`adapt.scenario.bullet`).  See
 ``docs/scenario.md`` for every key and its default.
 """
 
@@ -13,12 +14,13 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any, Callable
 
-import yaml
-
-from adapt.imagination.scene import Ball, RobotSpec
-from adapt.scenario.bounds import bound_of
+from adapt.geometry import Camera
+from adapt.imagination.scene import Ball, RobotSpec, SceneSpec
+from adapt.scenario.bullet import BulletReader
 from adapt.scenario.nodes import Node, join
 from adapt.scenario.records import (
+    BulletReality,
+    CameraMount,
     CameraOffset,
     Creation,
     ObjectModel,
@@ -32,7 +34,6 @@ from adapt.scenario.records import (
     VideoReality,
 )
 from adapt.scenario.source import Source
-from adapt.scenario.world import WorldReader
 
 __all__ = ["RealityReader", "SYNTHETIC_KEYS", "VIDEO_KEYS", "TRUE_OBJECT_KEYS", "THROW_KEYS",
            "APPEARANCE_KEYS", "REALITY_ROBOT_KEYS", "DEFAULT_REALITY_DT", "DEFAULT_DRAG",
@@ -58,12 +59,15 @@ DEFAULT_SPIN = 0.25
 DEFAULT_APPEARANCE = RealAppearance(noise=2.0, blur=0.6)
 
 
-class RealityReader(WorldReader):
+class RealityReader(BulletReader):
     """The ``reality`` section (on top of the world reader)."""
 
     def reality(self, node: Node | None, path: str, models: tuple[ObjectModel, ...],
-                robot: RobotSpec | None) -> SyntheticReality | VideoReality:
-        """Read ``reality`` (``node`` None: the default synthetic reality)."""
+                robot: RobotSpec | None, *, scene: SceneSpec | None = None,
+                camera: tuple[Camera, CameraMount] | None = None
+                ) -> SyntheticReality | VideoReality | BulletReality:
+        """Read ``reality`` (``node`` None: the default synthetic reality); a PyBullet
+        reality's geometry is checked against ``scene`` and ``camera``."""
         if node is None:
             return self.default_reality(models, Source(self.file, 1, 1, path, self.line_text(1)))
         items = self.mapping(node, path)
@@ -73,6 +77,9 @@ class RealityReader(WorldReader):
                                            [k.value for k in RealityKind]))
         if kind is RealityKind.VIDEO:
             return self.video(node, path)
+        if kind is RealityKind.BULLET:
+            return self.bullet(node, path, models, scene if scene is not None else
+                               SceneSpec(robot=robot), camera)
         return self.synthetic(node, path, models, robot)
 
     def default_reality(self, models: tuple[ObjectModel, ...], source: Source) -> SyntheticReality:
@@ -160,21 +167,6 @@ class RealityReader(WorldReader):
             objects.append(self.true_from_model(m, None, {}, src))
         objects.extend(given.values())  # objects of reality only, in file order
         return SyntheticReality(dt, offset, appearance, tuple(objects), truth, src)
-
-    def camera_offset(self, items: dict[str, tuple[Node, Node]], path: str) -> CameraOffset:
-        kw: dict[str, Any] = {"source": self.source(None, path)}
-        for key, field, rand in (("camera_offset", "position", "random_position"),
-                                 ("camera_offset_deg", "rotation_deg", "random_rotation")):
-            if key not in items:
-                continue
-            knode, vnode = items[key]
-            p = join(path, key)
-            if isinstance(vnode, yaml.SequenceNode):
-                kw[field] = self.vector(vnode, p, 3)
-            else:  # a magnitude in a direction drawn from the seed
-                kw[rand] = self.number(vnode, p, replace(bound_of(p), low=0.0))
-            kw["source"] = self.source(knode, p)
-        return CameraOffset(**kw)
 
     def appearance(self, node: Node, path: str) -> RealAppearance:
         spec: dict[str, Callable[[Node, str], Any]] = {

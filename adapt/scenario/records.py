@@ -50,6 +50,12 @@ __all__ = [
     "RobotTruth",
     "SyntheticReality",
     "VideoReality",
+    "BulletSurfaces",
+    "BulletObject",
+    "BulletLook",
+    "BulletRobot",
+    "BulletReality",
+    "TextureSource",
     "Reality",
     "Goal",
     "GoalKind",
@@ -62,7 +68,8 @@ __all__ = [
 ]
 
 #: Ball parameters an object model may give as ranges (what is known before it is seen).
-MODEL_RANGE_PARAMETERS = ("restitution", "friction", "rolling_resistance")
+MODEL_RANGE_PARAMETERS = ("restitution", "friction", "rolling_resistance", "floor_friction",
+                          "drag")
 
 
 @dataclass(frozen=True, slots=True)
@@ -208,9 +215,10 @@ class ObjectModel:
         ``WHEN_SEEN``: instantiated where it is first perceived, by the schema
         spawned for it.
     ranges : mapping of str to Range
-        The plausible values of ``restitution``, ``friction`` and
-        ``rolling_resistance`` (a fixed range at the nominal value when the
-        scenario gives none); prediction ensembles draw from them.
+        The plausible values of ``restitution``, ``friction``,
+        ``rolling_resistance``, ``floor_friction`` (a ball with spin) and ``drag``
+        (a fixed range at the nominal value when the scenario gives none);
+        identification starts from them and prediction ensembles draw from them.
     """
 
     ball: Ball
@@ -223,11 +231,13 @@ class ObjectModel:
         """The object's name."""
         return self.ball.name
 
-    def range(self, parameter: str) -> Range:
-        """The range of a ball parameter (the nominal value when none was given)."""
+    def range(self, parameter: str) -> Range | None:
+        """The range of a ball parameter (the nominal value when none was given; None for
+        ``floor_friction`` of a ball without spin)."""
         if parameter in self.ranges:
             return self.ranges[parameter]
-        return Range.fixed(float(getattr(self.ball, parameter)))
+        value = getattr(self.ball, parameter)
+        return None if value is None else Range.fixed(float(value))
 
 
 # -- reality ---------------------------------------------------------------------
@@ -237,6 +247,7 @@ class RealityKind(enum.Enum):
 
     SYNTHETIC = "synthetic"
     VIDEO = "video"
+    BULLET = "bullet"
 
 
 @dataclass(frozen=True, slots=True)
@@ -246,6 +257,8 @@ class Throw:
 
     ``x``, ``y`` are the floor position (metres); ``speed`` (m/s) and
     ``heading_deg`` (degrees counter-clockwise from ``+x``) the velocity.
+    ``height`` (a PyBullet reality only) lifts the ball's bottom that far
+    above the floor, so it falls and bounces before it rolls.
     """
 
     time: Range
@@ -254,6 +267,7 @@ class Throw:
     speed: Range
     heading_deg: Range
     source: Source = UNKNOWN
+    height: Range = Range(0.0, 0.0)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -426,7 +440,123 @@ class VideoReality:
     kind: RealityKind = RealityKind.VIDEO
 
 
-Reality = SyntheticReality | VideoReality
+class TextureSource(enum.Enum):
+    """What the real surfaces of a PyBullet reality wear."""
+
+    SCENARIO = "scenario"      # the scenario's own textures and colours
+    BUNDLED = "bundled"        # a bundled photograph drawn per surface
+    PROCEDURAL = "procedural"  # a pattern made from the seed per surface
+    MIXED = "mixed"            # per surface, one of the three above
+
+
+@dataclass(frozen=True, slots=True)
+class BulletSurfaces:
+    """Contact parameters of a group of real surfaces (the floor, the walls or the
+    obstacles) in a PyBullet reality, PyBullet's own coefficients, each drawn once per
+    run for the whole group.  PyBullet combines them with the ball's: restitution and
+    friction multiply, rolling and spinning friction are ``ball.rolling * surface.friction
+    + surface.rolling * ball.friction``.
+    """
+
+    restitution: Range
+    friction: Range
+    rolling_friction: Range
+    spinning_friction: Range
+    source: Source = UNKNOWN
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class BulletObject:
+    """A ball as it really is in a PyBullet reality: its look and size (``ball``) and
+    PyBullet's coefficients, each a :class:`Range` drawn per run.
+
+    ``spin`` is the ball's angular velocity when it enters, as a share of rolling
+    without slip (1: rolling, 0: sliding, negative: back-spin); ``side_spin`` its
+    angular velocity about the vertical, rad/s; ``damping`` PyBullet's linear and
+    angular damping (the share of velocity lost per second).
+    """
+
+    name: str
+    ball: Ball
+    declared: bool
+    mass: Range
+    restitution: Range
+    friction: Range
+    rolling_friction: Range
+    spinning_friction: Range
+    damping: Range
+    spin: Range
+    side_spin: Range
+    throw: Throw | None
+    source: Source = UNKNOWN
+
+
+@dataclass(frozen=True, slots=True)
+class BulletLook:
+    """How a PyBullet reality's images look: textures, light and the sensor, each number
+    drawn per run from its range."""
+
+    textures: TextureSource = TextureSource.MIXED
+    texture_scale: Range = Range(0.7, 1.5)
+    light_elevation_deg: Range = Range(35.0, 80.0)
+    light_azimuth_deg: Range = Range(0.0, 360.0)
+    light_warmth: Range = Range(-0.15, 0.15)
+    ambient: Range = Range(0.45, 0.7)
+    diffuse: Range = Range(0.3, 0.55)
+    specular: Range = Range(0.0, 0.3)
+    shadows: bool = False
+    ball_marks: bool = True
+    gain: Range = Range(0.85, 1.15)
+    vignette: Range = Range(0.0, 0.3)
+    blur: Range = Range(0.3, 1.0)
+    noise: Range = Range(1.0, 4.0)
+    source: Source = UNKNOWN
+
+
+@dataclass(frozen=True, slots=True)
+class BulletRobot:
+    """How the real robot of a PyBullet reality obeys motor commands (None: the
+    model's limits); each number drawn per run."""
+
+    max_speed: Range | None = None
+    max_accel: Range | None = None
+    slip: Range = Range(0.0, 0.0)
+    slip_interval: float = 0.2
+    source: Source = UNKNOWN
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class BulletReality:
+    """A reality made by another physics engine and renderer: PyBullet in 3D, its
+    TinyRenderer with its own textures, light, blur and noise (``docs/reality.md``).
+
+    ``dt`` is PyBullet's step; ``wall_thickness`` how thick the real walls are (they
+    stand behind the scenario's wall line, away from the floor's centre); ``floor``,
+    ``walls`` and ``obstacles`` the surfaces' contact parameters; ``objects`` every ball
+    of reality.
+    """
+
+    dt: float
+    camera: CameraOffset
+    wall_thickness: float
+    floor: BulletSurfaces
+    walls: BulletSurfaces
+    obstacles: BulletSurfaces
+    look: BulletLook
+    robot: BulletRobot
+    objects: tuple[BulletObject, ...]
+    source: Source = UNKNOWN
+    kind: RealityKind = RealityKind.BULLET
+
+    def object(self, name: str) -> BulletObject:
+        """The true object called ``name``."""
+        for o in self.objects:
+            if o.name == name:
+                return o
+        raise KeyError(name)
+
+
+Reality = SyntheticReality | VideoReality | BulletReality
 
 
 # -- goals, rules, schemas ------------------------------------------------------------

@@ -50,7 +50,8 @@ FLOOR_KEYS = ("texture", "tile", "color", "extent")
 WALL_KEYS = ("name", "from", "to", "height", "texture", "tile", "color", "restitution", "friction")
 OBSTACLE_KEYS = ("name", "polygon", "height", "texture", "tile", "color", "restitution", "friction")
 OBJECT_KEYS = ("name", "radius", "mass", "restitution", "friction", "rolling_resistance",
-               "position", "velocity", "color", "texture", "create", "ranges")
+               "floor_friction", "drag", "position", "velocity", "color", "texture", "create",
+               "ranges")
 ROBOT_KEYS = ("name", "shape", "radius", "size", "position", "heading_deg", "max_speed",
               "max_accel", "mass", "height", "color")
 
@@ -277,6 +278,8 @@ class WorldReader(NodeReader):
             "restitution": self.number,
             "friction": self.number,
             "rolling_resistance": self.number,
+            "floor_friction": self.number,
+            "drag": self.number,
             "position": lambda n, p: self.vector(n, p, 2),
             "velocity": lambda n, p: self.vector(n, p, 2),
             "color": self.color,
@@ -307,7 +310,8 @@ class WorldReader(NodeReader):
         return ObjectModel(ball, create, MappingProxyType(ranges), self.source(node, path))
 
     def model_ranges(self, node: Node, path: str) -> dict[str, Range]:
-        """``ranges: {restitution: [lo, hi], ...}``."""
+        """``ranges: {restitution: [lo, hi], ...}`` (a ``floor_friction`` range gives the ball
+        spin)."""
         items = self.mapping(node, path)
         self.check_keys(items, MODEL_RANGE_PARAMETERS, path)
         out = {}

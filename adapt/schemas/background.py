@@ -19,7 +19,7 @@ pixels), its floor position (the bottom of its box back-projected onto the
 floor) and width on the floor (metres), and its age in frames.
 
 **Appearance learning** (``appearance``: ``on``; ``auto``, the default, is on
-for a video reality).  The scenario gives the room's geometry but rarely the
+for any reality but a synthetic one: a video, a PyBullet reality).  The scenario gives the room's geometry but rarely the
 exact look of its surfaces, and the MMD only works where the render looks
 like the camera's image.  The schema then teaches the mirror the surfaces'
 look (:mod:`adapt.mirror.appearance`) in two stages:
@@ -31,12 +31,28 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    colour, registering it to the frame and correcting the camera, with a fit
    margin that shrinks with the error.  No MMD and no regions meanwhile
    (status ``waiting``).  Once the error is within ``tolerance`` (or stops
-   falling below :data:`STRUCTURE_ACCEPT` pixels), the frame is
-   back-projected onto every surface seen;
+   falling below :data:`STRUCTURE_ACCEPT` pixels), the
+   per-pixel median of the frames kept since the start (up to ``still_s``
+   seconds of them, :class:`~adapt.vision.stillness.FrameHistory`: an object
+   that moved through the view is gone from it) is back-projected onto every
+   surface seen, but for the pixels that changed over those frames; while
+   something moves in them it waits for ``still_s`` seconds of frames, so
+   that a ball rolling from the first frame is gone from their median and
+   never painted into the floor (what it covered is learned later, below);
 2. ``learned``: the usual MMD with the learned look, the camera corrected as
    always; every ``learn_every`` frames in which the camera is synchronised,
    the frame refines the look (``learn_rate``, ``learn_gate``), never where a
-   schema monitors the image, where a region is, or where the MMD differs.
+   schema monitors the image, where an unexpected region moves, where a
+   pixel changed over the last ``still_s`` seconds (a moving object is never
+   learned), or where the MMD differs -- unless the pixel held still there
+   for the whole ``still_s`` outside every monitored box: that is background
+   the look has wrong or never saw (a ghost of an object learned at rest that
+   has left, what a ball covered at the first look), learned afresh there.
+   An unexpected region whose pixels have not changed over its last
+   :data:`STILL_REGION_FRAMES` frames is reported ``still``: the perception
+   rules spawn no schema for it (nothing arrived there; it is the look's
+   error, repaired as above).  A camera on the robot restarts its history
+   whenever the robot moves.
    After :data:`REACQUIRE_AFTER` frames without alignment the structure is
    aligned again and the look learned afresh.
 
@@ -74,6 +90,7 @@ from adapt.vision.mmd import MMDResult
 from adapt.vision.regions import best_overlap, find_regions, to_input
 from adapt.vision.registration import structure_homography
 from adapt.vision.scale import MAX_WORK_PIXELS_LIMIT, image_scale
+from adapt.vision.stillness import FrameHistory
 from adapt.vision.sync import sync_step
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -99,12 +116,20 @@ REACQUIRE_AFTER = 10
 EXCLUDE_PAD = 6
 #: Label of the floor in a render (the full pose is corrected from matches on it).
 FLOOR_LABEL = 1
+#: Frames over which an unexpected region is judged still (its box's pixels unchanged).
+STILL_REGION_FRAMES = 3
+#: A region whose box changed in less than this share of its pixels over those frames is still.
+STILL_SHARE = 0.02
+#: The first look waits for a full history while more than this share of pixels changed.
+MOVING_SHARE = 0.001
+#: A camera on the robot has moved (its frame history restarts) past these (m, degrees).
+MOUNT_MOVED = (0.005, 0.3)
 
 
 class AppearanceMode(enum.Enum):
     """The ``appearance`` parameter: learn the surfaces' look, or not, or for a video."""
 
-    AUTO = "auto"  # on for a video reality
+    AUTO = "auto"  # on for any reality but a synthetic one (a video, PyBullet's)
     ON = "on"
     OFF = "off"
 
@@ -134,8 +159,9 @@ class SceneBackground(Schema):
         self._settled = 1e9   # a smoothed pixel error of the trusted frames
         self._glitches = 0
         mode = AppearanceMode(self.parameters["appearance"])
+        # auto: learn the look of any reality the imagination's renderer did not draw
         learn = mode is AppearanceMode.ON or (mode is AppearanceMode.AUTO
-                                              and network.reality is RealityKind.VIDEO)
+                                              and network.reality is not RealityKind.SYNTHETIC)
         if not learn:
             self.stage = AppearanceStage.OFF
         elif network.mirror.appearance.learned or not self.parameters["correct"]:
@@ -155,6 +181,11 @@ class SceneBackground(Schema):
         #: The percept last published.
         self.percept: BackgroundPercept | None = None
         self._warped: tuple[MMDResult, NDArray[np.uint16]] | None = None
+        #: The camera's recent frames while it did not move (what held still).
+        self.history = FrameHistory(max(3, int(round(float(self.parameters["still_s"])
+                                                       / network.frame_interval))))
+        self._mount_pose: tuple[tuple[float, float], float] | None = None
+        self._held = 0  # frames the first look has waited, once aligned
 
     # -- perception ---------------------------------------------------------------------
 
@@ -192,10 +223,17 @@ class SceneBackground(Schema):
         mirror = self.network.mirror
         self.learning = None
         self.learn_ms = 0.0
+        if self.stage is not AppearanceStage.OFF:
+            self._remember(frame)
         if self.stage is AppearanceStage.STRUCTURE:
             if not self._align_structure(frame):
                 self._waiting(frame, started)
                 return
+            if self._moving():
+                self._held += 1
+                self._waiting(frame, started, gathering=True)
+                return
+            self._held = 0
             self._learn(frame, mirror.render().labels, fresh=True)
             self.stage = AppearanceStage.LEARNED
         self._rendered()
@@ -297,7 +335,37 @@ class SceneBackground(Schema):
 
     # -- appearance learning ------------------------------------------------------------
 
-    def _waiting(self, frame: "Frame", started: float) -> None:
+    def _remember(self, frame: "Frame") -> None:
+        """Keep the frame in the history of a camera that has not moved (a camera on the
+        robot starts it again whenever the robot moves)."""
+        mirror = self.network.mirror
+        if mirror.mounted:
+            pose = mirror.robot_pose()
+            if pose is not None and self._mount_pose is not None:
+                (x0, y0), h0 = self._mount_pose
+                (x1, y1), h1 = pose
+                turn = abs((h1 - h0 + math.pi) % (2 * math.pi) - math.pi)
+                if math.dist((x0, y0), (x1, y1)) > MOUNT_MOVED[0] \
+                        or math.degrees(turn) > MOUNT_MOVED[1]:
+                    self.history.clear()
+            if not len(self.history):
+                self._mount_pose = pose
+        self.history.push(frame.image)
+
+    def _moving(self) -> bool:
+        """Whether the first look must wait for more frames: until two are kept, and while
+        something moved over those kept (more than :data:`MOVING_SHARE` of the pixels
+        changed) until ``still_s`` seconds of them are, so their median is without it -- at
+        most that many frames (a camera on a robot that keeps driving keeps none)."""
+        h = self.history
+        if len(h) >= h.depth or self._held >= h.depth:
+            return False
+        if len(h) < 2:
+            return True
+        still = h.still(float(self.parameters["threshold"]))
+        return 1.0 - float(np.count_nonzero(still)) / max(still.size, 1) > MOVING_SHARE
+
+    def _waiting(self, frame: "Frame", started: float, gathering: bool = False) -> None:
         """A frame of the structure stage: the render for the figures, no MMD, no regions."""
         self._rendered(background=False)
         self.result = None
@@ -305,8 +373,13 @@ class SceneBackground(Schema):
         self.pixel_error = math.nan
         self.status = Status.WAITING
         err = self.structure_error
-        self.message = ("aligning the camera to the scene's structure before learning its look"
-                        + ("" if math.isnan(err) else f" ({err:.2f} px)"))
+        if gathering:
+            self.message = (f"aligned; something moves: keeping up to {self.history.depth} "
+                            f"frames to learn the look from their median ({len(self.history)} "
+                            "so far)")
+        else:
+            self.message = ("aligning the camera to the scene's structure before learning its "
+                            "look" + ("" if math.isnan(err) else f" ({err:.2f} px)"))
         self.tracker.update([], frame.index)
         self.regions = []
         self._publish(frame.index, frame.time, self.network.mirror.camera, started)
@@ -364,6 +437,7 @@ class SceneBackground(Schema):
                 self._unaligned = 0
                 self._settled = 1e9  # the camera will jump: nothing to compare with
                 self.network.mirror.appearance.forget()
+                self.history.clear()  # what the lost view showed is not the scene's look
             return
         self._unaligned = 0
         if self.learning is not None:
@@ -380,35 +454,57 @@ class SceneBackground(Schema):
         p = self.parameters
         mirror = self.network.mirror
         before = mirror.render().image if self.first_look is None else None
+        still = self.history.still(float(p["threshold"])) if len(self.history) >= 2 else None
+        if fresh:  # what the view showed most of the time: a passing object is gone from it
+            image = self.history.median() if len(self.history) else frame.image
+            exclude, relearn = self._exclusion(frame.image.shape, still=still)
+        else:
+            image = frame.image
+            full = len(self.history) >= self.history.depth
+            exclude, relearn = self._exclusion(frame.image.shape, still=still, repair=full)
         learned = mirror.learn_appearance(
-            frame.image, labels, exclude=self._exclusion(frame.image.shape),
-            rate=p["learn_rate"], gate=None if fresh else p["learn_gate"])
+            image, labels, exclude=exclude, rate=p["learn_rate"],
+            gate=None if fresh else p["learn_gate"], relearn=relearn)
         if before is not None:
-            self.first_look = FirstLook(frame.index, frame.time, frame.image, before,
+            self.first_look = FirstLook(frame.index, frame.time, image, before,
                                         mirror.render().image)
         self.learning = learned
         self.learn_ms = learned.ms
         self.learn_passes += 1
         self._since_learn = 0
 
-    def _exclusion(self, shape: tuple[int, ...]) -> NDArray[np.bool_]:
-        """Frame pixels never to learn: every monitored box, every region, every
-        pixel the MMD finds different, each with a margin."""
+    def _exclusion(self, shape: tuple[int, ...], still: NDArray[np.bool_] | None,
+                   repair: bool = False) -> tuple[NDArray[np.bool_], NDArray[np.bool_] | None]:
+        """Frame pixels never to learn -- every monitored box, every region that is not
+        still, every pixel that changed over the history (``still`` False) and every pixel
+        the MMD finds different, each with a margin -- and, with ``repair``, the pixels to
+        learn afresh: different from the look but still for the whole history, outside
+        every monitored box and moving region (see the module docstring)."""
         h, w = int(shape[0]), int(shape[1])
         pad = int(math.ceil(EXCLUDE_PAD * image_scale(shape)))
+        kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
         mask = np.zeros((h, w), np.uint8)
         boxes = [b for _, b in self.network.monitored_boxes(exclude=self.name)]
-        boxes += [r.bbox for r in self.regions]
+        boxes += [r.bbox for r in self.regions if r.expected or not r.still]
         for x, y, bw, bh in boxes:
             mask[max(0, y - pad):max(0, y + bh + pad), max(0, x - pad):max(0, x + bw + pad)] = 1
+        moved = None
+        if still is not None and still.shape == (h, w):
+            moved = np.asarray(cv2.dilate((~still).view(np.uint8), kernel), np.uint8)
+            mask |= moved
         res = self.result
+        relearn = None
         if res is not None and res.aligned:
             differs = (res.difference >= self.parameters["threshold"]).view(np.uint8)
             if differs.shape != (h, w):
                 differs = cv2.resize(differs, (w, h), interpolation=cv2.INTER_NEAREST)
-            kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
-            mask |= np.asarray(cv2.dilate(differs, kernel), np.uint8)
-        return mask.astype(bool)
+            differs = np.asarray(cv2.dilate(differs, kernel), np.uint8)
+            if repair and moved is not None:
+                anew = (differs > 0) & (mask == 0)
+                relearn = anew if anew.any() else None
+                differs[anew] = 0
+            mask |= differs
+        return mask.astype(bool), relearn
 
     def _regions(self, frame: "Frame", percept: BackgroundPercept) -> list[RegionReport]:
         """This frame's difference regions, tracked: each owned by the schema that claims it,
@@ -447,8 +543,18 @@ class SceneBackground(Schema):
             x, y, w, h = r.bbox
             edge = x <= 0 or y <= 0 or x + w >= frame.image.shape[1] or y + h >= frame.image.shape[0]
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
-                                    owner, floor, size, percept.imagined_in(r), edge))
+                                    owner, floor, size, percept.imagined_in(r), edge,
+                                    owner is None and self._still(r.bbox)))
         return out
+
+    def _still(self, bbox: BBox) -> bool:
+        """Whether the camera's pixels in ``bbox`` held still over the last
+        :data:`STILL_REGION_FRAMES` frames, with a learned look (see the module docstring)."""
+        if self.stage is not AppearanceStage.LEARNED or len(self.history) < STILL_REGION_FRAMES:
+            return False
+        changed = self.history.changed(bbox, float(self.parameters["threshold"]),
+                                       frames=STILL_REGION_FRAMES)
+        return changed < STILL_SHARE
 
     def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:
         """The robot's own body in the real frame: the robot knows where it is, so a
@@ -496,6 +602,7 @@ class SceneBackground(Schema):
             c.set("size", None if r.size is None else round(r.size, 4))
             c.set("imagined", r.imagined)
             c.set("at-edge", r.at_edge)
+            c.set("still", r.still)
             c.set("age", r.age)
         node.keep_children("region", [r.id for r in self.regions])
 
@@ -558,7 +665,7 @@ SCENE_BACKGROUND = SchemaSpec(
                   "frame is reduced first; fewer pixels: faster, a coarser H_e)", unit="px",
                   low=32 * 32, high=MAX_WORK_PIXELS_LIMIT),
         Parameter("appearance", str, "auto", "learn the surfaces' look from the frames: on, off, "
-                  "or auto (on for a video reality)", choices=("auto", "on", "off")),
+                  "or auto (on for any reality but a synthetic one)", choices=("auto", "on", "off")),
         Parameter("learn_every", int, 10, "once learned, refine the look every this many "
                   "synchronised frames", unit="frames", low=1,
                   high=1_000_000),
@@ -568,6 +675,9 @@ SCENE_BACKGROUND = SchemaSpec(
         Parameter("learn_gate", float, 40.0, "a learned pixel that differs from the frame by more "
                   "than this is not refined", unit="grey levels", low=0.0, high=255.0,
                   low_open=True),
+        Parameter("still_s", float, 0.4, "a pixel is learned only once it held still this long "
+                  "(the first look: the median of this many seconds of frames)", unit="s",
+                  low=0.0, high=2.0, low_open=True),
     ),
     singleton=True,
 )

@@ -49,7 +49,8 @@ import numpy as np
 
 from adapt.imagination.scene import SceneSpec
 
-__all__ = ["Estimate", "Bounce", "ParameterEstimator", "PARAMETERS", "nearest_surface"]
+__all__ = ["Estimate", "Bounce", "ParameterEstimator", "PARAMETERS", "nearest_surface",
+           "surprise"]
 
 #: The parameters estimated.
 PARAMETERS = ("restitution", "friction", "rolling_resistance")
@@ -84,6 +85,20 @@ class Estimate:
         """JSON form."""
         return {"mean": round(self.mean, 4), "std": round(self.std, 4), "n": self.count,
                 "surprise": round(self.surprise, 2)}
+
+
+def surprise(mean: float, low: float, high: float) -> float:
+    """How far ``mean`` lies outside the prior range ``[low, high]``, in the standard
+    deviations of a uniform draw over it (0 inside it).
+
+    Examples
+    --------
+    >>> surprise(0.5, 0.4, 0.7), round(surprise(0.9, 0.4, 0.7), 2)
+    (0.0, 2.31)
+    """
+    outside = max(low - mean, mean - high, 0.0)
+    pstd = (high - low) / math.sqrt(12.0)
+    return outside / pstd if pstd > 0 else (0.0 if outside < 1e-9 else math.inf)
 
 
 @dataclass(frozen=True, slots=True)
@@ -187,10 +202,8 @@ class ParameterEstimator:
     def estimate(self, name: str) -> Estimate:
         """The current estimate of ``name``."""
         mean, std, n = self._post[name]
-        lo, hi, _, pstd = self._prior[name]
-        outside = max(lo - mean, mean - hi, 0.0)
-        surprise = outside / pstd if pstd > 0 else (0.0 if outside < 1e-9 else math.inf)
-        return Estimate(name, mean, std, n, surprise)
+        lo, hi, _, _ = self._prior[name]
+        return Estimate(name, mean, std, n, surprise(mean, lo, hi))
 
     def estimates(self) -> dict[str, Estimate]:
         """Every estimate, by name."""

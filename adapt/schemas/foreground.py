@@ -24,11 +24,16 @@ imagination (paper section 4.4, Figure 6):
   a sighting of the wrong size is refused); a constant-velocity Kalman filter
   (:mod:`adapt.kalman`) smooths position and estimates velocity, restarted
   from the fitted line after a recognised bounce.
-* **what it is like.**  :class:`~adapt.schemas.estimator.ParameterEstimator`
-  turns bounces and free rolling into estimates of restitution, friction and
-  rolling resistance, which the imagined body takes on (``adapt``); and
-  :class:`~adapt.schemas.predictor.Predictor` forks the imagination to
-  predict, with a confidence (``predict``).
+* **what it is like.**  :class:`~adapt.mirror.identify.Identifier` fits
+  the ball's state and parameters by imagined rollouts to its last sightings
+  (``identify``, every ``identify_every`` frames over ``identify_window``
+  seconds), and the imagined body takes the parameters on (``adapt``);
+  without it :class:`~adapt.schemas.estimator.ParameterEstimator` turns
+  bounces and free rolling into estimates of restitution, friction and
+  rolling resistance by line fits (it also notes the bounces it sees either
+  way).  :class:`~adapt.schemas.predictor.Predictor` forks the imagination
+  to predict, with a confidence (``predict``), from the identified state (or
+  the filter's).
 * **in the imagination.**  An object declared ``create: when_seen`` (or one
   the scenario does not know) is created in the imagination after
   ``confirm`` sightings, where it is perceived and with the estimated
@@ -42,7 +47,6 @@ imagination (paper section 4.4, Figure 6):
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
@@ -51,10 +55,12 @@ from adapt.errors import SchemaError
 from adapt.geometry import MAX_PIXELS
 from adapt.imagination import Ball
 from adapt.imagination.scene import MAX_ACCEL
-from adapt.imagination.sight import behind_wall
+from adapt.imagination.sight import hidden_by
 from adapt.kalman import ConstantVelocityKF
+from adapt.mirror.identify import Fit, Identifier
+from adapt.scenario.records import MODEL_RANGE_PARAMETERS
 from adapt.schemas.base import BBox, Schema, Status
-from adapt.schemas.estimator import PARAMETERS, ParameterEstimator
+from adapt.schemas.estimator import PARAMETERS, Estimate, ParameterEstimator, surprise
 from adapt.schemas.events import EventKind
 from adapt.schemas.links import Structure
 from adapt.schemas.percepts import BackgroundPercept, ObjectPercept, Sighting
@@ -76,8 +82,24 @@ RADIUS_TOLERANCE = 0.25
 #: An object is created in the imagination only once its estimated speed is below this (m/s):
 #: faster is a filter started on bad sightings.
 MAX_SPEED = 20.0
+#: A prediction starts from the identified state when the fit is at most this old (seconds)
+#: and its path passes the sightings within this chi-square per degree of freedom (2 noise
+#: sigmas); otherwise (a contact whose parameters are still being learned, say) from the filter's.
+FIT_AGE = 0.2
+FIT_CHI2 = 4.0
+#: What is known of an object nobody described: anything plausible.
+UNKNOWN_RANGES = {"restitution": (0.2, 0.95), "friction": (0.0, 1.0),
+                  "rolling_resistance": (0.0, 0.2)}
+
 #: Side of the opening that cleans an object's blob of specks (pixels).
 BLOB_OPEN = 3
+#: Without a floor extent, sightings fitted farther than this from the camera are refused (m).
+FLOOR_REACH = 200.0
+#: Standard deviations of the track's position searched around its predicted path.
+SEARCH_SIGMAS = 3.0
+#: How fast an object never seen may have moved away from the region it was spawned for
+#: once that region is no longer tracked (m/s): the search widens at this speed.
+SEARCH_SPEED = 4.0
 
 
 class ForegroundObject(Schema):
@@ -108,10 +130,14 @@ class ForegroundObject(Schema):
         self.status = Status.WAITING
         self.region = int(parameters["region"])
         self._window: BBox | None = None
+        self._window_time = network.time  # when the region it waits for was last tracked
         self._hooked = False
         self._radii: list[float] = []
         self.model = model
         self.estimator: ParameterEstimator | None = None
+        self.identifier: Identifier | None = None
+        self.fit: Fit | None = None
+        self._ranges: dict[str, tuple[float, float]] = {}
         self.prediction: Prediction | None = None
         self.bounces_seen = 0
         settings = network.predict
@@ -128,6 +154,7 @@ class ForegroundObject(Schema):
         found = None if bg is None or self.region <= 0 else bg.region(self.region)
         if found is not None:
             self._window = found.bbox
+            self._window_time = self.network.time
         self._publish(self.network.frame_index, self.network.time)
 
     def _background(self) -> BackgroundPercept | None:
@@ -154,17 +181,29 @@ class ForegroundObject(Schema):
         assert self.ball is not None
         ranges: dict[str, tuple[float, float]] = {}
         if self.model is not None:
-            for name in PARAMETERS:
+            for name in MODEL_RANGE_PARAMETERS:
                 r = self.model.range(name)
-                ranges[name] = (r.low, r.high)
-        else:  # an object nobody described: anything plausible
-            ranges = {"restitution": (0.2, 0.95), "friction": (0.0, 1.0),
-                      "rolling_resistance": (0.0, 0.2)}
+                if r is not None:
+                    ranges[name] = (r.low, r.high)
+        else:
+            ranges = dict(UNKNOWN_RANGES)
+        self._ranges = ranges
         nominal = {name: float(getattr(self.ball, name)) for name in PARAMETERS}
-        self.estimator = ParameterEstimator(ranges, nominal=nominal,
+        self.estimator = ParameterEstimator({k: ranges[k] for k in PARAMETERS}, nominal=nominal,
                                             scene=self.network.mirror.scene,
                                             gravity=self.network.mirror.scene.gravity,
                                             radius=self.ball.radius)
+        if self.parameters["identify"]:
+            # the parameters with a range are fitted (unless adapt is off: the state only)
+            priors = {name: (float(getattr(self.ball, name)), (hi - lo) / math.sqrt(12.0))
+                      for name, (lo, hi) in ranges.items()
+                      if hi > lo and self.parameters["adapt"]}
+            mirror = self.network.mirror
+            self.identifier = Identifier(mirror.scene, self.ball, priors,
+                                         window=float(self.parameters["identify_window"]),
+                                         every=int(self.parameters["identify_every"]),
+                                         noise=float(self.parameters["measurement_noise"]),
+                                         dt=mirror.world.dt)
         self.predictor.catch_radius = self._catch_radius()
 
     @property
@@ -182,13 +221,16 @@ class ForegroundObject(Schema):
 
     def _imagined_real_box(self) -> tuple[tuple[float, float], float] | None:
         """Centre (real pixels) and radius (pixels) of the imagined body, or None."""
-        mirror = self.network.mirror
         if not self.in_imagination:
             return None
-        x, y = mirror.world.position(self.body)
+        return self._in_image(self.network.mirror.world.position(self.body))
+
+    def _in_image(self, at: tuple[float, float]) -> tuple[tuple[float, float], float] | None:
+        """Centre (real pixels) and radius (pixels) of the object on the floor at ``at``,
+        or None behind the camera."""
         r = self._radius()
-        cam = mirror.camera
-        pc = cam.to_camera(np.array([[x, y, r]]))[0]
+        cam = self.network.mirror.camera
+        pc = cam.to_camera(np.array([[at[0], at[1], r]]))[0]
         if pc[2] <= 1e-6:
             return None
         px = cam.fx * pc[0] / pc[2] + cam.cx
@@ -209,16 +251,51 @@ class ForegroundObject(Schema):
                 return ((centre[0] + lx) / 2.0, (centre[1] + ly) / 2.0), span / 2.0 + 3.0 * rpx + 8.0
             return centre, 3.0 * rpx + 8.0
         if self.last is not None:
-            x, y, w, h = self.last.bbox
-            grow = 1.0 + 0.5 * self.misses
-            return (x + w / 2.0, y + h / 2.0), max(w, h) * (1.5 * grow) + 16.0
+            return self._along_track(frame, imagined)
         if self._window is not None:
+            # never seen: the region it was spawned for, as long as it is tracked; then a
+            # search widening at the speed an object may have gone from there
+            bg = self._background()
+            found = None if bg is None or self.region <= 0 else bg.region(self.region)
+            if found is not None:
+                self._window, self._window_time = found.bbox, frame.time
             x, y, w, h = self._window
-            return (x + w / 2.0, y + h / 2.0), max(w, h) + 16.0
+            metres = max(frame.time - self._window_time, 0.0) * SEARCH_SPEED
+            return (x + w / 2.0, y + h / 2.0), max(w, h) * (1.0 + metres / (2.0 * self._radius())) + 16.0
         if imagined is not None:
             centre, rpx = imagined
             return centre, 4.0 * rpx + 16.0
         return None
+
+    def _along_track(self, frame: "Frame", imagined: tuple[tuple[float, float], float] | None
+                     ) -> tuple[tuple[float, float], float]:
+        """An object seen before and missed since: search along its predicted path -- the
+        filter's constant-velocity extrapolation and the imagined body (which bounces off
+        the walls) -- as far as the track's uncertainty reaches (``SEARCH_SIGMAS`` of its
+        position's standard deviation, grown with every frame missed), and around the
+        last sighting."""
+        assert self.last is not None
+        x, y, w, h = self.last.bbox
+        last = (x + w / 2.0, y + h / 2.0)
+        points = [(last, max(w, h) / 2.0)]
+        sigma = 0.0
+        if self.kf.initialised:
+            ahead = max(frame.time - (self.kf.time or frame.time), 0.0)
+            sigma = self.kf.position_sigma + self.kf.velocity_sigma * ahead
+            seen = self._in_image(self.kf.predict_position(ahead))
+            if seen is not None:
+                points.append(seen)
+        if imagined is not None:
+            points.append(imagined)
+        cx = sum(p[0][0] for p in points) / len(points)
+        cy = sum(p[0][1] for p in points) / len(points)
+        reach = max(math.dist((cx, cy), p[0]) + 3.0 * p[1] for p in points)
+        # metres to pixels at the object's distance: its radius in both
+        rpx = max(p[1] for p in points[1:]) if len(points) > 1 else max(w, h) / 2.0
+        grow = 1.0 + 0.5 * self.misses
+        reach = max(reach + SEARCH_SIGMAS * sigma * rpx / self._radius(),
+                    max(w, h) * 1.5 * grow) + 16.0
+        return (cx, cy), reach
 
     # -- perception ------------------------------------------------------------------------------
 
@@ -263,7 +340,7 @@ class ForegroundObject(Schema):
             position=self.kf.position if est else None,
             velocity=self.kf.velocity if est else None, imagined=self.imagined(),
             prediction=self.prediction,
-            estimates={} if self.estimator is None else self.estimator.estimates(),
+            estimates=self.estimate_records(),
             rollouts=(self.predictor.simulated_s, self.predictor.wall_s)))
 
     def _learn(self, time: float, position: tuple[float, float]) -> None:
@@ -271,6 +348,8 @@ class ForegroundObject(Schema):
         give the imagined ball the estimated parameters."""
         assert self.estimator is not None
         bounce = self.estimator.observe(time, position)
+        if self.identifier is not None:
+            self.fit = self.identifier.observe(time, position)
         if bounce is not None:
             self.bounces_seen += 1
             after = self.estimator.last_after
@@ -285,20 +364,32 @@ class ForegroundObject(Schema):
                 "friction": None if bounce.friction is None else round(bounce.friction, 4)})
         if self.parameters["adapt"] and self.in_imagination and self.ball is not None:
             changes = {}
-            for name, est in self.estimator.estimates().items():
+            for name, est in self.estimate_records().items():
                 value = min(max(est.mean, 0.0), 1.0) if name == "restitution" else max(est.mean, 0.0)
-                if abs(value - float(getattr(self.ball, name))) > (0.002 if name ==
-                                                                    "rolling_resistance" else 0.01):
+                if abs(value - float(getattr(self.ball, name))) > (
+                        0.002 if name in ("rolling_resistance", "drag") else 0.01):
                     changes[name] = value
             if changes:
-                self.ball = replace(self.ball, **changes)  # type: ignore[arg-type]
+                self.ball = self.ball.with_parameters(**changes)
                 self.network.mirror.replace_ball(self.ball)
+
+    def estimate_records(self) -> dict[str, Estimate]:
+        """Each estimated parameter's :class:`~adapt.schemas.estimator.Estimate`: the
+        identification's for the parameters it fits, the estimator's for the others."""
+        if self.estimator is None:
+            return {}
+        out = self.estimator.estimates()
+        fit, ident = self.fit, self.identifier
+        if fit is not None and ident is not None:
+            for name, mean in fit.parameters.items():
+                lo, hi = self._ranges[name]
+                out[name] = Estimate(name, mean, fit.std[name], ident.counts[name],
+                                     surprise(mean, lo, hi))
+        return dict(sorted(out.items()))
 
     def estimates(self) -> dict[str, tuple[float, float]]:
         """``(mean, std)`` of each estimated parameter (the model's values before any)."""
-        if self.estimator is None:
-            return {}
-        return {name: (e.mean, e.std) for name, e in self.estimator.estimates().items()}
+        return {name: (e.mean, e.std) for name, e in self.estimate_records().items()}
 
     def _predict(self) -> Prediction | None:
         """Roll the imagination forward from the object's state (filtered while seen; the
@@ -306,6 +397,14 @@ class ForegroundObject(Schema):
         mirror = self.network.mirror
         if not self.in_imagination:
             return None
+        fit = self.fit
+        since = mirror.world.time - fit.time if fit is not None else math.inf
+        if fit is not None and self.misses == 0 and -1e-9 <= since <= FIT_AGE \
+                and fit.chi2 <= FIT_CHI2:
+            # the identified state (its time may be a frame back: identify_every)
+            return self.predictor.predict(mirror.world, self.body, fit.position, fit.velocity,
+                                          self.estimates(), velocity_std=self.kf.velocity_sigma,
+                                          slip=fit.slip, since=max(since, 0.0))
         if self.kf.initialised and self.misses == 0:
             position, velocity, vstd = self.kf.position, self.kf.velocity, self.kf.velocity_sigma
         else:
@@ -366,16 +465,34 @@ class ForegroundObject(Schema):
                            to_camera=bg.to_synthetic)
             if fit is None:
                 return None
-        eye = (float(cam.position[0]), float(cam.position[1]))
-        if behind_wall(self.network.mirror.scene, eye, fit.position) is not None:
-            # a wall hides whatever is behind it: the blob is something else (a fragment
-            # merged with the wall's difference, a misfit near the horizon)
+        if not self._on_floor(fit.position, fit.radius):
+            # fitted off the floor (a blob near the horizon, fitted kilometres away): a ball
+            # rests on the floor, so this is something else
+            self.refused += 1
+            return None
+        eye = (float(cam.position[0]), float(cam.position[1]), float(cam.position[2]))
+        if hidden_by(self.network.mirror.scene, eye, fit.position, fit.radius) is not None:
+            # a wall or an obstacle hides whatever is behind it (in 3D: a camera above a low
+            # wall sees over it): the blob is something else (a fragment merged with the
+            # wall's difference, a misfit near the horizon)
             self.refused += 1
             return None
         if self.ball is None:
             self._measure_unknown(frame, fit.radius, mask, bbox)
         centre = (best.centroid[0] + x0, best.centroid[1] + y0)
         return Sighting(frame.index, frame.time, bbox, centre, area, fit.position)
+
+    def _on_floor(self, at: tuple[float, float], radius: float) -> bool:
+        """Whether a ball of ``radius`` at ``at`` is over the floor (its extent, when the scenario
+        gives one; else within :data:`FLOOR_REACH` of the camera)."""
+        if not all(math.isfinite(v) for v in (*at, radius)):
+            return False
+        extent = self.network.mirror.scene.floor.extent
+        if extent is None:
+            cam = self.network.mirror.camera.position
+            return math.dist(at, (float(cam[0]), float(cam[1]))) <= FLOOR_REACH
+        x0, y0, x1, y1 = extent
+        return x0 - radius <= at[0] <= x1 + radius and y0 - radius <= at[1] <= y1 + radius
 
     def _measure_unknown(self, frame: "Frame", radius: float, mask: np.ndarray, bbox: BBox) -> None:
         """An object the scenario does not declare gets its size and colour from its sightings:
@@ -505,7 +622,7 @@ class ForegroundObject(Schema):
             return
         p = node.child("parameters", 0)
         consistent = True
-        for name, e in self.estimator.estimates().items():
+        for name, e in self.estimate_records().items():
             key = name.replace("_", "-")
             p.set(key, round(e.mean, 4))
             p.set(f"{key}-std", round(e.std, 4))
@@ -595,7 +712,15 @@ FOREGROUND_OBJECT = SchemaSpec(
         Parameter("gate", float, 6.0, "innovation (sigmas) beyond which the filter restarts "
                   "from the last two sightings (a bounce)", low=0.0, high=1000.0, low_open=True),
         Parameter("adapt", bool, True, "estimate restitution, friction and rolling resistance "
-                  "online and give them to the imagined body"),
+                  "(and floor friction and drag, given ranges) online and give them to the "
+                  "imagined body"),
+        Parameter("identify", bool, True, "fit the state and the parameters by imagined "
+                  "rollouts to the last sightings (false: the Kalman filter's state, line fits "
+                  "at bounces and quadratic fits of rolling)"),
+        Parameter("identify_window", float, 0.9, "seconds of sightings the identification "
+                  "fits", unit="s", low=0.2, high=10.0),
+        Parameter("identify_every", int, 2, "frames with a sighting between two steps of the "
+                  "identification", low=1, high=1000),
         Parameter("predict", bool, True, "predict at the scenario's horizons (predict section)"),
     ),
 )

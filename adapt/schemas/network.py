@@ -124,7 +124,7 @@ class SchemaNetwork:
     reality : RealityKind
         The kind of the reality the frames come from (set by the runner from
         the scenario).  Schemas may adapt to it (the Scene Background learns
-        the surfaces' look of a video by default); it never carries the
+        the surfaces' look of any but a synthetic reality by default); it never carries the
         reality's truth.
     """
 

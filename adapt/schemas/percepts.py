@@ -77,7 +77,10 @@ class RegionReport:
     ``bbox`` and ``centroid`` are real-image pixels; ``floor`` is the bottom of
     the box back-projected onto the floor and ``size`` its width there
     (metres); ``owner`` the schema that explains it (``expected``);
-    ``imagined`` the imagined moving object it shows.
+    ``imagined`` the imagined moving object it shows; ``still`` that the
+    camera's pixels in its box have not changed over its last frames while
+    the look is learned: a difference nothing moves in is the learned look's
+    error (a ghost, background it never saw), not an object arriving.
     """
 
     id: int
@@ -91,6 +94,7 @@ class RegionReport:
     size: float | None
     imagined: str | None = None
     at_edge: bool = False
+    still: bool = False
 
     def as_json(self) -> dict[str, Any]:
         """JSON form (trace and report)."""
@@ -100,7 +104,7 @@ class RegionReport:
                 "owner": self.owner,
                 "floor": None if self.floor is None else [round(v, 4) for v in self.floor],
                 "size": None if self.size is None else round(self.size, 4),
-                "imagined": self.imagined, "at_edge": self.at_edge}
+                "imagined": self.imagined, "at_edge": self.at_edge, "still": self.still}
 
 
 @dataclass(frozen=True, slots=True, eq=False)

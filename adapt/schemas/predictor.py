@@ -60,6 +60,9 @@ __all__ = ["HorizonPrediction", "Prediction", "Predictor", "Residuals", "confide
 #: ones count as errors of one catch radius).
 EVIDENCE = 3
 
+#: The ball parameters a prediction takes from the estimates.
+FITTED = ("restitution", "friction", "rolling_resistance", "floor_friction", "drag")
+
 #: Below this speed (m/s) an object is at rest: its prediction needs no rollout.
 REST_SPEED = 0.02
 #: How far ahead the path of an object at rest reaches (seconds): far enough to drive to it.
@@ -127,20 +130,26 @@ class Residuals:
     :meth:`expect` records a prediction for a future time; :meth:`observe`
     scores every recorded prediction whose time has come (within half a
     frame) against a sighting; :meth:`rms` is the RMS of the last ``keep``
-    scores at a horizon (0 before any).
+    scores at a horizon (0 before any).  Predictions that foresaw a contact
+    within their horizon are also kept apart: a bounce is its own evidence
+    (rolling that came true says nothing of how the object bounces).
     """
 
     def __init__(self, horizons: Sequence[float], keep: int = 10,
                  evidence: int = EVIDENCE) -> None:
         self.evidence = evidence
-        self._pending: dict[float, deque[tuple[float, float, float]]] = {
+        self._pending: dict[float, deque[tuple[float, float, float, bool]]] = {
             h: deque(maxlen=512) for h in horizons}
         self._errors: dict[float, deque[float]] = {h: deque(maxlen=max(keep, evidence))
                                                    for h in horizons}
+        self._bounces: dict[float, deque[float]] = {h: deque(maxlen=max(keep, evidence))
+                                                    for h in horizons}
 
-    def expect(self, horizon: float, time: float, position: Sequence[float]) -> None:
-        """A prediction that the object is at ``position`` at ``time``."""
-        self._pending[horizon].append((time, float(position[0]), float(position[1])))
+    def expect(self, horizon: float, time: float, position: Sequence[float],
+               bounce: bool = False) -> None:
+        """A prediction that the object is at ``position`` at ``time`` (after a contact it
+        foresaw, when ``bounce``)."""
+        self._pending[horizon].append((time, float(position[0]), float(position[1]), bounce))
 
     def observe(self, time: float, position: Sequence[float], tolerance: float) -> None:
         """Score the predictions for about ``time`` against a sighting."""
@@ -148,8 +157,11 @@ class Residuals:
             while queue and queue[0][0] < time - tolerance:
                 queue.popleft()
             while queue and abs(queue[0][0] - time) <= tolerance:
-                _, x, y = queue.popleft()
-                self._errors[h].append(math.hypot(x - position[0], y - position[1]))
+                _, x, y, bounce = queue.popleft()
+                error = math.hypot(x - position[0], y - position[1])
+                self._errors[h].append(error)
+                if bounce:
+                    self._bounces[h].append(error)
 
     def rms(self, horizon: float) -> float:
         """RMS error of the recent predictions at ``horizon`` (0 before any)."""
@@ -158,11 +170,12 @@ class Residuals:
             return 0.0
         return math.sqrt(sum(v * v for v in e) / len(e))
 
-    def sigma(self, horizon: float, prior: float) -> float:
+    def sigma(self, horizon: float, prior: float, bounce: bool = False) -> float:
         """The residual the confidence uses: the RMS of the recent scores with each of the
         ``evidence`` scores not yet made counted as an error of ``prior``, or of the
         longest shorter horizon's residual times ``(horizon / shorter)^2`` once that one
-        has its evidence.
+        has its evidence.  For a prediction across a contact (``bounce``), the scores are
+        those of the predictions that foresaw one.
 
         Examples
         --------
@@ -177,13 +190,14 @@ class Residuals:
         >>> round(r.sigma(1.0, prior=0.3), 3)  # the missing two count as 4 x 1 cm
         0.033
         """
-        e = self._errors.get(horizon) or ()
+        errors = self._bounces if bounce else self._errors
+        e = errors.get(horizon) or ()
         missing = max(0, self.evidence - len(e))
-        shorter = [h for h in self._errors
-                   if h < horizon and len(self._errors[h]) >= max(self.evidence, 1)]
+        shorter = [h for h in errors if h < horizon and len(errors[h]) >= max(self.evidence, 1)]
         if missing and shorter:
             h = max(shorter)
-            prior = self.rms(h) * (horizon / h) ** 2
+            kept = errors[h]
+            prior = math.sqrt(sum(v * v for v in kept) / len(kept)) * (horizon / h) ** 2
         n = len(e) + missing
         return math.sqrt((sum(v * v for v in e) + missing * prior * prior) / n) if n else 0.0
 
@@ -228,45 +242,54 @@ class Predictor:
 
     def predict(self, world: World, body: str, position: Sequence[float],
                 velocity: Sequence[float], estimates: Mapping[str, tuple[float, float]],
-                *, velocity_std: float = 0.0) -> Prediction:
-        """Predict ``body`` from ``position`` and ``velocity``.
+                *, velocity_std: float = 0.0, slip: Sequence[float] = (0.0, 0.0),
+                since: float = 0.0) -> Prediction:
+        """Predict ``body`` from ``position`` and ``velocity`` (and, for a ball with spin,
+        ``slip``), which it had ``since`` seconds before the world's time.
 
         ``estimates`` maps ball parameters (``restitution``, ``friction``,
-        ``rolling_resistance``) to ``(mean, std)``; ``velocity_std`` is the
-        velocity estimate's standard deviation (m/s), drawn into the ensemble
-        as speed and heading when the speed is more than twice it.
+        ``rolling_resistance``, and ``floor_friction`` and ``drag`` where they are
+        estimated) to ``(mean, std)``; ``velocity_std`` is the velocity estimate's
+        standard deviation (m/s), drawn into the ensemble as speed and heading when the
+        speed is more than twice it.  The horizons count from the world's time.
         """
-        if math.hypot(velocity[0], velocity[1]) < REST_SPEED:
+        if math.hypot(velocity[0], velocity[1]) < REST_SPEED and math.hypot(*slip) < REST_SPEED:
             return self._at_rest(world, body, position, estimates)
         started = time.perf_counter()
-        out = self._predict(world, body, position, velocity, estimates, velocity_std)
+        out = self._predict(world, body, position, velocity, estimates, velocity_std,
+                            (float(slip[0]), float(slip[1])), max(0.0, float(since)))
         self.wall_s += time.perf_counter() - started
         return out
 
     def _predict(self, world: World, body: str, position: Sequence[float],
                  velocity: Sequence[float], estimates: Mapping[str, tuple[float, float]],
-                 velocity_std: float) -> Prediction:
+                 velocity_std: float, slip: tuple[float, float], since: float) -> Prediction:
         state = world.snapshot()
         scene = world.scene
         robot = scene.robot.name if scene.robot is not None else None
         # the object's own path: the robot, which the rules move, is left out of the fork
         bodies = tuple(
             BodyState(b.name, (float(position[0]), float(position[1])),
-                      (float(velocity[0]), float(velocity[1])), b.angle, 0.0)
+                      (float(velocity[0]), float(velocity[1])), b.angle, 0.0, slip)
             if b.name == body else b for b in state.bodies if b.name != robot)
-        start = replace(state, bodies=bodies, command=(0.0, 0.0, 0.0))
+        lead = int(round(since / world.dt))  # whole steps before the world's time
+        start = replace(state, bodies=bodies, command=(0.0, 0.0, 0.0),
+                        time=state.time - lead * world.dt, step=state.step - lead)
         ball = next(b for b in scene.balls if b.name == body)
         changes = {}
         for key, (mean, _) in estimates.items():
             if key == "restitution":
                 changes[key] = min(max(mean, 0.0), 1.0)
-            elif key in ("friction", "rolling_resistance"):
+            elif key in FITTED and (key != "floor_friction" or ball.floor_friction is not None):
                 changes[key] = max(mean, 0.0)
-        nominal_ball = replace(ball, **changes)  # type: ignore[arg-type]
+        nominal_ball = ball.with_parameters(**changes)
         nominal_scene = replace(scene, robot=None,
                                 balls=tuple(nominal_ball if b.name == body else b
                                             for b in scene.balls))
         fork = world.fork(start, scene=nominal_scene)
+        if lead:  # from when the state was known to the world's time
+            fork.step(lead)
+            self.simulated_s += lead * fork.dt
         steps_per = max(1, int(round((1.0 / 60.0) / fork.dt)))
         n = int(round(self.plan / fork.dt))
         times = [k * fork.dt for k in range(0, n + 1, steps_per)]
@@ -276,7 +299,7 @@ class Predictor:
         if self.members > 0:
             ranges = {}
             for key, (mean, std) in estimates.items():
-                if std > 0:
+                if std > 0 and key in changes:
                     half = math.sqrt(3.0) * std
                     lo, hi = mean - half, mean + half
                     if key == "restitution":
@@ -308,13 +331,13 @@ class Predictor:
         for i, h in enumerate(self.horizons):
             p = path.position_at(t0 + h)
             resid = self.residuals.rms(h)
-            sigma = math.hypot(spread[i], self.residuals.sigma(h, self.catch_radius))
             bounce = any(t0 < c.time <= t0 + h + 1e-9 for c in contacts)
+            sigma = math.hypot(spread[i], self.residuals.sigma(h, self.catch_radius, bounce))
             out.append(HorizonPrediction(h, p, spread[i], resid,
                                          confidence(sigma, self.catch_radius), bounce))
-            self.residuals.expect(h, t0 + h, p)
-        params = {k: float(getattr(nominal_ball, k)) for k in ("restitution", "friction",
-                                                                "rolling_resistance")}
+            self.residuals.expect(h, t0 + h, p, bounce)
+        params = {k: float(v) for k in FITTED
+                  if (v := getattr(nominal_ball, k)) is not None}
         return Prediction(t0, body, tuple(out), contacts, path, params)
 
     def _at_rest(self, world: World, body: str, position: Sequence[float],

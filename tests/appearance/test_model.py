@@ -301,3 +301,35 @@ def test_bad_arguments_to_learn(image, labels, kw, message) -> None:
         model.learn(frame.image if image is None else image, CAMERA,
                     frame.labels if labels is None else labels, **kw)
     assert model.learned == ()
+
+
+def test_relearn_replaces_a_wrong_texel_past_the_gate_and_nothing_else() -> None:
+    # a ghost: the look learned with something in it (a red patch on the wall) that has left
+    renderer = Renderer(SCENE, CAMERA)
+    frame = renderer.render()
+    inner = cv2.erode((frame.labels == LABEL_WALL).view(np.uint8), np.ones((41, 41), np.uint8),
+                      borderType=cv2.BORDER_CONSTANT, borderValue=0)
+    inside = np.argwhere(inner > 0)
+    y, x = (int(v) for v in inside[len(inside) // 2])  # amid 40 px of wall each way
+    patch = (slice(y - 8, y + 8), slice(x - 8, x + 8))
+    wrong = frame.image.copy()
+    wrong[y - 12:y + 12, x - 12:x + 12] = (30, 30, 230)
+    model = AppearanceModel(renderer.surfaces)
+    model.learn(wrong, CAMERA, frame.labels)
+    model.learn(frame.image, CAMERA, frame.labels, rate=0.1, gate=40)  # gated: stays wrong
+    mine = Renderer(SCENE, CAMERA)
+    model.apply(mine)
+    assert np.abs(mine.render().image[patch].astype(int) - (30, 30, 230)).max() < 30
+    before = model.texture("north").image.copy()  # type: ignore[union-attr]
+    spot = np.zeros(frame.labels.shape, bool)
+    spot[y - 16:y + 16, x - 16:x + 16] = True
+    model.learn(frame.image, CAMERA, frame.labels, rate=0.1, gate=40, relearn=spot)
+    model.apply(mine)
+    repaired = mine.render().image[patch].astype(int)
+    assert np.abs(repaired - frame.image[patch].astype(int)).mean() < 6
+    # elsewhere the gate and the rate hold as before: what was learned right barely moves
+    after = model.texture("north").image  # type: ignore[union-attr]
+    seen = model.texture("north").mask  # type: ignore[union-attr]
+    far = seen.copy()
+    far[:, far.shape[1] // 4:] = False
+    assert far.any() and np.abs(after.astype(int) - before.astype(int))[far].max() <= 2

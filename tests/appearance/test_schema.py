@@ -44,6 +44,7 @@ def network(sc: Scenario, reality: str, camera=None) -> SchemaNetwork:
 
 @pytest.mark.parametrize("reality, mode, stage", [
     ("video", "auto", AppearanceStage.STRUCTURE),
+    ("bullet", "auto", AppearanceStage.STRUCTURE),   # another renderer's look is not known either
     ("synthetic", "auto", AppearanceStage.OFF),
     ("synthetic", "on", AppearanceStage.STRUCTURE),
     ("video", "off", AppearanceStage.OFF),

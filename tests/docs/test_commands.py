@@ -48,6 +48,8 @@ SKIPPED: dict[tuple[str, str], str] = {
                                              "tests/sweep runs small sweeps of the same command",
     ("sweeps.md", "dask "): "starts a Dask cluster on other machines",
     ("sweeps.md", "srun "): "starts Dask workers under Slurm",
+    ("mirror.md", "python bench/"): "benchmarks: an hour of PyBullet realities; "
+                                    "tests/reality/test_foreign_bench.py checks its throws",
     ("mirror.md", "adapt run scenarios/"): "whole 640x480 runs, 15-40 s each; tests/mirror runs the "
                                            "same scenarios at 320x240 and tests/runner/test_cli.py "
                                            "runs the main job's command for a few frames",

@@ -6,6 +6,14 @@ import re
 
 import pytest
 
+from adapt.scenario.bullet import (
+    BULLET_KEYS,
+    BULLET_OBJECT_KEYS,
+    BULLET_ROBOT_KEYS,
+    BULLET_SURFACE_KEYS,
+    BULLET_THROW_KEYS,
+    LOOK_KEYS,
+)
 from adapt.scenario.reality import (
     APPEARANCE_KEYS,
     REALITY_ROBOT_KEYS,
@@ -34,6 +42,12 @@ def table_keys(heading: str) -> set[str]:
     ("### `reality.appearance`", APPEARANCE_KEYS),
     ("### `reality.robot`", REALITY_ROBOT_KEYS),
     ("## The video source", VIDEO_KEYS),
+    ("### Keys of `reality` (bullet)", BULLET_KEYS),
+    ("### `reality.floor`, `reality.walls`, `reality.obstacles` (bullet)", BULLET_SURFACE_KEYS),
+    ("### `reality.objects[i]` (bullet)", BULLET_OBJECT_KEYS),
+    ("### `reality.objects[i].throw` (bullet)", BULLET_THROW_KEYS),
+    ("### `reality.look` (bullet)", LOOK_KEYS),
+    ("### `reality.robot` (bullet)", BULLET_ROBOT_KEYS),
 ])
 def test_every_key_is_documented_and_nothing_else(heading: str, keys: tuple[str, ...]) -> None:
     assert table_keys(heading) == set(keys)

@@ -241,12 +241,16 @@ def test_the_baselines_are_a_keyed_collection_the_report_names_kalman_baseline(t
     ball = Ball("ball", radius=0.11, position=(-0.4, 1.6), velocity=(0.4, 0.2),
                 color=(230, 60, 30))
     runner = Runner(sc, source=source(sc, 30, extra=[(4, ball)]), out=tmp_path, outputs=QUIET)
-    assert list(runner.baselines) == ["kalman"] and report_key("kalman") == "baseline"
+    assert list(runner.baselines) == ["kalman", "mapaware"] and report_key("kalman") == "baseline"
     runner.run()
     frames = frames_of(tmp_path)
     followed = [f for f in frames if f["baseline"].get("ball")]
     assert followed and all(set(p) == {"horizon", "position"} for p in followed[-1]["baseline"]["ball"])
+    # the map-aware baseline under its own name, on the same sightings and horizons
+    assert all([p["horizon"] for p in f["mapaware"]["ball"]] ==
+               [p["horizon"] for p in f["baseline"]["ball"]] for f in followed)
     assert "ball" in runner.baselines["kalman"].objects
+    assert "ball" in runner.baselines["mapaware"].objects
 
 
 def test_a_video_runs_as_long_as_its_frames_at_its_own_rate(tmp_path: Path) -> None:

@@ -11,10 +11,11 @@ import yaml
 
 from adapt.imagination.scene import Ball, Floor, Obstacle, RobotSpec, Wall
 from adapt.scenario import TOP_KEYS, OutputSettings, PredictSettings, RealAppearance, RunSettings
+from adapt.scenario import bullet as BU
 from adapt.scenario import reality as R
 from adapt.scenario import run as RUN
 from adapt.scenario import world as W
-from adapt.scenario.bounds import BOUNDS
+from adapt.scenario.bounds import BOUNDS, BULLET_BOUNDS, bullet_bound
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "scenario.md"
 
@@ -35,6 +36,13 @@ TABLES = {
     "`reality.objects[i]`": (R.TRUE_OBJECT_KEYS, None, {}),
     "`reality.objects[i].throw`": (R.THROW_KEYS, None, {}),
     "`reality` with `kind: video`": (R.VIDEO_KEYS, None, {}),
+    "`reality` with `kind: bullet`": (BU.BULLET_KEYS, None, {}),
+    "`reality.floor`, `reality.walls` and `reality.obstacles` (bullet)":
+        (BU.BULLET_SURFACE_KEYS, None, {}),
+    "`reality.objects[i]` (bullet)": (BU.BULLET_OBJECT_KEYS, None, {}),
+    "`reality.objects[i].throw` (bullet)": (BU.BULLET_THROW_KEYS, None, {}),
+    "`reality.look` (bullet)": (BU.LOOK_KEYS, None, {}),
+    "`reality.robot` (bullet)": (BU.BULLET_ROBOT_KEYS, None, {}),
     "`run`": (RUN.RUN_KEYS, RunSettings, {}),
     "`predict`": (RUN.PREDICT_KEYS, PredictSettings, {}),
     "`outputs`": (RUN.OUTPUT_KEYS, OutputSettings, {}),
@@ -97,14 +105,23 @@ def test_documented_defaults_are_the_records_defaults(heading: str) -> None:
     assert checked >= 1, f"no default of {heading} could be compared"
 
 
-#: heading -> the key path its table's keys are under
-PREFIXES = {"Top level": "", "`reality` with `kind: synthetic` (the default)": "reality",
-            "`reality` with `kind: video`": "reality",
-            "`world.objects[i]` (balls)": "world.objects[i]"}
+#: heading -> the key paths its table's keys are under
+PREFIXES = {"Top level": ("",), "`reality` with `kind: synthetic` (the default)": ("reality",),
+            "`reality` with `kind: video`": ("reality",),
+            "`world.objects[i]` (balls)": ("world.objects[i]",),
+            "`reality` with `kind: bullet`": ("reality",),
+            "`reality.floor`, `reality.walls` and `reality.obstacles` (bullet)":
+                ("reality.floor", "reality.walls", "reality.obstacles"),
+            "`reality.objects[i]` (bullet)": ("reality.objects[i]",),
+            "`reality.objects[i].throw` (bullet)": ("reality.objects[i].throw",),
+            "`reality.look` (bullet)": ("reality.look",),
+            "`reality.robot` (bullet)": ("reality.robot",)}
 
 
-def typed_rows() -> dict[str, str]:
-    """Every documented key path -> its type cell."""
+def typed_rows(bullet: bool = False) -> dict[str, str]:
+    """Every documented key path -> its type cell: of the tables of a ``kind: bullet``
+    reality, or (``bullet=False``) of the others (a key both document, ``reality.dt`` say,
+    may be bounded otherwise in each)."""
     out: dict[str, str] = {}
     heading = None
     for line in DOC.read_text(encoding="utf-8").splitlines():
@@ -112,29 +129,35 @@ def typed_rows() -> dict[str, str]:
         if m:
             heading = m.group(1).strip()
             continue
-        if heading in TABLES and line.startswith("| `"):
+        if heading in TABLES and line.startswith("| `") and ("bullet" in heading) == bullet:
             cells = [c.strip() for c in line.strip("|").split("|")]
-            prefix = PREFIXES.get(heading, heading.strip("`"))
-            for key in re.findall(r"`([^`]+)`", cells[0]):
-                out[f"{prefix}.{key}" if prefix else key] = cells[1]
+            for prefix in PREFIXES.get(heading, (heading.strip("`"),)):
+                for key in re.findall(r"`([^`]+)`", cells[0]):
+                    out[f"{prefix}.{key}" if prefix else key] = cells[1]
     return out
 
 
 def test_every_bound_is_documented_in_its_keys_row() -> None:
-    """The type column states each number's bound as adapt/scenario/bounds.py declares it."""
-    rows = typed_rows()
+    """The type column states each number's bound as adapt/scenario/bounds.py declares it
+    (in the tables of a ``kind: bullet`` reality, as it bounds them)."""
+    rows, bullet_rows = typed_rows(), typed_rows(bullet=True)
     for key, bound in BOUNDS.items():
         if ".ranges." in key:  # documented in the ranges row: each end within the key's bounds
             assert key.replace(".ranges.", ".") in BOUNDS
             continue
-        assert key in rows, f"{key} has a bound but no row in docs/scenario.md"
-        assert bound.text in rows[key], (key, rows[key], bound.text)
+        assert key in rows or key in bullet_rows, f"{key} has a bound but no row in docs/scenario.md"
+        if key in rows:
+            assert bound.text in rows[key], (key, rows[key], bound.text)
+    for key, cell in bullet_rows.items():
+        if key in BOUNDS or key in BULLET_BOUNDS:
+            assert bullet_bound(key).text in cell, (key, cell, bullet_bound(key).text)
 
 
 def test_every_documented_number_has_a_bound() -> None:
-    for key, cell in typed_rows().items():
-        if re.search(r"\bnumber|\binteger|\[x, y", cell):
-            assert key in BOUNDS, (key, cell)
+    for bullet in (False, True):
+        for key, cell in typed_rows(bullet).items():
+            if re.search(r"\bnumber|\binteger|\[x, y", cell):
+                assert key in BOUNDS or (bullet and key in BULLET_BOUNDS), (key, cell)
 
 
 def test_the_engine_key_is_documented_with_its_choices_and_default() -> None:

@@ -1,0 +1,124 @@
+"""Which pixels of a fixed camera's recent frames held still.
+
+A background learned from one frame paints whatever moved through it into
+the look (a ball rolling in the first frame leaves a copy of itself on the
+floor, a *ghost*).  :class:`FrameHistory` keeps the last frames of a camera
+that did not move and says, per pixel, whether its colour stayed within a
+gate over them (:meth:`FrameHistory.still`; a moving object changes the
+pixels it crosses), and what the pixel showed most of the time
+(:meth:`FrameHistory.median`: an object that crossed a pixel in less than
+half of the frames is gone from it).  The caller clears the history when the
+camera moves (a camera on a robot that drives).
+
+Examples
+--------
+>>> import numpy as np
+>>> history = FrameHistory(depth=5)
+>>> for k in range(5):
+...     frame = np.full((20, 40, 3), 100, np.uint8)
+...     frame[5:15, 8 * k:8 * k + 8] = 250          # an object crossing the view
+...     history.push(frame)
+>>> bool(history.median()[10, 4, 0] == 100)          # gone from the median
+True
+>>> still = history.still(gate=20.0)
+>>> bool(still[10, 4]), bool(still[2, 4])            # crossed, never crossed
+(False, True)
+>>> history.changed((0, 0, 40, 4), gate=20.0)        # a box the object never entered
+0.0
+"""
+
+from __future__ import annotations
+
+from collections import deque
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from adapt.errors import VisionError
+
+__all__ = ["FrameHistory"]
+
+BBox = tuple[int, int, int, int]
+
+
+class FrameHistory:
+    """The last ``depth`` frames of a camera that has not moved (see the module docstring)."""
+
+    def __init__(self, depth: int) -> None:
+        if depth < 1:
+            raise VisionError(f"depth: expected at least 1 frame, got {depth}")
+        self.depth = depth
+        self._frames: deque[NDArray[np.uint8]] = deque(maxlen=depth)
+
+    def __len__(self) -> int:
+        return len(self._frames)
+
+    def clear(self) -> None:
+        """Forget every frame (the camera moved)."""
+        self._frames.clear()
+
+    def push(self, image: NDArray[np.uint8]) -> None:
+        """Keep ``image`` (a copy) as the newest frame; a frame of another size clears the rest."""
+        if self._frames and self._frames[-1].shape != image.shape:
+            self._frames.clear()
+        self._frames.append(np.array(image, np.uint8, copy=True))
+
+    def _span(self, frames: int | None, box: BBox | None
+              ) -> tuple[NDArray[np.uint8], NDArray[np.uint8]] | None:
+        """Per-pixel minimum and maximum over the newest ``frames`` frames, inside ``box``."""
+        if not self._frames:
+            return None
+        n = len(self._frames) if frames is None else max(1, min(frames, len(self._frames)))
+        recent = list(self._frames)[-n:]
+        if box is not None:
+            x, y, w, h = box
+            hh, ww = recent[0].shape[:2]
+            x0, y0, x1, y1 = max(x, 0), max(y, 0), min(x + w, ww), min(y + h, hh)
+            if x0 >= x1 or y0 >= y1:
+                return None
+            recent = [f[y0:y1, x0:x1] for f in recent]
+        low = recent[0].copy()
+        high = recent[0].copy()
+        for f in recent[1:]:
+            cv2.min(low, f, dst=low)
+            cv2.max(high, f, dst=high)
+        return low, high
+
+    def still(self, gate: float, frames: int | None = None) -> NDArray[np.bool_]:
+        """Pixels whose every channel stayed within ``gate`` grey levels over the newest
+        ``frames`` frames (all kept by default); all False with no frame."""
+        span = self._span(frames, None)
+        if span is None:
+            return np.zeros((0, 0), bool)
+        low, high = span
+        spread = cv2.absdiff(high, low)
+        if spread.ndim == 3:
+            b, g, r = cv2.split(spread)
+            spread = cv2.max(cv2.max(b, g), r)
+        return np.asarray(spread <= gate)
+
+    def changed(self, box: BBox, gate: float, frames: int | None = None) -> float:
+        """The share of ``box``'s pixels that changed by more than ``gate`` over the newest
+        ``frames`` frames (0 for an empty box or history)."""
+        span = self._span(frames, box)
+        if span is None:
+            return 0.0
+        low, high = span
+        spread = cv2.absdiff(high, low)
+        worst = spread.max(axis=2) if spread.ndim == 3 else spread
+        return float(np.count_nonzero(worst > gate)) / float(worst.size)
+
+    def median(self) -> NDArray[np.uint8]:
+        """The per-pixel median of the frames kept (the newest frame for one or two).
+
+        Raises
+        ------
+        VisionError
+            With no frame.
+        """
+        if not self._frames:
+            raise VisionError("no frame to take a median of")
+        if len(self._frames) < 3:
+            return self._frames[-1].copy()
+        return np.asarray(np.median(np.stack(self._frames), axis=0).astype(np.uint8))

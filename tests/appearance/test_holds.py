@@ -1,0 +1,170 @@
+"""Perception that holds on a reality whose look it learns (issue 20, item 2): a ball
+rolling from the first frame seen by a camera outside the arena, a ghost in the learned
+look, a ball that leaves the box its schema was spawned on, and what the summary says
+of a goal's object never seen."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from adapt.runner import Runner
+from adapt.scenario import OutputSettings, loads_scenario
+
+from . import checks as C
+
+QUIET = OutputSettings(report=False, trace=False, video=False, figures=False)
+RULES = C.ROOT / "rules" / "mirror" / "perception.soar"
+
+#: The appearance checks' room (its look unknown to the scenario) seen from outside: the
+#: camera 1.6 m up behind a 12 cm south wall, looking down over it; the ball rolling from
+#: the first frame.
+OUTSIDE = f"""
+seed: 3
+camera: {{fx: 230.0, fy: 230.0, cx: 159.5, cy: 119.5, width: 320, height: 240,
+          position: [0.0, -1.6, 1.6], look_at: [0.0, 1.2, 0.0]}}
+world:
+  floor: {{texture: gravel, tile: 0.8, extent: [-2.5, -1.0, 2.5, 3.0]}}
+  walls:
+    - {{name: north, from: [-2.5, 3.0], to: [2.5, 3.0], height: 1.0, texture: brick, tile: 0.6}}
+    - {{name: east,  from: [2.5, 3.0],  to: [2.5, -1.0], height: 1.0, texture: brick, tile: 0.6}}
+    - {{name: south, from: [2.5, -1.0], to: [-2.5, -1.0], height: 0.12, texture: brick, tile: 0.6}}
+    - {{name: west,  from: [-2.5, -1.0], to: [-2.5, 3.0], height: 1.0, texture: brick, tile: 0.6}}
+  obstacles:
+    - {{name: crate, polygon: [[-1.3, 2.35], [-0.75, 2.35], [-0.75, 2.85], [-1.3, 2.85]], height: 0.4, color: [150, 110, 60]}}
+  objects:
+    - {{name: ball, radius: 0.11, mass: 0.45, color: [230, 60, 30], create: when_seen}}
+reality:
+  camera_offset: [0.01, -0.01, 0.005]
+  camera_offset_deg: [0.5, -0.3, 0.4]
+  appearance: {{brightness: 6, contrast: 1.05, color_shift: [4, 0, -4], gradient: 0.25,
+               blur: 0.6, noise: 2.5, texture_scale: 1.12, texture_phase: [0.23, 0.11],
+               tint: [0.92, 1.0, 1.08]}}
+  objects:
+    - name: ball
+      throw: {{t: 0.0, x: -1.2, y: 0.6, speed: 1.6, heading_deg: 15}}
+goals: [{{name: watch, object: ball}}]
+rules: [{RULES}]
+schemas:
+  scene-background: {{appearance: "on"}}
+run: {{fps: 15, duration: 2.4}}
+"""
+
+
+class Frames:
+    """The frame records' sightings of the ball, beside the truth (evaluation)."""
+
+    def __init__(self) -> None:
+        self.truth: Any = None
+        self.rows: list[dict[str, Any]] = []
+
+    def frame(self, record: Any) -> None:
+        t = self.truth.at(record.index)
+        ball = t.objects.get("ball") if t is not None else None
+        tracked = record.tracked_object("ball")
+        self.rows.append({"t": record.time, "names": [x.name for x in record.tracked],
+                          "truth": None if ball is None else ball.position,
+                          "observed": None if tracked is None else tracked.observed,
+                          "stage": None if record.background is None
+                          else record.background.stage.value})
+
+
+def run(text: str, tmp_path: Path | None = None) -> tuple[dict[str, Any], Frames]:
+    sc = loads_scenario(text, file="outside.yaml", base=C.HERE)
+    rec = Frames()
+    runner = Runner(sc, out=None, seed=sc.seed, outputs=QUIET, listeners=(rec,))
+    rec.truth = runner.truth
+    return runner.run().summary, rec
+
+
+@pytest.fixture(scope="module")
+def outside() -> tuple[dict[str, Any], Frames]:
+    return run(OUTSIDE)
+
+
+def test_a_ball_rolling_from_the_first_frame_is_never_learned_nor_a_ghost(outside) -> None:
+    summary, rec = outside
+    # one schema, for the ball: none spawned on the spot it left, none for anything else
+    names = {n for row in rec.rows for n in row["names"]}
+    assert names == {"ball"}, names
+    assert summary["events"].get("spawned", 0) == 1
+    learned = [row for row in rec.rows if row["stage"] == "learned"]
+    assert learned
+    seen = [row for row in learned if row["observed"] is not None]
+    near = [row for row in seen if math.dist(row["observed"], row["truth"]) < 2 * 0.11]
+    assert len(seen) >= 0.8 * len(learned) and len(near) == len(seen), (len(learned), len(seen))
+    g = summary["goal_objects"]["ball"]
+    assert not g["never_seen"] and g["first_seen_s"] < 1.0 and g["lost"] == 0
+
+
+def test_the_summary_says_a_goals_object_was_never_seen() -> None:
+    # the ball is thrown after the run ends: the goal's object never shows
+    text = OUTSIDE.replace("throw: {t: 0.0,", "throw: {t: 9.0,").replace("duration: 2.4",
+                                                                          "duration: 1.0")
+    summary, rec = run(text)
+    g = summary["goal_objects"]["ball"]
+    assert g["never_seen"] and g["frames_seen"] == 0 and g["unseen_s"] == pytest.approx(1.0)
+    from adapt.cli.run import summary_lines
+
+    assert "the goal's object 'ball' was never seen (1 s)" in summary_lines(summary)
+
+
+def test_a_ghost_in_the_learned_look_is_still_never_spawned_for_and_repaired() -> None:
+    from adapt.frames import Frame
+    from adapt.mirror import Mirror
+    from adapt.reality import open_reality
+    from adapt.scenario import RealityKind, load_scenario
+    from adapt.schemas import SchemaNetwork
+    from adapt.schemas.background import AppearanceStage, SceneBackground
+    from adapt.seeds import Streams
+
+    sc = load_scenario(C.SYNTHETIC)
+    net = SchemaNetwork(Mirror(sc.scene, sc.camera), frame_interval=1 / 15,
+                        models={m.name: m for m in sc.objects}, reality=RealityKind.SYNTHETIC)
+    bg = net.instantiate("scene-background", parameters={"appearance": "on", "learn_every": 2})
+    assert isinstance(bg, SceneBackground)
+    source = open_reality(sc, streams=Streams(sc.seed or 0))
+    try:
+        frames = [f for f, _ in zip(source, range(16))]  # the ball is thrown at 0.6 s: 9 frames
+    finally:
+        source.close()
+    for f in frames[:6]:
+        net.perceive(f)
+    assert bg.stage is AppearanceStage.LEARNED and not [r for r in bg.regions if not r.expected]
+    # a ghost: the look of a patch of floor learned wrong (an object at rest when it was
+    # learned, gone since)
+    labels = net.mirror.render().labels
+    painted = frames[5].image.copy()
+    spot = np.zeros(labels.shape, bool)
+    spot[150:170, 200:225] = True
+    painted[spot] = (30, 30, 220)
+    net.mirror.learn_appearance(painted, labels, relearn=spot)
+    ghost = []
+    for k in range(6, 16):
+        f = frames[k]
+        net.perceive(Frame(f.index, 6 / 15 + (k - 5) / 15, frames[5].image))  # nothing moves
+        found = [r for r in bg.regions if r.bbox[0] < 225 and r.bbox[0] + r.bbox[2] > 200
+                 and r.bbox[1] < 170 and r.bbox[1] + r.bbox[3] > 150]
+        ghost.append(found)
+    assert ghost[0] and all(r.still and not r.expected for found in ghost for r in found)
+    assert not ghost[-1], "the look was repaired where the camera sees floor, still"
+
+
+def test_a_ball_hidden_for_a_while_is_found_again_along_its_path() -> None:
+    # a pillar between the camera and the ball's path hides it for about half a second
+    # (longer than lost_after): found again where its track and its imagined body go,
+    # and never taken for another object
+    pillar = ("    - {name: pillar, polygon: [[0.35, 0.05], [0.75, 0.05], [0.75, 0.3], [0.35, 0.3]], "
+              "height: 0.9, color: [90, 90, 160]}\n")
+    text = OUTSIDE.replace("  objects:\n    - {name: ball", pillar + "  objects:\n    - {name: ball")
+    summary, rec = run(text)
+    names = {n for row in rec.rows for n in row["names"]}
+    assert names == {"ball"}, names
+    g = summary["goal_objects"]["ball"]
+    assert g["lost"] >= 1 and not g["lost_at_end"], g
+    seen = [row for row in rec.rows if row["observed"] is not None]
+    assert all(math.dist(row["observed"], row["truth"]) < 2 * 0.11 for row in seen)
