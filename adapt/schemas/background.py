@@ -84,6 +84,7 @@ from adapt.schemas.percepts import AppearanceStage, BackgroundPercept, FirstLook
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 from adapt.schemas.tracks import RegionTracker
 from adapt.vision.camera_correction import correct_rotation
+from adapt.vision.edges import edge_agreement
 from adapt.vision.homography import corner_error
 from adapt.vision.matching import PreparedImage, prepare
 from adapt.vision.mmd import MMDResult
@@ -149,6 +150,8 @@ class SceneBackground(Schema):
         self.pixel_error = math.nan
         self.correction_deg = 0.0
         self.corrections = 0
+        #: Structure corrections refused because they moved the seams off the image's edges.
+        self.refused_corrections = 0
         self.ms = 0.0
         self._prepared_for: tuple[int, ...] | None = None
         self._background: PreparedImage | None = None
@@ -421,10 +424,24 @@ class SceneBackground(Schema):
                 new = correct_rotation(cam, hom, gain=1.0)
             except VisionError:
                 return False
+            if not self._seams_agree(frame.image, bg.labels, new):
+                # the fitted colours pull the camera off the surfaces' seams in the
+                # image: the pose it has agrees with the frame better than that
+                self.refused_corrections += 1
+                self._structure_errors.clear()
+                return True
             self.correction_deg += cam.angle_to(new)
             self.corrections += 1
             mirror.set_camera(new)
         return False
+
+    def _seams_agree(self, image: NDArray[np.uint8], labels: NDArray[np.integer],
+                     new: "Camera") -> bool:
+        """Whether the render's seams through ``new`` agree with ``image``'s edges at least
+        as well as through the current camera (:func:`~adapt.vision.edges.edge_agreement`)."""
+        here = edge_agreement(image, labels)
+        there = edge_agreement(image, self.network.mirror.renderer.with_camera(new).background.labels)
+        return not there < here  # NaN (no seams in view) says nothing: agree
 
     def _refine(self, frame: "Frame", res: MMDResult) -> None:
         """Once learned: count frames without alignment (re-acquire after too many)
