@@ -187,6 +187,9 @@ def test_a_robot_that_cannot_reach_the_ball_says_so_and_does_not_chase(tmp_path:
     runner, summary = run(sc, tmp_path)
     assert "cannot reach ball in time: not chasing" in summary["writes"]
     assert not summary["intercept"]["caught"]
+    # it may head for an early, tentative plan; once it knows it cannot reach, it stops there
+    path = [f["truth_robot"] for f in frames(tmp_path) if f.get("truth_robot")]
     start = sc.scene.robot.position  # type: ignore[union-attr]
-    end = [f["truth_robot"] for f in frames(tmp_path) if f.get("truth_robot")][-1]
-    assert math.dist(start, end) < 0.02, end
+    assert math.dist(start, path[-1]) < 0.05, path[-1]
+    last_second = path[-int(runner.fps):]
+    assert max(math.dist(last_second[0], p) for p in last_second) < 0.002, last_second
