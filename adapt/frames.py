@@ -29,7 +29,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
-from typing import Iterator, Protocol, runtime_checkable
+from typing import Any, Iterator, Protocol, runtime_checkable
 
 import cv2
 import numpy as np
@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 from adapt.errors import AdaptError, ImageError
 from adapt.files import atomic_path
 
-__all__ = ["Frame", "FrameSource", "Actuator", "VideoSink", "VIDEO_CODECS"]
+__all__ = ["Frame", "FrameSource", "SourceStatus", "Actuator", "VideoSink", "VIDEO_CODECS"]
 
 #: Video containers a :class:`VideoSink` writes, with their codec.
 VIDEO_CODECS = {".mp4": "mp4v", ".avi": "MJPG"}
@@ -87,6 +87,21 @@ class FrameSource(Protocol):
 
     def close(self) -> None:
         """Release what the source holds open."""
+        ...
+
+
+@runtime_checkable
+class SourceStatus(Protocol):
+    """A frame source that reports on itself (a camera: frames dropped, the rate
+    measured); ``stalled`` is True when it ended because no frame came."""
+
+    @property
+    def stalled(self) -> bool:
+        """True when the source ended because it delivered nothing for too long."""
+        ...
+
+    def status(self) -> dict[str, Any]:
+        """JSON values: what the source did (the run's summary keeps them as ``source``)."""
         ...
 
 

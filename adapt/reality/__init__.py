@@ -22,6 +22,8 @@ Modules, one noun each:
   render (tint, lighting, contrast, colour, blur, noise, spin markers);
 * :mod:`~adapt.reality.surfaces` - the real surfaces' texture phase;
 * :mod:`~adapt.reality.video` - a video file or an image sequence;
+* :mod:`~adapt.reality.live` - a camera: a device, a stream URL, or a file
+  played as a camera;
 * :mod:`~adapt.reality.truth` - ground-truth records and the CSV reader;
 * :mod:`~adapt.reality.record` - a synthetic reality written out as an image
   sequence with its truth (how the bundled video scenario was made);
@@ -54,6 +56,7 @@ from __future__ import annotations
 from typing import Iterator, Protocol, runtime_checkable
 
 from adapt.frames import Actuator, Frame
+from adapt.lens import distorted
 from adapt.reality.synthetic import RealRobot, SyntheticSource, draw_parameters
 from adapt.reality.truth import (
     CsvTruth,
@@ -67,7 +70,7 @@ from adapt.reality.truth import (
 )
 from adapt.reality.video import VideoSource
 from adapt.reality.warning import RealityWarning
-from adapt.scenario import Scenario, SyntheticReality
+from adapt.scenario import CameraReality, Scenario, SyntheticReality
 from adapt.seeds import Streams
 
 __all__ = [
@@ -125,7 +128,8 @@ class RealitySource(Protocol):
 def open_reality(scenario: Scenario, *, streams: Streams) -> RealitySource:
     """The reality source of a scenario.
 
-    A synthetic reality draws its true parameters from ``streams``; a video
+    A synthetic reality draws its true parameters from ``streams`` and shows its
+    images through the scenario's lens (``camera.distortion``); a video
     opens its file (or lists its images) and reads its ground truth now, so
     that bad input fails before a run starts.
 
@@ -137,7 +141,14 @@ def open_reality(scenario: Scenario, *, streams: Streams) -> RealitySource:
         rate.
     GroundTruthError
         A ground-truth file with a bad header or row.
+    ScenarioError
+        A camera that cannot be opened, states no frame rate, or gives images of
+        another size (at the position of ``reality.device``).
     """
-    if isinstance(scenario.reality, SyntheticReality):
-        return SyntheticSource(scenario, streams=streams)
+    if isinstance(scenario.reality, SyntheticReality):  # seen through the camera's lens
+        return distorted(SyntheticSource(scenario, streams=streams), scenario.lens)  # type: ignore[return-value]
+    if isinstance(scenario.reality, CameraReality):
+        from adapt.reality.live import CameraSource
+
+        return CameraSource.from_scenario(scenario)
     return VideoSource.from_scenario(scenario)

@@ -57,11 +57,13 @@ from adapt.errors import ScenarioError
 from adapt.files import Inputs
 from adapt.geometry import Camera
 from adapt.imagination.scene import SceneSpec
+from adapt.lens import Lens
 from adapt.scenario.inputs import scenario_inputs
 from adapt.scenario.nodes import Override, join  # noqa: F401  (re-exported)
 from adapt.scenario.records import (
     CameraMount,
     CameraOffset,
+    CameraReality,
     Creation,
     Goal,
     GoalKind,
@@ -105,6 +107,7 @@ __all__ = [
     "RobotTruth",
     "SyntheticReality",
     "VideoReality",
+    "CameraReality",
     "Reality",
     "Goal",
     "GoalKind",
@@ -154,6 +157,9 @@ class Scenario:
         The position of every key path read.
     appearance : Path or None
         ``world.appearance``: a folder of learned surface looks to start from.
+    lens : Lens or None
+        The camera's lens distortion (``camera.distortion`` or ``camera.calibration``);
+        frames are undistorted before perception sees them.
     """
 
     path: Path | None
@@ -172,6 +178,7 @@ class Scenario:
     outputs: OutputSettings = field(default_factory=OutputSettings)
     sources: Mapping[str, Source] = field(default_factory=lambda: MappingProxyType({}))
     appearance: Path | None = None
+    lens: Lens | None = None
 
     def where(self, path: str) -> Source:
         """The position of a key path (the nearest enclosing one that was read).
@@ -273,7 +280,7 @@ class _Reader(RunReader):
 
         scene, models = self.world(top["world"][1], "world")
         appearance = self.world_appearance(top["world"][1], "world")
-        camera, mount = self.camera(top["camera"][1], "camera", scene.robot)
+        camera, mount, lens = self.camera_and_lens(top["camera"][1], "camera", scene.robot)
         reality = self.reality(section("reality"), "reality", models, scene.robot)  # type: ignore[arg-type]
         goals = self.goals(top["goals"][1], "goals", models) if section("goals") else ()
         rules = self.rules(top["rules"][1], "rules") if section("rules") else ()
@@ -299,4 +306,5 @@ class _Reader(RunReader):
             reality=reality, goals=goals, rules=rules, engine=engine, schemas=schemas, run=run,
             predict=predict,
             outputs=outputs, sources=MappingProxyType(dict(self.sources)), appearance=appearance,
+            lens=lens,
         )

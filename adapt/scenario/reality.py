@@ -2,7 +2,8 @@
 
 ``kind: synthetic`` (the default, also when the section is absent) describes
 a ground-truth world that differs from the imagination as reality does;
-``kind: video`` names a video file or an image sequence.  See
+``kind: video`` names a video file or an image sequence; ``kind: camera`` a
+camera (read by :mod:`adapt.scenario.device`).  See
 ``docs/scenario.md`` for every key and its default.
 """
 
@@ -16,9 +17,11 @@ from typing import Any, Callable
 import yaml
 
 from adapt.imagination.scene import Ball, RobotSpec
+from adapt.scenario.device import read_camera_reality
 from adapt.scenario.nodes import Node, join
 from adapt.scenario.records import (
     CameraOffset,
+    CameraReality,
     Creation,
     ObjectModel,
     Range,
@@ -61,7 +64,7 @@ class RealityReader(WorldReader):
     """The ``reality`` section (on top of the world reader)."""
 
     def reality(self, node: Node | None, path: str, models: tuple[ObjectModel, ...],
-                robot: RobotSpec | None) -> SyntheticReality | VideoReality:
+                robot: RobotSpec | None) -> SyntheticReality | VideoReality | CameraReality:
         """Read ``reality`` (``node`` None: the default synthetic reality)."""
         if node is None:
             return self.default_reality(models, Source(self.file, 1, 1, path, self.line_text(1)))
@@ -72,6 +75,8 @@ class RealityReader(WorldReader):
                                            [k.value for k in RealityKind]))
         if kind is RealityKind.VIDEO:
             return self.video(node, path)
+        if kind is RealityKind.CAMERA:
+            return read_camera_reality(self, node, path)
         return self.synthetic(node, path, models, robot)
 
     def default_reality(self, models: tuple[ObjectModel, ...], source: Source) -> SyntheticReality:

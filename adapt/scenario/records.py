@@ -50,6 +50,7 @@ __all__ = [
     "RobotTruth",
     "SyntheticReality",
     "VideoReality",
+    "CameraReality",
     "Reality",
     "Goal",
     "GoalKind",
@@ -237,6 +238,7 @@ class RealityKind(enum.Enum):
 
     SYNTHETIC = "synthetic"
     VIDEO = "video"
+    CAMERA = "camera"
 
 
 @dataclass(frozen=True, slots=True)
@@ -426,7 +428,29 @@ class VideoReality:
     kind: RealityKind = RealityKind.VIDEO
 
 
-Reality = SyntheticReality | VideoReality
+@dataclass(frozen=True, slots=True)
+class CameraReality:
+    """Frames from a camera: a device, a stream URL, or a video file played as a camera.
+
+    Attributes
+    ----------
+    device : int or str
+        A device index (``0``), a stream URL (``rtsp://...``) or a video file's path
+        (resolved relative to the scenario).
+    fps : float or None
+        The frame rate the run assumes (None: the camera's stated rate).
+    stall_s : float
+        Seconds without a frame after which the camera has stalled and the run ends.
+    """
+
+    device: int | str
+    fps: float | None
+    stall_s: float
+    source: Source = UNKNOWN
+    kind: RealityKind = RealityKind.CAMERA
+
+
+Reality = SyntheticReality | VideoReality | CameraReality
 
 
 # -- goals, rules, schemas ------------------------------------------------------------
