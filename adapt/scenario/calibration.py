@@ -246,7 +246,7 @@ class _Calibration:
         if not any((r, c) == s or (s[0] == 0 and min(r, c) == 1 and max(r, c) == s[1])
                    for s in shapes):
             want = " or ".join(f"{a}x{b}" if a else f"1x{b}" for a, b in shapes)
-            raise self.error(v, name, f"expected a {want} matrix, got {r}x{c}")
+            raise self.error(m["rows"], name, f"expected a {want} matrix, got {r}x{c}")
         if len(values) != r * c:
             raise self.error(data, f"{name}.data", f"expected {r * c} numbers ({r}x{c}), got "
                              f"{len(values)}")

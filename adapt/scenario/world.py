@@ -209,8 +209,10 @@ class WorldReader(NodeReader):
     def distortion(self, node: Node, path: str) -> tuple[float, ...]:
         """``[k1, k2, p1, p2]``, ``+ [k3]`` or ``+ [k3, k4, k5, k6]`` (OpenCV's order)."""
         if not isinstance(node, yaml.SequenceNode) or len(node.value) not in DISTORTION_LENGTHS:
+            got = (f"{len(node.value)} values" if isinstance(node, yaml.SequenceNode)
+                   else self.describe(node))
             raise self.error(node, path, "expected [k1, k2, p1, p2, k3] (4, 5 or 8 numbers in "
-                             f"OpenCV's order), got {self.describe(node)}")
+                             f"OpenCV's order), got {got}")
         return tuple(self.number(v, join(path, i)) for i, v in enumerate(node.value))
 
     # -- the world ----------------------------------------------------------------------------
