@@ -127,7 +127,7 @@ ALLOWED = {
                "adapt.files", "adapt.native"),
     "kalman.py": (),
     "seeds.py": (),
-    "frames.py": ("adapt.errors", "adapt.files"),
+    "frames.py": ("adapt.errors", "adapt.files", "adapt.native"),
     # the lens: a calibration's numbers and the maps that undistort frames
     "lens.py": ("adapt.errors", "adapt.frames"),
     # scenario: of the engine, only its interface (the engine names a scenario's engine: takes)

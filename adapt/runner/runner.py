@@ -309,7 +309,8 @@ class Runner:
         if self.trace is not None:
             self.listeners.append(self.trace)
         if "video" in paths:
-            self.video = VideoOutput(paths["video"], self.fps, self.source.size)
+            self.video = VideoOutput(paths["video"], self.fps, self.source.size,
+                                     self.outputs.video_codec)
             self.listeners.append(self.video)
         if "figures" in paths:
             self.figures = FigureCollector(fps=self.fps, evaluation=self.evaluation,

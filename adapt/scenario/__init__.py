@@ -82,6 +82,7 @@ from adapt.scenario.records import (
     SyntheticReality,
     Throw,
     TrueObject,
+    VideoCodec,
     VideoReality,
 )
 from adapt.scenario.run import RunReader
@@ -108,6 +109,7 @@ __all__ = [
     "SyntheticReality",
     "VideoReality",
     "CameraReality",
+    "VideoCodec",
     "Reality",
     "Goal",
     "GoalKind",

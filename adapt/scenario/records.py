@@ -51,6 +51,7 @@ __all__ = [
     "SyntheticReality",
     "VideoReality",
     "CameraReality",
+    "VideoCodec",
     "Reality",
     "Goal",
     "GoalKind",
@@ -566,13 +567,24 @@ class PredictSettings:
     source: Source = UNKNOWN
 
 
+class VideoCodec(enum.Enum):
+    """How ``mmd.mp4`` is encoded."""
+
+    #: VP9 in MP4: browsers (and the trace viewer) play it; slow to encode.
+    VP9 = "vp9"
+    #: MPEG-4 Part 2: about 30 times faster to encode; browsers do not play it.
+    MPEG4 = "mpeg4"
+
+
 @dataclass(frozen=True, slots=True)
 class OutputSettings:
-    """Which outputs ``adapt run`` writes into its output folder."""
+    """Which outputs ``adapt run`` writes into its output folder (``video_codec``: how
+    ``mmd.mp4`` is encoded)."""
 
     report: bool = True
     trace: bool = True
     video: bool = True
     figures: bool = True
     trace_level: int = 4
+    video_codec: VideoCodec = VideoCodec.VP9
     source: Source = UNKNOWN
