@@ -6,6 +6,7 @@ import re
 
 import pytest
 
+from adapt.scenario.device import CAMERA_REALITY_KEYS
 from adapt.scenario.reality import (
     APPEARANCE_KEYS,
     REALITY_ROBOT_KEYS,
@@ -34,6 +35,7 @@ def table_keys(heading: str) -> set[str]:
     ("### `reality.appearance`", APPEARANCE_KEYS),
     ("### `reality.robot`", REALITY_ROBOT_KEYS),
     ("## The video source", VIDEO_KEYS),
+    ("## The camera source", CAMERA_REALITY_KEYS),
 ])
 def test_every_key_is_documented_and_nothing_else(heading: str, keys: tuple[str, ...]) -> None:
     assert table_keys(heading) == set(keys)

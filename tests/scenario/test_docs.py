@@ -11,6 +11,7 @@ import yaml
 
 from adapt.imagination.scene import Ball, Floor, Obstacle, RobotSpec, Wall
 from adapt.scenario import TOP_KEYS, OutputSettings, PredictSettings, RealAppearance, RunSettings
+from adapt.scenario import device as D
 from adapt.scenario import reality as R
 from adapt.scenario import run as RUN
 from adapt.scenario import world as W
@@ -34,6 +35,7 @@ TABLES = {
     "`reality.objects[i]`": (R.TRUE_OBJECT_KEYS, None, {}),
     "`reality.objects[i].throw`": (R.THROW_KEYS, None, {}),
     "`reality` with `kind: video`": (R.VIDEO_KEYS, None, {}),
+    "`reality` with `kind: camera`": (D.CAMERA_REALITY_KEYS, None, {}),
     "`run`": (RUN.RUN_KEYS, RunSettings, {}),
     "`predict`": (RUN.PREDICT_KEYS, PredictSettings, {}),
     "`outputs`": (RUN.OUTPUT_KEYS, OutputSettings, {}),
