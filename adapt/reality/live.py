@@ -12,8 +12,9 @@ Each frame's time is the **source's timestamp** (``CAP_PROP_POS_MSEC``)
 from the first frame's, while the source gives increasing timestamps; a
 device that gives none is timed by the wall clock from the first frame
 (the status says which clock).  The frame rate is the device's stated one
-unless the scenario gives ``reality.fps``; the rate the frames really came
-at is **measured** and reported.
+unless the scenario gives ``reality.fps``; the rate the camera really
+delivered frames at (every frame read, dropped or not) is **measured** from
+their timestamps and reported.
 
 A source that delivers no frame for ``reality.stall_s`` seconds has
 **stalled**: iteration ends, :attr:`CameraSource.stalled` is set and the
@@ -117,7 +118,7 @@ class CameraSource:
         self._first_ms: float | None = None
         self._last_ms: float | None = None
         self._wall0: float | None = None
-        self._times: list[float] = []
+        self._timed: tuple[int, float, float] | None = None  # frames the reader read, first, last time
         self._thread: threading.Thread | None = None
         try:
             stated = float(capture.get(cv2.CAP_PROP_FPS))
@@ -230,14 +231,15 @@ class CameraSource:
         self.close()
 
     def status(self) -> dict[str, Any]:
-        """How the camera did: frames read and delivered, dropped, the measured rate, the
-        clock, why it stopped (``stalled``, ``end-of-stream``, or None while running)."""
+        """How the camera did: frames read and delivered, dropped, the rate it delivered
+        frames at (measured over the frames read after the first), the clock, why it stopped
+        (``stalled``, ``end-of-stream``, ``frames-done``, or None while running)."""
         with self._cond:
-            times = list(self._times)
+            timed = self._timed
             read, dropped, delivered = self._read, self._dropped, self._delivered
         measured = None
-        if len(times) > 1 and times[-1] > times[0]:
-            measured = round((len(times) - 1) / (times[-1] - times[0]), 2)
+        if timed is not None and timed[0] > 1 and timed[2] > timed[1]:
+            measured = round((timed[0] - 1) / (timed[2] - timed[1]), 2)
         return {"device": self._where, "fps": self._fps, "fps_stated": self._stated,
                 "fps_measured": measured, "clock": "source" if self._source_clock else "wall",
                 "frames_read": read, "frames_delivered": delivered, "frames_dropped": dropped,
@@ -291,7 +293,10 @@ class CameraSource:
                 last = now
                 if not self._live:
                     self._pace(got[1])
+                stamp = got[1] / 1000.0 if math.isfinite(got[1]) and got[1] > 0 else now
                 with self._cond:
+                    n, first, _ = self._timed or (0, stamp, stamp)
+                    self._timed = (n + 1, first, stamp)
                     if self._pending is not None:
                         self._dropped += 1
                     self._pending = got
@@ -352,9 +357,6 @@ class CameraSource:
                 self._pending = None
                 self._delivered += 1
                 t = max(self._time(ms, self._clock()), last_t)
-                self._times.append(t)
-                if len(self._times) > 4096:
-                    del self._times[:2048]
             last_t = t
             yield Frame(index, t, image)
             index += 1

@@ -97,6 +97,7 @@ def test_a_slow_loop_drops_frames_and_they_are_counted(tmp_path: Path) -> None:
     assert status["frames_read"] == 30
     assert status["frames_delivered"] == len(frames) < 20
     assert status["frames_dropped"] == 30 - len(frames)
+    assert status["fps_measured"] == pytest.approx(50.0, rel=0.01)  # the camera's rate, not the loop's
     # each frame's time is its own timestamp, and the grey level says which frame it was
     for f in frames:
         assert f.time == pytest.approx(round(int(f.image[0, 0, 0]) / 8) / 50, abs=1e-6)
