@@ -9,8 +9,8 @@ repeated timings, each beside a peer timed in the same process:
 * making the maps once (``cv2.initUndistortRectifyMap``), and the distorted view of a
   synthetic reality (the inverse maps, made once, then ``cv2.remap``);
 * writing one ``mmd.mp4`` frame (three 640x480 panels and the caption bar: 1920x496, moving,
-  with sensor noise) as VP9 (``vp09``, the default: browsers play it) and as MPEG-4 Part 2
-  (``mp4v``).
+  with sensor noise) as VP9 (``vp09``: browsers play it) and as MPEG-4 Part 2 (``mp4v``,
+  the default).  Encoding VP9 is slower still on a run's real panels (``docs/performance.md``).
 
 ``--json`` prints the figures as JSON.  Timings on the shared machine are noisy: read the
 ratios against the peers.
@@ -114,7 +114,7 @@ def main() -> None:
     print(f"  a synthetic reality's lens: per frame        {f['distort_ms']:8.2f} ms "
           f"(its maps once: {f['distort_maps_once_ms']:.0f} ms)")
     print(f"mmd.mp4 at 1920x496 (three 640x480 panels), {args.video_frames} frames")
-    for codec, name in (("vp09", "VP9 (default, browsers play it)"), ("mp4v", "MPEG-4 Part 2")):
+    for codec, name in (("vp09", "VP9 (browsers play it)"), ("mp4v", "MPEG-4 Part 2 (the default)")):
         print(f"  {name:<34} {f[f'{codec}_ms_per_frame']:8.1f} ms a frame, "
               f"{f[f'{codec}_kb_per_frame']:6.1f} kB a frame")
     print(f"  ratio VP9 / MPEG-4                           "

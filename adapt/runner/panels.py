@@ -103,7 +103,7 @@ class VideoOutput:
     """``mmd.mp4``, a listener on the frame records (written atomically: :class:`VideoSink`)."""
 
     def __init__(self, path: str | os.PathLike[str], fps: float, size: tuple[int, int],
-                 codec: VideoCodec = VideoCodec.VP9) -> None:
+                 codec: VideoCodec = VideoCodec.MPEG4) -> None:
         self.path = Path(path)
         self.fps = fps
         self.size = size

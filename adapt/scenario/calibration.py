@@ -52,7 +52,7 @@ Examples
 >>> read_calibration(d / "bad.yaml")
 Traceback (most recent call last):
 ...
-adapt.errors.ScenarioError: .../bad.yaml:3:16: camera_matrix: expected a 3x3 matrix, got 2x3
+adapt.errors.ScenarioError: .../bad.yaml:3:23: camera_matrix: expected a 3x3 matrix, got 2x3
 ...
 """
 

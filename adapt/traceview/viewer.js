@@ -566,7 +566,7 @@
     video.src = VIDEO.src;
     video.addEventListener("error", () => {
       document.getElementById("video-note").textContent = "this browser cannot play " + VIDEO.src +
-        " (adapt writes VP9 in MP4; a run with outputs.video_codec: mpeg4 is not playable in a browser)";
+        " (browsers play it when the run wrote it as VP9: outputs.video_codec: vp9)";
     });
     video.addEventListener("timeupdate", () => {  // playing moves the selection along
       if (video.paused || !VIDEO.fps) return;

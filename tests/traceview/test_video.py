@@ -1,5 +1,6 @@
-"""A run's ``mmd.mp4`` in the trace viewer: VP9 in MP4, linked from the page, played by a
-browser (headless Chromium) and kept at the selected frame."""
+"""A run's ``mmd.mp4`` in the trace viewer: VP9 in MP4 when the scenario asks
+(``outputs.video_codec: vp9``), linked from the page, played by a browser (headless Chromium)
+and kept at the selected frame; MPEG-4 by default."""
 
 from __future__ import annotations
 
@@ -24,7 +25,8 @@ SMALL = ["--set", "camera.width=160", "--set", "camera.height=120", "--set", "ca
 def run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("run") / "run"
     proc = subprocess.run([sys.executable, "-m", "adapt", "run", "scenarios/bouncing-ball.yaml",
-                           "--max-frames", "8", "--out", str(out), "--no-figures", "--quiet", *SMALL],
+                           "--max-frames", "8", "--out", str(out), "--no-figures", "--quiet", *SMALL,
+                           "--set", "outputs.video_codec=vp9"],
                           cwd=ROOT, capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
     return out
@@ -78,3 +80,21 @@ def test_a_browser_plays_the_video_at_the_selected_frame(run: Path, page) -> Non
     shown = page.evaluate("document.getElementById('mmd-video').currentTime")
     assert shown == pytest.approx((frame + 0.5) / 30, abs=1e-3)
     assert not page.errors  # type: ignore[attr-defined]
+
+
+def test_the_default_video_is_mpeg4_and_vp9_is_asked_for(tmp_path: Path) -> None:
+    import numpy as np
+
+    from adapt.frames import VideoSink
+    from adapt.runner.panels import VideoOutput
+    from adapt.scenario import OutputSettings, VideoCodec
+
+    assert OutputSettings().video_codec is VideoCodec.MPEG4 and VideoOutput(tmp_path / "a.mp4", 10.0,
+                                                                            (8, 8)).codec is VideoCodec.MPEG4
+    for codec, tag in (("mp4v", b"mp4v"), ("vp09", b"vp09")):
+        with VideoSink(tmp_path / f"{codec}.mp4", 10.0, (64, 48), codec=codec) as sink:
+            sink.write(np.zeros((48, 64, 3), np.uint8))
+        assert tag in (tmp_path / f"{codec}.mp4").read_bytes()
+    with VideoSink(tmp_path / "d.mp4", 10.0, (64, 48)) as sink:
+        sink.write(np.zeros((48, 64, 3), np.uint8))
+    assert sink.codec == "mp4v"
