@@ -104,6 +104,32 @@ def test_a_slow_loop_drops_frames_and_they_are_counted(tmp_path: Path) -> None:
     assert max(np.diff([f.time for f in frames])) > 0.05  # the gaps are where frames dropped
 
 
+def test_a_stream_served_over_http_is_read_as_a_url_and_stalls_when_it_ends(tmp_path: Path) -> None:
+    import functools
+    import http.server
+
+    video(tmp_path / "v.avi", 12, fps=25)
+
+    class Quiet(http.server.SimpleHTTPRequestHandler):
+        def log_message(self, *args: Any) -> None:
+            pass
+
+    server = http.server.ThreadingHTTPServer(
+        ("127.0.0.1", 0), functools.partial(Quiet, directory=str(tmp_path)))
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    try:
+        url = f"http://127.0.0.1:{server.server_address[1]}/v.avi"
+        source = CameraSource.open(url, size=SIZE, stall_s=0.4)
+        frames = list(source)
+    finally:
+        server.shutdown()
+    status = source.status()
+    assert status["frames_read"] == 12 == len(frames) + status["frames_dropped"]
+    assert status["fps_stated"] == 25.0 and status["clock"] == "source"
+    # a URL is live: when it gives no more frames, it has stalled (it cannot tell an end)
+    assert source.stalled and status["stopped"] == "stalled"
+
+
 def test_a_camera_that_stops_delivering_has_stalled() -> None:
     cap = FakeCapture(4, then="block")
     source = CameraSource(cap, where="camera 0", size=SIZE, stall_s=0.3)
