@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
 from adapt.files import Input, Inputs
-from adapt.scenario.records import CameraReality, SyntheticReality, VideoReality
+from adapt.scenario.records import CameraReality, VideoReality
 
 if TYPE_CHECKING:
     from adapt.scenario import Scenario
@@ -57,7 +57,7 @@ def scenario_files(sc: "Scenario") -> Iterator[Input]:
     balls.update((m.name, m.ball) for m in sc.objects if m.name not in balls)  # when seen
     textures += [(f"world.objects.{name}.texture", b.texture) for name, b in balls.items()]
     reality = sc.reality
-    if isinstance(reality, SyntheticReality):
+    if reality is not None and not isinstance(reality, (VideoReality, CameraReality)):
         textures += [(f"reality.objects.{o.name}.texture", o.ball.texture)
                      for o in reality.objects]
     for key, texture in textures:
