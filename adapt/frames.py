@@ -10,7 +10,9 @@ perceiving side, which receives only frames, cannot read ground truth.
 
 A :class:`VideoSink` writes frames to a video file atomically: the file
 appears, complete, when the sink is closed; an error or an interrupt leaves
-the previous file (if any) untouched.
+the previous file (if any) untouched.  An ``.mp4`` is MPEG-4 Part 2 (``mp4v``,
+fast) unless ``codec="vp09"`` asks for VP9, which browsers play;
+:attr:`VideoSink.codec` says which codec was used.
 
 Examples
 --------
@@ -19,8 +21,8 @@ Examples
 >>> with VideoSink(out, fps=10, size=(64, 48)) as sink:
 ...     for i in range(3):
 ...         sink.write(np.full((48, 64, 3), 40 * i, np.uint8))
->>> out.exists(), sink.frames
-(True, 3)
+>>> out.exists(), sink.frames, sink.codec
+(True, 3, 'mp4v')
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
-from typing import Iterator, Protocol, runtime_checkable
+from typing import Any, Iterator, Protocol, runtime_checkable
 
 import cv2
 import numpy as np
@@ -37,11 +39,15 @@ from numpy.typing import NDArray
 
 from adapt.errors import AdaptError, ImageError
 from adapt.files import atomic_path
+from adapt.native import native_messages
 
-__all__ = ["Frame", "FrameSource", "Actuator", "VideoSink", "VIDEO_CODECS"]
+__all__ = ["Frame", "FrameSource", "SourceStatus", "Actuator", "VideoSink", "VIDEO_CODECS"]
 
-#: Video containers a :class:`VideoSink` writes, with their codec.
-VIDEO_CODECS = {".mp4": "mp4v", ".avi": "MJPG"}
+#: Video containers a :class:`VideoSink` writes, with their codecs in order of preference:
+#: MPEG-4 Part 2 in MP4 (fast; browsers do not play it), or VP9 in MP4 (``vp09``: browsers
+#: play it, but OpenCV encodes it 4 to 45 times slower; its wheel has no H.264 encoder); Motion
+#: JPEG in AVI.
+VIDEO_CODECS = {".mp4": ("mp4v", "vp09"), ".avi": ("MJPG",)}
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -91,6 +97,21 @@ class FrameSource(Protocol):
 
 
 @runtime_checkable
+class SourceStatus(Protocol):
+    """A frame source that reports on itself (a camera: frames dropped, the rate
+    measured); ``stalled`` is True when it ended because no frame came."""
+
+    @property
+    def stalled(self) -> bool:
+        """True when the source ended because it delivered nothing for too long."""
+        ...
+
+    def status(self) -> dict[str, Any]:
+        """JSON values: what the source did (the run's summary keeps them as ``source``)."""
+        ...
+
+
+@runtime_checkable
 class Actuator(Protocol):
     """A robot in reality that motor schemas can command (absent for a video)."""
 
@@ -102,6 +123,9 @@ class Actuator(Protocol):
 class VideoSink:
     """Writes BGR frames of one size to ``path`` (``.mp4`` or ``.avi``), atomically.
 
+    ``codec`` (a four-character code of :data:`VIDEO_CODECS` for the extension) chooses
+    the codec; by default the first of the extension's that OpenCV can write here.
+
     Raises
     ------
     AdaptError
@@ -111,12 +135,17 @@ class VideoSink:
         For a frame of the wrong size or type.
     """
 
-    def __init__(self, path: str | os.PathLike[str], fps: float, size: tuple[int, int]) -> None:
+    def __init__(self, path: str | os.PathLike[str], fps: float, size: tuple[int, int],
+                 codec: str | None = None) -> None:
         self.path = Path(path)
         ext = self.path.suffix.lower()
         if ext not in VIDEO_CODECS:
             raise AdaptError(f"{str(self.path)!r}: expected a video file name ending in "
                              + " or ".join(VIDEO_CODECS))
+        codecs = VIDEO_CODECS[ext]
+        if codec is not None and codec not in codecs:
+            raise AdaptError(f"{str(self.path)!r}: {ext} video is written as "
+                             + " or ".join(codecs) + f", not {codec!r}")
         if not (fps > 0 and np.isfinite(fps)):
             raise AdaptError(f"video frame rate must be positive, got {fps}")
         self.size = (int(size[0]), int(size[1]))
@@ -125,10 +154,17 @@ class VideoSink:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._atomic = atomic_path(self.path, suffix=ext)
         self._tmp = self._atomic.__enter__()
-        self._writer = cv2.VideoWriter(self._tmp, cv2.VideoWriter_fourcc(*VIDEO_CODECS[ext]),  # type: ignore[attr-defined]
-                                       self.fps, self.size)
         self._closed = False
-        if not self._writer.isOpened():
+        self.codec = ""
+        for fourcc in (codecs if codec is None else (codec,)):
+            with native_messages():  # a codec the build lacks says so on stderr: try the next
+                self._writer = cv2.VideoWriter(self._tmp, cv2.VideoWriter_fourcc(*fourcc),  # type: ignore[attr-defined]
+                                               self.fps, self.size)
+            if self._writer.isOpened():
+                self.codec = fourcc
+                break
+            self._writer.release()
+        if not self.codec:
             self._abort()
             raise AdaptError(f"OpenCV cannot write {ext} video here")
 

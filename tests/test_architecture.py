@@ -129,16 +129,19 @@ ALLOWED = {
     # the map-aware analytic predictor: geometry from the scene's records, nothing else
     "reflection.py": ("adapt.imagination.scene",),
     "seeds.py": (),
-    "frames.py": ("adapt.errors", "adapt.files"),
+    "frames.py": ("adapt.errors", "adapt.files", "adapt.native"),
+    # the lens: a calibration's numbers and the maps that undistort frames
+    "lens.py": ("adapt.errors", "adapt.frames"),
     # scenario: of the engine, only its interface (the engine names a scenario's engine: takes)
     "scenario": ("adapt.scenario", "adapt.imagination", "adapt.geometry", "adapt.errors",
-                 "adapt.files", "adapt.engine.interface"),
+                 "adapt.files", "adapt.engine.interface", "adapt.lens"),
     "schemas": ("adapt.schemas", "adapt.engine", "adapt.vision", "adapt.imagination",
                 "adapt.mirror", "adapt.geometry", "adapt.errors", "adapt.kalman",
                 "adapt.frames", "adapt.scenario"),
     # reality: never the engine or vision (it is what perception looks at, not a perceiver)
     "reality": ("adapt.reality", "adapt.imagination", "adapt.scenario", "adapt.geometry",
-                "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds", "adapt.native"),
+                "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds", "adapt.native",
+                "adapt.lens"),
     # sweep: runs the runner, and checks a grid's cells with the runner's scenario check
     "sweep": ("adapt.sweep", "adapt.runner", "adapt.scenario", "adapt.errors", "adapt.files"),
 }

@@ -196,7 +196,7 @@ def _cmd_diff(args: argparse.Namespace) -> int:
 
 def _cmd_html(args: argparse.Namespace) -> int:
     from adapt.files import Output, check_outputs, write_output
-    from adapt.traceview.html import build_payload, render_page
+    from adapt.traceview.html import page_payload, render_page
 
     trace = _open(args.trace)
     target = args.out if args.out is not None else os.path.splitext(args.trace)[0] + ".html"
@@ -204,7 +204,8 @@ def _cmd_html(args: argparse.Namespace) -> int:
                  (".html", ".htm"))
     check_outputs([out], [("the trace", args.trace)])
     # backslashreplace: a file name that is not UTF-8 (in the header) stays valid UTF-8 in the page
-    write_output(out, render_page(build_payload(trace)).encode("utf-8", "backslashreplace"))
+    # a run's mmd.mp4 beside the trace is shown in the page (linked, not embedded)
+    write_output(out, render_page(page_payload(trace, target)).encode("utf-8", "backslashreplace"))
     print(target)
     return 0
 

@@ -24,6 +24,8 @@ Modules, one noun each:
 * :mod:`~adapt.reality.video` - a video file or an image sequence;
 * :mod:`~adapt.reality.bullet` - a reality on PyBullet (another physics engine
   and renderer; the optional extra ``adapt[bullet]``);
+* :mod:`~adapt.reality.live` - a camera: a device, a stream URL, or a file
+  played as a camera;
 * :mod:`~adapt.reality.truth` - ground-truth records and the CSV reader;
 * :mod:`~adapt.reality.record` - a synthetic reality written out as an image
   sequence with its truth (how the bundled video scenario was made);
@@ -56,6 +58,7 @@ from __future__ import annotations
 from typing import Iterator, Protocol, runtime_checkable
 
 from adapt.frames import Actuator, Frame
+from adapt.lens import distorted
 from adapt.reality.synthetic import RealRobot, SyntheticSource, draw_parameters
 from adapt.reality.truth import (
     CsvTruth,
@@ -69,7 +72,7 @@ from adapt.reality.truth import (
 )
 from adapt.reality.video import VideoSource
 from adapt.reality.warning import RealityWarning
-from adapt.scenario import BulletReality, Scenario, SyntheticReality
+from adapt.scenario import BulletReality, CameraReality, Scenario, SyntheticReality
 from adapt.seeds import Streams
 
 __all__ = [
@@ -127,7 +130,8 @@ class RealitySource(Protocol):
 def open_reality(scenario: Scenario, *, streams: Streams) -> RealitySource:
     """The reality source of a scenario.
 
-    A synthetic reality draws its true parameters from ``streams``; a video
+    A synthetic reality draws its true parameters from ``streams`` and shows its
+    images through the scenario's lens (``camera.distortion``); a video
     opens its file (or lists its images) and reads its ground truth now, so
     that bad input fails before a run starts.
 
@@ -142,11 +146,18 @@ def open_reality(scenario: Scenario, *, streams: Streams) -> RealitySource:
     RealityError
         A ``bullet`` reality without PyBullet installed (the message says what to
         install), or one whose drawn camera ends up inside a wall.
+    ScenarioError
+        A camera that cannot be opened, states no frame rate, or gives images of
+        another size (at the position of ``reality.device``).
     """
-    if isinstance(scenario.reality, SyntheticReality):
-        return SyntheticSource(scenario, streams=streams)
+    if isinstance(scenario.reality, SyntheticReality):  # seen through the camera's lens
+        return distorted(SyntheticSource(scenario, streams=streams), scenario.lens)  # type: ignore[return-value]
     if isinstance(scenario.reality, BulletReality):
         from adapt.reality.bullet import BulletSource
 
-        return BulletSource(scenario, streams=streams)
+        return distorted(BulletSource(scenario, streams=streams), scenario.lens)  # type: ignore[return-value]
+    if isinstance(scenario.reality, CameraReality):
+        from adapt.reality.live import CameraSource
+
+        return CameraSource.from_scenario(scenario)
     return VideoSource.from_scenario(scenario)

@@ -26,11 +26,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.frames import VideoSink
+from adapt.scenario import VideoCodec
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.runner.record import FrameRecord
 
-__all__ = ["side_by_side", "panel", "VideoOutput", "CAPTION"]
+__all__ = ["side_by_side", "panel", "VideoOutput", "CAPTION", "FOURCC"]
+
+#: The four-character code of each ``outputs.video_codec`` in an ``.mp4``.
+FOURCC = {VideoCodec.VP9: "vp09", VideoCodec.MPEG4: "mp4v"}
 
 #: Height of the caption bar above the panels, pixels.
 CAPTION = 16
@@ -98,17 +102,20 @@ def panel(record: "FrameRecord") -> NDArray[np.uint8]:
 class VideoOutput:
     """``mmd.mp4``, a listener on the frame records (written atomically: :class:`VideoSink`)."""
 
-    def __init__(self, path: str | os.PathLike[str], fps: float, size: tuple[int, int]) -> None:
+    def __init__(self, path: str | os.PathLike[str], fps: float, size: tuple[int, int],
+                 codec: VideoCodec = VideoCodec.MPEG4) -> None:
         self.path = Path(path)
         self.fps = fps
         self.size = size
+        self.codec = codec
         self.sink: VideoSink | None = None
 
     def frame(self, record: "FrameRecord") -> None:
         """Write the record's panels."""
         if self.sink is None:
             w, h = self.size
-            self.sink = VideoSink(self.path, self.fps, (3 * w, h + CAPTION))
+            fourcc = FOURCC[self.codec] if self.path.suffix.lower() == ".mp4" else None
+            self.sink = VideoSink(self.path, self.fps, (3 * w, h + CAPTION), codec=fourcc)
         self.sink.write(panel(record))
 
     def close(self) -> Path | None:

@@ -53,8 +53,9 @@ import numpy as np
 
 from adapt.errors import AppearanceError, EngineError, RunError
 from adapt.files import FolderLock, Output, check_outputs, lock_folder
-from adapt.frames import Actuator, Frame, FrameSource
+from adapt.frames import Actuator, Frame, FrameSource, SourceStatus
 from adapt.geometry import Camera
+from adapt.lens import undistorted
 from adapt.mirror import Mirror
 from adapt.runner.agent import AGENT_HISTORY, RuleEngine, make_agent
 from adapt.runner.baseline import BaselineSet, default_baselines
@@ -95,6 +96,8 @@ class Stop(enum.Enum):
     INTERRUPTED = "interrupted"
     #: An error ended it (the footer's ``error`` says which).
     ERROR = "error"
+    #: The camera delivered no frame for ``reality.stall_s`` seconds.
+    STALLED = "stalled"
 
 
 @dataclass(frozen=True, slots=True)
@@ -176,7 +179,7 @@ class Runner:
                 from adapt.reality import open_reality
 
                 source = open_reality(scenario, streams=self.streams)
-            self.source = source
+            self.source = undistorted(source, scenario.lens)  # perception sees ideal frames
             self.robot, self.truth = _extras(source)
             self._check_size()
             self.fps = float(source.fps)
@@ -310,7 +313,8 @@ class Runner:
         if self.trace is not None:
             self.listeners.append(self.trace)
         if "video" in paths:
-            self.video = VideoOutput(paths["video"], self.fps, self.source.size)
+            self.video = VideoOutput(paths["video"], self.fps, self.source.size,
+                                     self.outputs.video_codec)
             self.listeners.append(self.video)
         if "figures" in paths:
             self.figures = FigureCollector(fps=self.fps, evaluation=self.evaluation,
@@ -473,6 +477,8 @@ class Runner:
             return Stop.ERROR
         if interrupted:
             return Stop.INTERRUPTED
+        if isinstance(self.source, SourceStatus) and self.source.stalled:
+            return Stop.STALLED
         return Stop.HALT if self.agent.halted else Stop.END_OF_FRAMES
 
     def summary(self, wall: float, interrupted: bool, error: str | None) -> dict[str, Any]:
@@ -485,6 +491,8 @@ class Runner:
             objects=self.network.published(ObjectPercept))
         out.update(self.evaluation.summary())
         out["goal_objects"] = self.sightings.summary()
+        if isinstance(self.source, SourceStatus):
+            out["source"] = self.source.status()
         return out
 
     def _finish(self, wall: float, interrupted: bool, error: str | None) -> RunResult:

@@ -57,6 +57,7 @@ from adapt.errors import ScenarioError
 from adapt.files import Inputs
 from adapt.geometry import Camera
 from adapt.imagination.scene import SceneSpec
+from adapt.lens import Lens
 from adapt.scenario.inputs import scenario_inputs
 from adapt.scenario.nodes import Override, join  # noqa: F401  (re-exported)
 from adapt.scenario.records import (
@@ -67,6 +68,7 @@ from adapt.scenario.records import (
     BulletSurfaces,
     CameraMount,
     CameraOffset,
+    CameraReality,
     Creation,
     Goal,
     GoalKind,
@@ -86,6 +88,7 @@ from adapt.scenario.records import (
     TextureSource,
     Throw,
     TrueObject,
+    VideoCodec,
     VideoReality,
 )
 from adapt.scenario.run import RunReader
@@ -118,6 +121,8 @@ __all__ = [
     "BulletLook",
     "BulletRobot",
     "TextureSource",
+    "CameraReality",
+    "VideoCodec",
     "Reality",
     "Goal",
     "GoalKind",
@@ -167,6 +172,9 @@ class Scenario:
         The position of every key path read.
     appearance : Path or None
         ``world.appearance``: a folder of learned surface looks to start from.
+    lens : Lens or None
+        The camera's lens distortion (``camera.distortion`` or ``camera.calibration``);
+        frames are undistorted before perception sees them.
     """
 
     path: Path | None
@@ -185,6 +193,7 @@ class Scenario:
     outputs: OutputSettings = field(default_factory=OutputSettings)
     sources: Mapping[str, Source] = field(default_factory=lambda: MappingProxyType({}))
     appearance: Path | None = None
+    lens: Lens | None = None
 
     def where(self, path: str) -> Source:
         """The position of a key path (the nearest enclosing one that was read).
@@ -286,7 +295,7 @@ class _Reader(RunReader):
 
         scene, models = self.world(top["world"][1], "world")
         appearance = self.world_appearance(top["world"][1], "world")
-        camera, mount = self.camera(top["camera"][1], "camera", scene.robot)
+        camera, mount, lens = self.camera_and_lens(top["camera"][1], "camera", scene.robot)
         reality = self.reality(section("reality"), "reality", models, scene.robot,  # type: ignore[arg-type]
                                scene=scene, camera=(camera, mount))
         goals = self.goals(top["goals"][1], "goals", models) if section("goals") else ()
@@ -313,6 +322,7 @@ class _Reader(RunReader):
             reality=reality, goals=goals, rules=rules, engine=engine, schemas=schemas, run=run,
             predict=predict,
             outputs=outputs, sources=MappingProxyType(dict(self.sources)), appearance=appearance,
+            lens=lens,
         )
         check_together(scenario)
         return scenario

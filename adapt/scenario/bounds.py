@@ -176,6 +176,7 @@ BOUNDS: dict[str, Bound] = {
     "camera.position": _COORD,
     "camera.look_at": _COORD,
     "camera.roll_deg": _ANGLE,
+    "camera.distortion": _b(-1000.0, 1000.0),  # each coefficient
     "world.dt": _STEP,
     "world.gravity": _ACCEL,
     "world.floor.tile": _SIZE,
@@ -209,6 +210,7 @@ BOUNDS: dict[str, Bound] = {
     "world.robot.height": _SIZE,
     "reality.dt": _STEP,
     "reality.fps": _b(0.1, 1000.0, "frames/s"),
+    "reality.stall_s": _b(0.0, 3600.0, "seconds", low_open=True),
     "reality.camera_offset": _b(-MAX_OFFSET, MAX_OFFSET, "metres"),
     "reality.camera_offset_deg": _b(-180.0, 180.0, "degrees"),
     "reality.appearance.brightness": _GREY,

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
 from adapt.files import Input, Inputs
-from adapt.scenario.records import VideoReality
+from adapt.scenario.records import CameraReality, VideoReality
 
 if TYPE_CHECKING:
     from adapt.scenario import Scenario
@@ -57,7 +57,7 @@ def scenario_files(sc: "Scenario") -> Iterator[Input]:
     balls.update((m.name, m.ball) for m in sc.objects if m.name not in balls)  # when seen
     textures += [(f"world.objects.{name}.texture", b.texture) for name, b in balls.items()]
     reality = sc.reality
-    if reality is not None and not isinstance(reality, VideoReality):
+    if reality is not None and not isinstance(reality, (VideoReality, CameraReality)):
         textures += [(f"reality.objects.{o.name}.texture", o.ball.texture)
                      for o in reality.objects]
     for key, texture in textures:
@@ -65,6 +65,11 @@ def scenario_files(sc: "Scenario") -> Iterator[Input]:
             yield Input(f"{_OWN} {key}", Path(texture))
     if sc.appearance is not None:
         yield Input(f"{_OWN} world.appearance (a learned appearance)", sc.appearance, folder=True)
+    if sc.lens is not None and sc.lens.file is not None:
+        yield Input(f"{_OWN} camera.calibration", Path(sc.lens.file))
+    if isinstance(reality, CameraReality) and isinstance(reality.device, str) \
+            and "://" not in reality.device:
+        yield Input(f"{_OWN} reality.device (a video file)", Path(reality.device))
     if isinstance(reality, VideoReality):
         if reality.pattern is None:
             yield Input(f"{_OWN} reality.path (the video)", reality.path)

@@ -3,7 +3,8 @@
 ``kind: synthetic`` (the default, also when the section is absent) describes
 a ground-truth world that differs from the imagination as reality does;
 ``kind: video`` names a video file or an image sequence; ``kind: bullet`` a
-reality on PyBullet (read by :mod:`adapt.scenario.bullet`).  See
+reality on PyBullet (read by :mod:`adapt.scenario.bullet`); ``kind: camera`` a
+camera (read by :mod:`adapt.scenario.device`).  See
 ``docs/scenario.md`` for every key and its default.
 """
 
@@ -17,11 +18,13 @@ from typing import Any, Callable
 from adapt.geometry import Camera
 from adapt.imagination.scene import Ball, RobotSpec, SceneSpec
 from adapt.scenario.bullet import BulletReader
+from adapt.scenario.device import read_camera_reality
 from adapt.scenario.nodes import Node, join
 from adapt.scenario.records import (
     BulletReality,
     CameraMount,
     CameraOffset,
+    CameraReality,
     Creation,
     ObjectModel,
     Range,
@@ -65,7 +68,7 @@ class RealityReader(BulletReader):
     def reality(self, node: Node | None, path: str, models: tuple[ObjectModel, ...],
                 robot: RobotSpec | None, *, scene: SceneSpec | None = None,
                 camera: tuple[Camera, CameraMount] | None = None
-                ) -> SyntheticReality | VideoReality | BulletReality:
+                ) -> SyntheticReality | VideoReality | BulletReality | CameraReality:
         """Read ``reality`` (``node`` None: the default synthetic reality); a PyBullet
         reality's geometry is checked against ``scene`` and ``camera``."""
         if node is None:
@@ -80,6 +83,8 @@ class RealityReader(BulletReader):
         if kind is RealityKind.BULLET:
             return self.bullet(node, path, models, scene if scene is not None else
                                SceneSpec(robot=robot), camera)
+        if kind is RealityKind.CAMERA:
+            return read_camera_reality(self, node, path)
         return self.synthetic(node, path, models, robot)
 
     def default_reality(self, models: tuple[ObjectModel, ...], source: Source) -> SyntheticReality:

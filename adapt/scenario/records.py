@@ -56,6 +56,8 @@ __all__ = [
     "BulletRobot",
     "BulletReality",
     "TextureSource",
+    "CameraReality",
+    "VideoCodec",
     "Reality",
     "Goal",
     "GoalKind",
@@ -248,6 +250,7 @@ class RealityKind(enum.Enum):
     SYNTHETIC = "synthetic"
     VIDEO = "video"
     BULLET = "bullet"
+    CAMERA = "camera"
 
 
 @dataclass(frozen=True, slots=True)
@@ -556,7 +559,29 @@ class BulletReality:
         raise KeyError(name)
 
 
-Reality = SyntheticReality | VideoReality | BulletReality
+@dataclass(frozen=True, slots=True)
+class CameraReality:
+    """Frames from a camera: a device, a stream URL, or a video file played as a camera.
+
+    Attributes
+    ----------
+    device : int or str
+        A device index (``0``), a stream URL (``rtsp://...``) or a video file's path
+        (resolved relative to the scenario).
+    fps : float or None
+        The frame rate the run assumes (None: the camera's stated rate).
+    stall_s : float
+        Seconds without a frame after which the camera has stalled and the run ends.
+    """
+
+    device: int | str
+    fps: float | None
+    stall_s: float
+    source: Source = UNKNOWN
+    kind: RealityKind = RealityKind.CAMERA
+
+
+Reality = SyntheticReality | VideoReality | BulletReality | CameraReality
 
 
 # -- goals, rules, schemas ------------------------------------------------------------
@@ -672,13 +697,24 @@ class PredictSettings:
     source: Source = UNKNOWN
 
 
+class VideoCodec(enum.Enum):
+    """How ``mmd.mp4`` is encoded."""
+
+    #: MPEG-4 Part 2 (the default): fast to encode; browsers do not play it.
+    MPEG4 = "mpeg4"
+    #: VP9 in MP4: browsers (and the trace viewer) play it; 4 to 45 times slower to encode.
+    VP9 = "vp9"
+
+
 @dataclass(frozen=True, slots=True)
 class OutputSettings:
-    """Which outputs ``adapt run`` writes into its output folder."""
+    """Which outputs ``adapt run`` writes into its output folder (``video_codec``: how
+    ``mmd.mp4`` is encoded)."""
 
     report: bool = True
     trace: bool = True
     video: bool = True
     figures: bool = True
     trace_level: int = 4
+    video_codec: VideoCodec = VideoCodec.MPEG4
     source: Source = UNKNOWN

@@ -25,13 +25,14 @@ from adapt.scenario.records import (
     RuleFile,
     RunSettings,
     SchemaSettings,
+    VideoCodec,
 )
 
 __all__ = ["RunReader", "RUN_KEYS", "PREDICT_KEYS", "OUTPUT_KEYS", "MAX_FRAMES", "MAX_FPS"]
 
 RUN_KEYS = ("fps", "duration", "max_frames", "seed", "decisions_per_frame")
 PREDICT_KEYS = ("horizons", "every", "ensemble", "evidence")
-OUTPUT_KEYS = ("report", "trace", "video", "figures", "trace_level")
+OUTPUT_KEYS = ("report", "trace", "video", "figures", "trace_level", "video_codec")
 
 #: Most frames a scenario may ask for (about 9 hours at 30 frames/s).
 MAX_FRAMES = int(BOUNDS["run.max_frames"].high or 0)
@@ -160,6 +161,8 @@ class RunReader(RealityReader):
             "video": self.boolean,
             "figures": self.boolean,
             "trace_level": self.integer,
+            "video_codec": lambda n, p: VideoCodec(self.choice(n, p, [c.value
+                                                                      for c in VideoCodec])),
         }
         return OutputSettings(**self.fields(node, path, spec), source=self.source(node, path))
 

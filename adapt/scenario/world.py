@@ -16,7 +16,7 @@ from typing import Any, Callable
 
 import yaml
 
-from adapt.errors import ImaginationError
+from adapt.errors import ImaginationError, ScenarioError
 from adapt.geometry import MAX_PIXELS, Camera
 from adapt.imagination.scene import (
     BUILTIN_TEXTURES,
@@ -29,7 +29,9 @@ from adapt.imagination.scene import (
     Wall,
     check_convex_polygon,
 )
+from adapt.lens import DISTORTION_LENGTHS, Lens
 from adapt.scenario.bounds import CHANNEL, bound_of
+from adapt.scenario.calibration import read_calibration
 from adapt.scenario.nodes import Node, NodeReader, join
 from adapt.scenario.records import (
     MODEL_RANGE_PARAMETERS,
@@ -40,11 +42,13 @@ from adapt.scenario.records import (
     Range,
 )
 
-__all__ = ["WorldReader", "CAMERA_KEYS", "WORLD_KEYS", "FLOOR_KEYS", "WALL_KEYS",
+__all__ = ["WorldReader", "CAMERA_KEYS", "CALIBRATED_KEYS", "WORLD_KEYS", "FLOOR_KEYS", "WALL_KEYS",
            "OBSTACLE_KEYS", "OBJECT_KEYS", "ROBOT_KEYS"]
 
 CAMERA_KEYS = ("fx", "fy", "cx", "cy", "width", "height", "position", "look_at", "roll_deg",
-               "mount")
+               "mount", "distortion", "calibration")
+#: The camera keys a calibration file gives (``camera.calibration``).
+CALIBRATED_KEYS = ("fx", "fy", "cx", "cy", "width", "height")
 WORLD_KEYS = ("floor", "walls", "obstacles", "objects", "robot", "gravity", "dt", "appearance")
 FLOOR_KEYS = ("texture", "tile", "color", "extent")
 WALL_KEYS = ("name", "from", "to", "height", "texture", "tile", "color", "restitution", "friction")
@@ -129,6 +133,13 @@ class WorldReader(NodeReader):
 
     def camera(self, node: Node, path: str, robot: RobotSpec | None) -> tuple[Camera, CameraMount]:
         """The camera at its starting pose, and how it is mounted."""
+        camera, mount, _ = self.camera_and_lens(node, path, robot)
+        return camera, mount
+
+    def camera_and_lens(self, node: Node, path: str, robot: RobotSpec | None
+                        ) -> tuple[Camera, CameraMount, Lens | None]:
+        """The camera at its starting pose, how it is mounted, and its lens (None without
+        ``distortion`` or ``calibration``)."""
         num = self.number
         spec: dict[str, Callable[[Node, str], Any]] = {
             "fx": num,
@@ -141,10 +152,33 @@ class WorldReader(NodeReader):
             "look_at": lambda n, p: self.vector(n, p, 3),
             "roll_deg": num,
             "mount": lambda n, p: self.choice(n, p, [m.value for m in Mount]),
+            "distortion": self.distortion,
+            "calibration": lambda n, p: self.existing_file(n, p, "calibration file"),
         }
-        kw = self.fields(node, path, spec,
-                         required=("fx", "fy", "cx", "cy", "width", "height", "position", "look_at"))
         items = self.mapping(node, path)
+        calibrated = "calibration" in items
+        kw = self.fields(node, path, spec, required=("position", "look_at") if calibrated else
+                         ("fx", "fy", "cx", "cy", "width", "height", "position", "look_at"))
+        lens: Lens | None = None
+        if calibrated:
+            for key in (*CALIBRATED_KEYS, "distortion"):
+                if key in items:
+                    raise self.error(items[key][0], join(path, key), "the calibration file "
+                                     "gives the camera's intrinsics and distortion; remove this key")
+            cpath = join(path, "calibration")
+            file = kw.pop("calibration")
+            try:
+                lens = read_calibration(file)
+            except ScenarioError as exc:  # at the file's line, and where the scenario names it
+                named = self.source(items["calibration"][1], cpath)
+                raise ScenarioError(f"{exc.message} (the {cpath} of {named.location})",
+                                    file=exc.file, line=exc.line, col=exc.col,
+                                    source_line=exc.source_line) from None
+            kw["fx"], kw["fy"], kw["cx"], kw["cy"] = lens.intrinsics
+            kw["width"], kw["height"] = lens.size
+        elif "distortion" in kw:
+            lens = Lens.pinhole(kw["fx"], kw["fy"], kw["cx"], kw["cy"],
+                                (kw["width"], kw["height"]), kw.pop("distortion"))
         kind = Mount(kw.pop("mount", Mount.FIXED.value))
         mount = CameraMount(kind, kw["position"], kw["look_at"], kw.get("roll_deg", 0.0),
                             self.source(node, path))
@@ -170,7 +204,17 @@ class WorldReader(NodeReader):
             key = name if sep and name in items else "look_at"
             raise self.error(items[key][1], join(path, key),
                              rest if name == key else str(exc)) from None
-        return camera, mount
+        return camera, mount, lens
+
+    def distortion(self, node: Node, path: str) -> tuple[float, ...]:
+        """``[k1, k2, p1, p2]``, ``+ [k3]`` or ``+ [k3, k4, k5, k6]`` (OpenCV's order)."""
+        if not isinstance(node, yaml.SequenceNode) or len(node.value) not in DISTORTION_LENGTHS:
+            got = (f"{len(node.value)} values" if isinstance(node, yaml.SequenceNode)
+                   else self.describe(node))
+            raise self.error(node, path, "expected [k1, k2, p1, p2, k3] (4, 5 or 8 numbers in "
+                             f"OpenCV's order), got {got}")
+        each = bound_of(path)
+        return tuple(self.number(v, join(path, i), each) for i, v in enumerate(node.value))
 
     # -- the world ----------------------------------------------------------------------------
 

@@ -18,7 +18,10 @@ run of tens of thousands of decisions stays responsive:
   MMD summary and regions (``fr``), and the learned look of the surfaces
   (``look``: small PNG previews; at most :data:`MAX_LOOKS` of them, spread over
   the run).  The page shows, for the selected cycle, the latest of each at or
-  before it.
+  before it;
+* the run's ``mmd.mp4`` when it is beside the trace (``video``: its address
+  relative to the page, not embedded), shown at the selected frame; playing it
+  moves the selection along.
 
 A WME is embedded as ``[timetag, id, attr, value, flags]`` with the symbols
 as Soar prints them; ``flags`` bit 0 is "acceptable" and bit 1 "the value is
@@ -37,8 +40,10 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from importlib import resources
 from typing import Any
+from urllib.parse import quote
 
 from adapt.files import write_atomic
 from adapt.traceview.memory import LiveMemory
@@ -47,7 +52,10 @@ from adapt.traceview.show import impasse_text
 from adapt.traceview.symbols import id_name, text_of
 
 __all__ = ["compact_wme", "build_payload", "render_page", "write_html", "default_keyframe_interval",
-           "MAX_LOOKS"]
+           "MAX_LOOKS", "video_beside", "page_payload", "VIDEO_NAME"]
+
+#: The run's video the page shows when it is beside the trace.
+VIDEO_NAME = "mmd.mp4"
 
 #: The most learned-look records a page embeds (spread evenly over the run, the last kept).
 MAX_LOOKS = 48
@@ -285,9 +293,50 @@ def render_page(payload: dict[str, Any]) -> str:
                 .replace("/*{{JS}}*/", _script_safe(_asset("viewer.js"))))
 
 
+def video_beside(trace_path: str, page: str) -> dict[str, Any] | None:
+    """The run's ``mmd.mp4`` beside the trace, as the page refers to it: its address
+    relative to the page and its frame rate (from ``report.json`` beside it, when there),
+    or None when there is no video.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> run = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (run / "mmd.mp4").write_bytes(b"...")
+    >>> _ = (run / "report.json").write_text('{"scenario": "s.yaml", "seed": 1, "fps": 30.0, "frames": [')
+    >>> video_beside(str(run / "trace.jsonl"), str(run / "view" / "t.html"))
+    {'src': '../mmd.mp4', 'fps': 30.0}
+    """
+    folder = os.path.dirname(os.path.abspath(trace_path))
+    video = os.path.join(folder, VIDEO_NAME)
+    if not os.path.isfile(video):
+        return None
+    fps: float | None = None
+    try:
+        with open(os.path.join(folder, "report.json"), "rb") as f:
+            head = f.read(4096).decode("utf-8", "replace")  # the header comes first
+        m = re.search(r'"fps":\s*([0-9.eE+-]+)', head)
+        fps = float(m.group(1)) if m else None
+    except (OSError, ValueError):
+        fps = None
+    rel = os.path.relpath(video, os.path.dirname(os.path.abspath(page)))
+    return {"src": quote(rel.replace(os.sep, "/")), "fps": fps}
+
+
+def page_payload(trace: Trace, page: str) -> dict[str, Any]:
+    """:func:`build_payload` for a page written at ``page``: with the run's ``mmd.mp4`` when
+    it is beside the trace (:func:`video_beside`)."""
+    payload = build_payload(trace)
+    video = video_beside(trace.path, page)
+    if video is not None:
+        payload["video"] = video
+    return payload
+
+
 def write_html(trace: Trace, out: str | None = None) -> str:
-    """Render ``trace`` into ``out`` (default: beside it, ``.html``) atomically; return the path."""
+    """Render ``trace`` into ``out`` (default: beside it, ``.html``) atomically; return the path.
+    A run's ``mmd.mp4`` beside the trace is shown in the page, at the selected frame."""
     target = out or os.path.splitext(trace.path)[0] + ".html"
-    text = render_page(build_payload(trace))
+    text = render_page(page_payload(trace, target))
     write_atomic(target, text.encode("utf-8"))
     return target

@@ -556,7 +556,33 @@
   const hasRun = netAt.length > 0 || frAt.length > 0;
   document.getElementById("run-panels").hidden = !hasRun;
 
-  function select(index) {
+  // ---------- the run's mmd.mp4 beside the trace: shown at the selected frame ----------
+  const video = document.getElementById("mmd-video");
+  const VIDEO = DATA.video || null;
+  const frameAt = new Map();  // frame index -> the first cycle index with that frame's record
+  frAt.forEach((i) => { if (!frameAt.has(cycles[i].fr[0])) frameAt.set(cycles[i].fr[0], i); });
+  if (VIDEO) {
+    document.getElementById("video-panel").hidden = false;
+    video.src = VIDEO.src;
+    video.addEventListener("error", () => {
+      document.getElementById("video-note").textContent = "this browser cannot play " + VIDEO.src +
+        " (browsers play it when the run wrote it as VP9: outputs.video_codec: vp9)";
+    });
+    video.addEventListener("timeupdate", () => {  // playing moves the selection along
+      if (video.paused || !VIDEO.fps) return;
+      const i = frameAt.get(Math.floor(video.currentTime * VIDEO.fps));
+      if (i !== undefined && i !== selected) select(i, true);
+    });
+  }
+  function seekVideo(index) {
+    if (!VIDEO || !VIDEO.fps || !video.paused) return;
+    const at = latest(frAt, index);
+    if (at < 0) return;
+    const t = (cycles[at].fr[0] + 0.5) / VIDEO.fps;  // the middle of the frame's interval
+    if (Math.abs(video.currentTime - t) > 0.25 / VIDEO.fps) video.currentTime = t;
+  }
+
+  function select(index, fromVideo) {
     if (index < 0 || index >= cycles.length) return;
     const t0 = performance.now();
     selected = index;
@@ -569,6 +595,7 @@
     renderWM(index);
     renderSide(c);
     if (hasRun) { renderNetwork(index); renderFrame(index); }
+    if (!fromVideo) seekVideo(index);
     renderLook(index);
     document.body.dataset.selected = String(c.c);
     document.body.dataset.renderMs = (performance.now() - t0).toFixed(1);

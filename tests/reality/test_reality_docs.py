@@ -14,6 +14,7 @@ from adapt.scenario.bullet import (
     BULLET_THROW_KEYS,
     LOOK_KEYS,
 )
+from adapt.scenario.device import CAMERA_REALITY_KEYS
 from adapt.scenario.reality import (
     APPEARANCE_KEYS,
     REALITY_ROBOT_KEYS,
@@ -48,6 +49,7 @@ def table_keys(heading: str) -> set[str]:
     ("### `reality.objects[i].throw` (bullet)", BULLET_THROW_KEYS),
     ("### `reality.look` (bullet)", LOOK_KEYS),
     ("### `reality.robot` (bullet)", BULLET_ROBOT_KEYS),
+    ("## The camera source", CAMERA_REALITY_KEYS),
 ])
 def test_every_key_is_documented_and_nothing_else(heading: str, keys: tuple[str, ...]) -> None:
     assert table_keys(heading) == set(keys)

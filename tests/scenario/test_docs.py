@@ -12,6 +12,7 @@ import yaml
 from adapt.imagination.scene import Ball, Floor, Obstacle, RobotSpec, Wall
 from adapt.scenario import TOP_KEYS, OutputSettings, PredictSettings, RealAppearance, RunSettings
 from adapt.scenario import bullet as BU
+from adapt.scenario import device as D
 from adapt.scenario import reality as R
 from adapt.scenario import run as RUN
 from adapt.scenario import world as W
@@ -43,6 +44,7 @@ TABLES = {
     "`reality.objects[i].throw` (bullet)": (BU.BULLET_THROW_KEYS, None, {}),
     "`reality.look` (bullet)": (BU.LOOK_KEYS, None, {}),
     "`reality.robot` (bullet)": (BU.BULLET_ROBOT_KEYS, None, {}),
+    "`reality` with `kind: camera`": (D.CAMERA_REALITY_KEYS, None, {}),
     "`run`": (RUN.RUN_KEYS, RunSettings, {}),
     "`predict`": (RUN.PREDICT_KEYS, PredictSettings, {}),
     "`outputs`": (RUN.OUTPUT_KEYS, OutputSettings, {}),
@@ -108,6 +110,7 @@ def test_documented_defaults_are_the_records_defaults(heading: str) -> None:
 #: heading -> the key paths its table's keys are under
 PREFIXES = {"Top level": ("",), "`reality` with `kind: synthetic` (the default)": ("reality",),
             "`reality` with `kind: video`": ("reality",),
+            "`reality` with `kind: camera`": ("reality",),
             "`world.objects[i]` (balls)": ("world.objects[i]",),
             "`reality` with `kind: bullet`": ("reality",),
             "`reality.floor`, `reality.walls` and `reality.obstacles` (bullet)":
