@@ -91,7 +91,9 @@ def test_nothing_imports_the_cli() -> None:
 
 def test_geometry_errors_and_files_are_leaves() -> None:
     for leaf, allowed in (("errors.py", set()), ("files.py", {"adapt.errors"}), ("native.py", set()),
-                          ("geometry.py", {"numpy", "adapt.errors"})):
+                          ("geometry.py", {"numpy", "adapt.errors"}),
+                          # plugins and parameters: below every layer that registers or declares
+                          ("plugins.py", {"adapt.errors"}), ("parameters.py", set())):
         for name in imports_of(PACKAGE / leaf):
             top = name.split(".")[0]
             assert top in STDLIB or top == "__future__" or name in allowed or top in allowed, (
@@ -129,13 +131,14 @@ ALLOWED = {
     "seeds.py": (),
     "frames.py": ("adapt.errors", "adapt.files"),
     "scenario": ("adapt.scenario", "adapt.imagination", "adapt.geometry", "adapt.errors",
-                 "adapt.files"),
+                 "adapt.files", "adapt.plugins", "adapt.parameters"),
     "schemas": ("adapt.schemas", "adapt.engine", "adapt.vision", "adapt.imagination",
                 "adapt.mirror", "adapt.geometry", "adapt.errors", "adapt.kalman",
-                "adapt.frames", "adapt.scenario"),
+                "adapt.frames", "adapt.scenario", "adapt.plugins", "adapt.parameters"),
     # reality: never the engine or vision (it is what perception looks at, not a perceiver)
     "reality": ("adapt.reality", "adapt.imagination", "adapt.scenario", "adapt.geometry",
-                "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds", "adapt.native"),
+                "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds", "adapt.native",
+                "adapt.plugins"),
     # sweep: runs the runner, and checks a grid's cells with the runner's scenario check
     "sweep": ("adapt.sweep", "adapt.runner", "adapt.scenario", "adapt.errors", "adapt.files"),
 }

@@ -53,7 +53,8 @@ from __future__ import annotations
 
 from typing import Iterator, Protocol, runtime_checkable
 
-from adapt.frames import Actuator, Frame
+from adapt.errors import AdaptError, RealityError
+from adapt.frames import Actuator, Frame, FrameSource
 from adapt.reality.synthetic import RealRobot, SyntheticSource, draw_parameters
 from adapt.reality.truth import (
     CsvTruth,
@@ -67,7 +68,7 @@ from adapt.reality.truth import (
 )
 from adapt.reality.video import VideoSource
 from adapt.reality.warning import RealityWarning
-from adapt.scenario import Scenario, SyntheticReality
+from adapt.scenario import REALITIES, PluginReality, Scenario, SyntheticReality
 from adapt.seeds import Streams
 
 __all__ = [
@@ -138,6 +139,56 @@ def open_reality(scenario: Scenario, *, streams: Streams) -> RealitySource:
     GroundTruthError
         A ground-truth file with a bad header or row.
     """
-    if isinstance(scenario.reality, SyntheticReality):
+    reality = scenario.reality
+    if isinstance(reality, SyntheticReality):
         return SyntheticSource(scenario, streams=streams)
+    if isinstance(reality, PluginReality):
+        return _open_plugin(reality, scenario, streams)
     return VideoSource.from_scenario(scenario)
+
+
+def _open_plugin(reality: PluginReality, scenario: Scenario, streams: Streams) -> RealitySource:
+    """A plugin's kind: its ``open``, and a clear error when it fails or returns no source."""
+    rt = REALITIES.get(reality.name)
+    where = f"{reality.source.location}: reality kind {reality.name!r} ({REALITIES.origin(rt.name)})"
+    try:
+        source = rt.open(reality, scenario, streams)
+    except AdaptError as exc:
+        raise RealityError(f"{where}: {exc}") from None
+    except Exception as exc:  # the plugin's code: its message, not a traceback
+        raise RealityError(f"{where} failed to open: {type(exc).__name__}: {exc}") from None
+    if not isinstance(source, FrameSource):
+        raise RealityError(f"{where}: open returned {type(source).__name__}; expected a frame "
+                           "source (size, fps, iteration, close)")
+    if isinstance(source, RealitySource):
+        return source
+    return _Plain(source)
+
+
+class _Plain:
+    """A plugin's frame source without robot or truth, as a reality source."""
+
+    def __init__(self, source: FrameSource) -> None:
+        self._source = source
+        self.robot: Actuator | None = None
+        self.truth: GroundTruth | None = None
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self._source.size
+
+    @property
+    def fps(self) -> float:
+        return self._source.fps
+
+    @property
+    def length(self) -> int | None:
+        """How many frames it has, when it says."""
+        n = getattr(self._source, "length", None)
+        return None if n is None else int(n)
+
+    def __iter__(self) -> Iterator[Frame]:
+        return iter(self._source)
+
+    def close(self) -> None:
+        self._source.close()

@@ -227,11 +227,25 @@ class Runner:
                 raise sc.where("world.appearance").error(str(exc)) from None
         return mirror
 
+    def _reality(self) -> str:
+        """``the reality`` or, for a plugin's kind, ``reality kind 'x' (its origin) at file:line``."""
+        from adapt.scenario import REALITIES, PluginReality
+
+        r = self.scenario.reality
+        if isinstance(r, PluginReality) and r.name in REALITIES:
+            return (f"reality kind {r.name!r} ({REALITIES.origin(r.name)}, "
+                    f"{r.source.location})")
+        return "the reality"
+
     def _check_size(self) -> None:
-        w, h = self.source.size
+        try:
+            w, h = (int(v) for v in self.source.size)
+        except (TypeError, ValueError):
+            raise RunError(f"{self._reality()} gives frames of size {self.source.size!r}; "
+                           "expected (width, height)") from None
         cam = self.scenario.camera
         if (w, h) != (cam.width, cam.height):
-            raise RunError(f"the reality's frames are {w}x{h} but the scenario's camera is "
+            raise RunError(f"{self._reality()}'s frames are {w}x{h} but the scenario's camera is "
                            f"{cam.width}x{cam.height} "
                            f"({self.scenario.where('camera.width').location}); "
                            "make them the same size")
@@ -292,7 +306,7 @@ class Runner:
         if "report" in paths:
             self.report = ReportOutput(paths["report"], {
                 "scenario": str(self.scenario.path) if self.scenario.path else None,
-                "seed": self.seed, "fps": self.fps, "reality": self.scenario.reality.kind.value,
+                "seed": self.seed, "fps": self.fps, "reality": self.scenario.reality.name,
                 "frames_planned": self.max_frames}, self.evaluation, self.scenario.target)
             self.listeners.append(self.report)
         if self.trace is not None:
@@ -374,12 +388,15 @@ class Runner:
                                           self.frames_done / wall if wall > 0 else 0.0,
                                           len(self.network)))
 
-    def _check_frame(self, frame: Frame) -> None:
+    def _check_frame(self, frame: object) -> None:
+        if not isinstance(frame, Frame) or not isinstance(frame.image, np.ndarray):
+            raise RunError(f"{self._reality()} gave {type(frame).__name__}; expected "
+                           "adapt.frames.Frame(index, time, image) with a numpy image")
         img = frame.image
         w, h = self.source.size
         if img.dtype != np.uint8 or img.ndim != 3 or img.shape[2] != 3 or img.shape[:2] != (h, w):
-            raise RunError(f"frame {frame.index} is {img.dtype} {tuple(img.shape)}; expected "
-                           f"uint8 BGR {h}x{w}x3 like the camera")
+            raise RunError(f"{self._reality()}: frame {frame.index} is {img.dtype} "
+                           f"{tuple(img.shape)}; expected uint8 BGR {h}x{w}x3 like the camera")
 
     def _step(self, frame: Frame) -> None:
         """Steps 2 to 6 of the module docstring for one frame."""
