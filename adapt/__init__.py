@@ -55,6 +55,10 @@ _WHERE = {
     "RealityType": "adapt.scenario",
     "REALITIES": "adapt.scenario",
     "PluginReality": "adapt.scenario",
+    "ObjectPercept": "adapt.schemas.percepts",
+    "BackgroundPercept": "adapt.schemas.percepts",
+    "Structure": "adapt.schemas.links",
+    "ConstantVelocityKF": "adapt.kalman",
     "AdaptError": "adapt.errors",
 }
 
@@ -87,6 +91,10 @@ __all__ = [
     "RealityType",
     "REALITIES",
     "PluginReality",
+    "ObjectPercept",
+    "BackgroundPercept",
+    "Structure",
+    "ConstantVelocityKF",
     "AdaptError",
 ]
 
@@ -94,12 +102,15 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.api import EXAMPLE, Run, load_plugins, load_scenario, run, start
     from adapt.errors import AdaptError
     from adapt.frames import Actuator, Frame, FrameSource
+    from adapt.kalman import ConstantVelocityKF
     from adapt.parameters import REQUIRED, Parameter
     from adapt.runner import Runner, RunResult
     from adapt.runner.baseline import BaselinePrediction, BaselineSetup
     from adapt.runner.record import FrameListener, FrameRecord
     from adapt.scenario import REALITIES, PluginReality, RealityType, Scenario
     from adapt.schemas import REGISTRY, Port, Schema, SchemaKind, SchemaSpec, Status
+    from adapt.schemas.links import Structure
+    from adapt.schemas.percepts import BackgroundPercept, ObjectPercept
 
 
 def __getattr__(name: str) -> Any:
