@@ -59,7 +59,7 @@ from typing import Callable, Iterator
 from adapt.errors import AdaptError, PluginError
 
 __all__ = ["ENTRY_POINT_GROUPS", "BUILTIN", "PluginFrom", "Plugin", "current_origin",
-           "registering", "registered", "load_plugin", "load_installed", "loaded_plugins",
+           "registering", "registered", "builtin", "load_plugin", "load_installed", "loaded_plugins",
            "is_file_reference"]
 
 #: The entry-point groups adapt reads: schema types, reality kinds.
@@ -137,6 +137,19 @@ def registering(origin: str) -> Iterator[list[tuple[str, Callable[[], None]]]]:
         _undo.reset(t2)
 
 
+@contextlib.contextmanager
+def builtin() -> Iterator[None]:
+    """Registrations inside this block are adapt's own, even while a plugin is being imported
+    (a plugin's ``import adapt.schemas`` registers the built-in types)."""
+    t1 = _origin.set(BUILTIN)
+    t2 = _undo.set(None)
+    try:
+        yield
+    finally:
+        _origin.reset(t1)
+        _undo.reset(t2)
+
+
 def registered(what: str, undo: Callable[[], None]) -> None:
     """A registry says it registered ``what`` (``schema type goal-keeper``); ``undo`` takes it
     back if the plugin doing it fails.  Outside a plugin's import this does nothing."""
@@ -194,9 +207,6 @@ def _import(name: str, found: PluginFrom, origin: str,
     with registering(origin) as done:
         try:
             module = do()
-        except PluginError:
-            _take_back(done)
-            raise
         except ModuleNotFoundError as exc:
             _take_back(done)
             if exc.name == name or (exc.name and name.startswith(exc.name + ".")):
@@ -246,7 +256,7 @@ def _import_module(name: str, folder: Path) -> ModuleType:
 def _import_file(module_name: str, path: Path) -> ModuleType:
     spec = importlib.util.spec_from_file_location(module_name, path)
     if spec is None or spec.loader is None:
-        raise PluginError(f"plugin {str(path)!r}: cannot be imported; expected a .py file")
+        raise ImportError("cannot be imported; expected a .py file")
     module = importlib.util.module_from_spec(spec)
     sys.modules[module_name] = module  # by name, so that Dask and pickle find its functions
     try:
@@ -289,8 +299,7 @@ def _load_entry_point(ep: importlib.metadata.EntryPoint, group: str) -> None:
         target = ep.load()
         if not isinstance(target, ModuleType):
             if not callable(target):
-                raise PluginError(f"plugin {name!r}: entry point {ep.value!r} is neither a "
-                                  "module nor a function")
+                raise TypeError(f"entry point {ep.value!r} is neither a module nor a function")
             target()
         return module
 

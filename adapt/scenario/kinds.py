@@ -25,7 +25,7 @@ Examples
 >>> kinds.get("replai")
 Traceback (most recent call last):
 ...
-adapt.errors.ScenarioError: <string>:1:1: unknown reality kind 'replai' (did you mean 'replay'?)
+adapt.errors.PluginError: unknown reality kind 'replai' (did you mean 'replay'?)
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ import re
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator
 
-from adapt.errors import ScenarioError
+from adapt.errors import PluginError
 from adapt.parameters import REQUIRED, Parameter, ParameterError
 from adapt.plugins import current_origin, registered
 from adapt.scenario.records import RealityKind
@@ -97,35 +97,35 @@ class RealityType:
 def _check(rt: RealityType) -> None:
     where = f"reality kind {rt.name!r}"
     if not isinstance(rt.name, str) or not re.fullmatch(r"[a-z][a-z0-9-]*", rt.name):
-        raise ScenarioError(f"reality kind names are lower-case letters, digits and '-', got "
+        raise PluginError(f"reality kind names are lower-case letters, digits and '-', got "
                             f"{rt.name!r}")
     if not callable(rt.open):
-        raise ScenarioError(f"{where}: open {rt.open!r} cannot be called; expected "
+        raise PluginError(f"{where}: open {rt.open!r} cannot be called; expected "
                             "open(reality, scenario, streams) -> FrameSource")
     if not isinstance(rt.like, RealityKind):
-        raise ScenarioError(f"{where}: like {rt.like!r}; expected a RealityKind")
+        raise PluginError(f"{where}: like {rt.like!r}; expected a RealityKind")
     names: set[str] = set()
     for p in rt.parameters:
         if not isinstance(p, Parameter):
-            raise ScenarioError(f"{where}: parameters hold {p!r}; expected Parameter(...)")
+            raise PluginError(f"{where}: parameters hold {p!r}; expected Parameter(...)")
         if p.name in names or p.name == "kind" or not re.fullmatch(r"[a-z][a-z0-9_]*", p.name):
-            raise ScenarioError(f"{where}: parameter {p.name!r}: "
+            raise PluginError(f"{where}: parameter {p.name!r}: "
                                 + ("given twice" if p.name in names else
                                    "'kind' is the section's own key" if p.name == "kind" else
                                    "expected a YAML key of lower-case letters, digits and '_'"))
         names.add(p.name)
         if p.kind not in (float, int, bool, str):
-            raise ScenarioError(f"{where}: parameter {p.name!r} is of type {p.kind!r}; expected "
+            raise PluginError(f"{where}: parameter {p.name!r} is of type {p.kind!r}; expected "
                                 "float, int, bool or str")
         if p.default is not REQUIRED and not (p.kind is str and p.default == ""):
             try:
                 p.check(p.default)
             except ParameterError as exc:
-                raise ScenarioError(f"{where}: parameter {p.name!r} default {p.default!r}: "
+                raise PluginError(f"{where}: parameter {p.name!r} default {p.default!r}: "
                                     f"{exc}") from None
     for f in rt.files:
         if f not in names or rt.parameter(f).kind is not str:
-            raise ScenarioError(f"{where}: files names {f!r}; expected one of its str parameters")
+            raise PluginError(f"{where}: files names {f!r}; expected one of its str parameters")
 
 
 class RealityRegistry:
@@ -140,14 +140,14 @@ class RealityRegistry:
 
         Raises
         ------
-        ScenarioError
+        PluginError
             A name that is taken, or a malformed kind.
         """
         if not isinstance(rt, RealityType):
-            raise ScenarioError(f"expected a RealityType to register, got {rt!r}")
+            raise PluginError(f"expected a RealityType to register, got {rt!r}")
         if rt.name in BUILTIN_KINDS or rt.name in self._types:
             taken = "built-in" if rt.name in BUILTIN_KINDS else self._origins[rt.name]
-            raise ScenarioError(f"reality kind {rt.name!r} is already registered ({taken})")
+            raise PluginError(f"reality kind {rt.name!r} is already registered ({taken})")
         _check(rt)
         self._types[rt.name] = rt
         self._origins[rt.name] = current_origin()
@@ -167,7 +167,7 @@ class RealityRegistry:
             close = difflib.get_close_matches(name, [*BUILTIN_KINDS, *self._types], n=1,
                                               cutoff=0.6)
             hint = f" (did you mean {close[0]!r}?)" if close else ""
-            raise ScenarioError(f"unknown reality kind {name!r}{hint}") from None
+            raise PluginError(f"unknown reality kind {name!r}{hint}") from None
 
     def origin(self, name: str) -> str:
         """Where kind ``name`` came from."""

@@ -26,7 +26,7 @@ from typing import Iterator
 
 from adapt.errors import SchemaError
 from adapt.parameters import REQUIRED, Parameter, ParameterError
-from adapt.plugins import current_origin, registered
+from adapt.plugins import builtin, current_origin, registered
 from adapt.schemas.spec import Port, SchemaKind, SchemaSpec
 
 __all__ = ["Registry", "REGISTRY", "check_spec", "RESERVED"]
@@ -168,8 +168,9 @@ def _builtin() -> Registry:
     from adapt.schemas.intercept import INTERCEPT
 
     reg = Registry()
-    for spec in (SCENE_BACKGROUND, FOREGROUND_OBJECT, DRIVE, INTERCEPT):
-        reg.register(spec)
+    with builtin():
+        for spec in (SCENE_BACKGROUND, FOREGROUND_OBJECT, DRIVE, INTERCEPT):
+            reg.register(spec)
     return reg
 
 

@@ -89,7 +89,10 @@ def throws(n: int, out: Path, first_seed: int = 0, max_frames: int | None = None
 def rates(results: list[dict[str, Any]]) -> dict[str, Any]:
     """The success rates over the throws on target."""
     on = [r for r in results if r["on_target"]]
-    share = (lambda key: round(statistics.mean(bool(r[key]) for r in on), 3) if on else None)
+
+    def share(key: str) -> float | None:
+        return round(statistics.mean(bool(r[key]) for r in on), 3) if on else None
+
     return {"throws": len(results), "on_target": len(on), "mirror_kept_out": share("kept_out"),
             "mirror_in_reach": share("mirror_in_reach"), "kalman_in_reach": share("kalman_in_reach")}
 
