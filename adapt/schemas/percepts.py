@@ -57,10 +57,35 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.vision.regions import Region
 
 __all__ = ["BackgroundPercept", "ObjectPercept", "RegionReport", "Sighting", "FirstLook",
-           "AppearanceStage", "BBox", "Vec2"]
+           "AppearanceStage", "BBox", "Vec2", "LOOKS_LIKE_COLOR", "LOOKS_LIKE_SIZE", "looks_like"]
 
 BBox = tuple[int, int, int, int]
 Vec2 = tuple[float, float]
+
+
+def looks_like(color: tuple[int, int, int] | None, size: float | None,
+               objects: Mapping[str, tuple[tuple[int, int, int], float]]) -> str | None:
+    """The object (name -> ``(colour, radius)``) a region of mean ``color`` and floor ``size``
+    looks like: the nearest colour within :data:`LOOKS_LIKE_COLOR` among those whose
+    diameter is within :data:`LOOKS_LIKE_SIZE` of ``size`` (any size when it is unknown).
+
+    >>> objects = {"red": ((230, 60, 30), 0.1), "blue": ((40, 80, 220), 0.1)}
+    >>> looks_like((200, 70, 50), 0.18, objects), looks_like((60, 90, 200), None, objects)
+    ('red', 'blue')
+    >>> looks_like((120, 120, 120), 0.2, objects), looks_like((200, 70, 50), 1.5, objects)
+    (None, None)
+    """
+    if color is None:
+        return None
+    best, best_d = None, LOOKS_LIKE_COLOR
+    for name, (c, radius) in objects.items():
+        if size is not None and not 1.0 / LOOKS_LIKE_SIZE <= size / (2.0 * radius) <= LOOKS_LIKE_SIZE:
+            continue
+        d = math.dist(color, c)
+        if d <= best_d:
+            best, best_d = name, d
+    return best
+
 
 class AppearanceStage(enum.Enum):
     """Where the Scene Background's appearance learning is (``docs/appearance.md``)."""
@@ -70,6 +95,15 @@ class AppearanceStage(enum.Enum):
     LEARNED = "learned"      # the look is learned and refined
 
 
+#: Largest distance between a region's mean colour and an object's (RGB, 0-255) for the
+#: region to look like it: lighting, blur and the floor showing through move a ball's colour.
+LOOKS_LIKE_COLOR = 90.0
+
+#: A region looks like an object when its size on the floor is within this factor of the
+#: object's diameter (either way): the box's bottom edge back-projected is a rough measure.
+LOOKS_LIKE_SIZE = 2.5
+
+
 @dataclass(frozen=True, slots=True)
 class RegionReport:
     """One tracked difference region as the input-link reports it.
@@ -77,7 +111,12 @@ class RegionReport:
     ``bbox`` and ``centroid`` are real-image pixels; ``floor`` is the bottom of
     the box back-projected onto the floor and ``size`` its width there
     (metres); ``owner`` the schema that explains it (``expected``);
-    ``imagined`` the imagined moving object it shows.
+    ``imagined`` the imagined moving object it shows; ``color`` the mean
+    ``(r, g, b)`` of the real image's pixels in it; ``looks_like`` the declared
+    object whose colour and size it has (the nearest colour within
+    :data:`LOOKS_LIKE_COLOR`, a size within :data:`LOOKS_LIKE_SIZE` of its
+    diameter), so that rules can tell one object from another before a schema
+    claims it.
     """
 
     id: int
@@ -91,6 +130,8 @@ class RegionReport:
     size: float | None
     imagined: str | None = None
     at_edge: bool = False
+    color: tuple[int, int, int] | None = None
+    looks_like: str | None = None
 
     def as_json(self) -> dict[str, Any]:
         """JSON form (trace and report)."""
@@ -100,7 +141,9 @@ class RegionReport:
                 "owner": self.owner,
                 "floor": None if self.floor is None else [round(v, 4) for v in self.floor],
                 "size": None if self.size is None else round(self.size, 4),
-                "imagined": self.imagined, "at_edge": self.at_edge}
+                "imagined": self.imagined, "at_edge": self.at_edge,
+                "color": None if self.color is None else list(self.color),
+                "looks_like": self.looks_like}
 
 
 @dataclass(frozen=True, slots=True, eq=False)
