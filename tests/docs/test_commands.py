@@ -48,6 +48,10 @@ SKIPPED: dict[tuple[str, str], str] = {
                                              "tests/sweep runs small sweeps of the same command",
     ("sweeps.md", "dask "): "starts a Dask cluster on other machines",
     ("sweeps.md", "srun "): "starts Dask workers under Slurm",
+    ("extending.md", "python examples/goalkeeper/run.py"): "50 whole runs (about 10 minutes); "
+        "tests/examples runs the same script for one throw",
+    ("extending.md", "python examples/two_balls/run.py"): "20 whole runs (about 10 minutes); "
+        "tests/examples runs the same script for one seed",
     ("mirror.md", "adapt run scenarios/"): "whole 640x480 runs, 15-40 s each; tests/mirror runs the "
                                            "same scenarios at 320x240 and tests/runner/test_cli.py "
                                            "runs the main job's command for a few frames",
