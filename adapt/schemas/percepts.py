@@ -57,7 +57,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.vision.regions import Region
 
 __all__ = ["BackgroundPercept", "ObjectPercept", "RegionReport", "Sighting", "FirstLook",
-           "AppearanceStage", "BBox", "Vec2", "LOOKS_LIKE_COLOR", "LOOKS_LIKE_SIZE", "looks_like"]
+           "AppearanceStage", "BBox", "Vec2", "LOOKS_LIKE_COLOR", "LOOKS_LIKE_SIZE", "LOOKS_LIKE_MARGIN",
+           "looks_like"]
 
 BBox = tuple[int, int, int, int]
 Vec2 = tuple[float, float]
@@ -67,24 +68,26 @@ def looks_like(color: tuple[int, int, int] | None, size: float | None,
                objects: Mapping[str, tuple[tuple[int, int, int], float]]) -> str | None:
     """The object (name -> ``(colour, radius)``) a region of mean ``color`` and floor ``size``
     looks like: the nearest colour within :data:`LOOKS_LIKE_COLOR` among those whose
-    diameter is within :data:`LOOKS_LIKE_SIZE` of ``size`` (any size when it is unknown).
+    diameter is within :data:`LOOKS_LIKE_SIZE` of ``size`` (any size when it is unknown);
+    None when none is near enough, or when the next is within :data:`LOOKS_LIKE_MARGIN` of it
+    (objects of one colour are told apart otherwise).
 
     >>> objects = {"red": ((230, 60, 30), 0.1), "blue": ((40, 80, 220), 0.1)}
     >>> looks_like((200, 70, 50), 0.18, objects), looks_like((60, 90, 200), None, objects)
     ('red', 'blue')
     >>> looks_like((120, 120, 120), 0.2, objects), looks_like((200, 70, 50), 1.5, objects)
     (None, None)
+    >>> looks_like((200, 70, 50), 0.2, {"a": ((230, 60, 30), 0.1), "b": ((225, 65, 35), 0.1)})
     """
     if color is None:
         return None
-    best, best_d = None, LOOKS_LIKE_COLOR
-    for name, (c, radius) in objects.items():
-        if size is not None and not 1.0 / LOOKS_LIKE_SIZE <= size / (2.0 * radius) <= LOOKS_LIKE_SIZE:
-            continue
-        d = math.dist(color, c)
-        if d <= best_d:
-            best, best_d = name, d
-    return best
+    near = sorted((math.dist(color, c), name) for name, (c, radius) in objects.items()
+                  if size is None or 1.0 / LOOKS_LIKE_SIZE <= size / (2.0 * radius) <= LOOKS_LIKE_SIZE)
+    if not near or near[0][0] > LOOKS_LIKE_COLOR:
+        return None
+    if len(near) > 1 and near[1][0] - near[0][0] < LOOKS_LIKE_MARGIN:
+        return None  # two objects look alike: the colour does not tell which
+    return near[0][1]
 
 
 class AppearanceStage(enum.Enum):
@@ -98,6 +101,9 @@ class AppearanceStage(enum.Enum):
 #: Largest distance between a region's mean colour and an object's (RGB, 0-255) for the
 #: region to look like it: lighting, blur and the floor showing through move a ball's colour.
 LOOKS_LIKE_COLOR = 90.0
+
+#: A region looks like none of two objects whose colours are this close to it alike.
+LOOKS_LIKE_MARGIN = 25.0
 
 #: A region looks like an object when its size on the floor is within this factor of the
 #: object's diameter (either way): the box's bottom edge back-projected is a rough measure.
