@@ -20,8 +20,8 @@ Examples
 ...                    parameters=(Parameter("log", str, REQUIRED, "the log file"),
 ...                                Parameter("fps", float, 30.0, "frame rate", low=0)),
 ...                    files=("log",)))
->>> kinds.names(), kinds.origin("replay")
-(['replay'], 'built-in')
+>>> kinds.names(), kinds.origin("replay"), REALITIES.origin("external")
+(['replay'], 'built-in', 'built-in')
 >>> kinds.get("replai")
 Traceback (most recent call last):
 ...
@@ -35,9 +35,9 @@ import re
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator
 
-from adapt.errors import PluginError
+from adapt.errors import PluginError, RealityError
 from adapt.parameters import REQUIRED, Parameter, ParameterError
-from adapt.plugins import current_origin, registered
+from adapt.plugins import builtin, current_origin, registered
 from adapt.scenario.records import RealityKind
 
 __all__ = ["RealityType", "RealityRegistry", "REALITIES", "BUILTIN_KINDS"]
@@ -185,5 +185,14 @@ class RealityRegistry:
         return name in self._types
 
 
-#: The reality kinds plugins registered.
+def _external(reality: Any, scenario: Any, streams: Any) -> Any:
+    raise RealityError("its frames come from Python: adapt.run(scenario, source=...), "
+                       "adapt.start(scenario, source=...) or Runner(scenario, source=...)")
+
+
+#: The reality kinds plugins registered, and ``external``: frames a Python caller gives
+#: (``adapt.run(..., source=...)``), for a scenario whose objects appear when seen.
 REALITIES = RealityRegistry()
+with builtin():
+    REALITIES.register(RealityType(
+        "external", "frames given from Python: adapt.run(scenario, source=...)", open=_external))

@@ -177,7 +177,7 @@ def test_the_python_api_loads_plugins_and_steps_a_run(tmp_path: Path, unique: st
     (tmp_path / "flat2.py").write_text(REALITY_PLUGIN.replace("NAME", unique))
     text = CAMERA + f"reality: {{kind: {unique}, frames: 5}}\n"
     (tmp_path / "s.yaml").write_text(text)
-    with pytest.raises(ScenarioError, match="expected one of 'synthetic', 'video', got"):
+    with pytest.raises(ScenarioError, match="expected one of 'synthetic', 'video', 'external', got"):
         adapt.load_scenario(tmp_path / "s.yaml")
     with adapt.start(tmp_path / "s.yaml", plugins=[str(tmp_path / "flat2.py")],
                      out=tmp_path / "out") as run:
@@ -202,6 +202,12 @@ def test_a_frame_source_from_python_replaces_the_reality() -> None:
 
     result = adapt.run(adapt.EXAMPLE, source=Grey())
     assert result.summary["frames"] == 4 and result.summary["ground_truth"] is False
+    # a scenario whose frames only Python gives says so, and is told when run without them
+    external = adapt.load_scenario(adapt.EXAMPLE, overrides=["reality={kind: external}"])
+    assert adapt.run(external, source=Grey()).summary["frames"] == 4
+    with pytest.raises(adapt.AdaptError, match=r"reality kind 'external' \(built-in\): its "
+                                               r"frames come from Python: adapt.run\(scenario, source"):
+        adapt.run(external)
 
 
 def test_an_installed_plugin_is_found_through_its_entry_point(tmp_path: Path) -> None:
