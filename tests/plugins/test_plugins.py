@@ -4,6 +4,7 @@ plugin can be wrong, as one positioned line."""
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import subprocess
@@ -232,6 +233,18 @@ def test_an_installed_plugin_is_found_through_its_entry_point(tmp_path: Path) ->
                            env=env, capture_output=True, text=True)
     assert check.returncode == 0, check.stderr
     assert "counter (installed counter (adapt-counter 0.1))" in check.stdout
+    # and used by adapt run: rules put it in place
+    (tmp_path / "go.soar").write_text(
+        "sp {propose (state <s> ^superstate nil -^done yes) --> (<s> ^operator <o> +) "
+        "(<o> ^name start)}\n"
+        "sp {apply (state <s> ^operator.name start ^io.output-link <out>) --> "
+        "(<out> ^instantiate <c>) (<c> ^type counter ^name c) (<s> ^done yes)}\n")
+    (tmp_path / "s.yaml").write_text(CAMERA + "schemas: {counter: {step: 3}}\nrules: [go.soar]\n")
+    ran = subprocess.run([sys.executable, "-m", "adapt", "run", str(tmp_path / "s.yaml"),
+                          "--max-frames", "3", "--out", str(tmp_path / "out"), "--json",
+                          "--quiet"], env=env, capture_output=True, text=True)
+    assert ran.returncode == 0, ran.stderr
+    assert json.loads(ran.stdout)["schemas"] == ["c"]
     # a broken one is one line naming it, and exit status 1
     (site / "adapt_counter" / "__init__.py").write_text("raise ImportError('needs a GPU')\n")
     bad = subprocess.run([sys.executable, "-m", "adapt", "schemas", "list"], env=env,
