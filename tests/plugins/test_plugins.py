@@ -273,3 +273,13 @@ def test_the_public_api_is_listed_and_lazy() -> None:
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          env={**os.environ, "PYTHONPATH": str(ROOT)}).stdout
     assert out.strip() == "[] []"
+
+
+def test_no_output_replaces_a_plugin(tmp_path: Path, unique: str) -> None:
+    # the plugin sits where the run would write its figures: the run refuses before any work
+    (tmp_path / "figures").mkdir()
+    (tmp_path / "figures" / "mine.py").write_text(SCHEMA_PLUGIN.replace("NAME", unique))
+    path = scenario(tmp_path, "[figures/mine.py]")
+    with pytest.raises(adapt.AdaptError, match=r"plugins\[0\] \(figures/mine.py, a plugin\)"):
+        adapt.run(path, out=tmp_path, max_frames=1)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["figures", "s.yaml"]
