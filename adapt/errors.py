@@ -43,6 +43,7 @@ __all__ = [
     "AppearanceError",
     "SweepError",
     "SweepSpecError",
+    "PluginError",
 ]
 
 
@@ -178,3 +179,8 @@ class SweepError(AdaptError):
 class SweepSpecError(SweepError, LocatedError):
     """A ``--seeds`` or ``--set`` argument of a sweep that cannot be read; the
     message points at the column of the argument (``--set:1:31:``)."""
+
+
+class PluginError(AdaptError):
+    """A plugin cannot be loaded: its module is missing, it raised on import, or it
+    registered a name that is taken or a malformed type (:mod:`adapt.plugins`)."""

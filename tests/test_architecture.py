@@ -91,7 +91,9 @@ def test_nothing_imports_the_cli() -> None:
 
 def test_geometry_errors_and_files_are_leaves() -> None:
     for leaf, allowed in (("errors.py", set()), ("files.py", {"adapt.errors"}), ("native.py", set()),
-                          ("geometry.py", {"numpy", "adapt.errors"})):
+                          ("geometry.py", {"numpy", "adapt.errors"}),
+                          # plugins and parameters: below every layer that registers or declares
+                          ("plugins.py", {"adapt.errors"}), ("parameters.py", set())):
         for name in imports_of(PACKAGE / leaf):
             top = name.split(".")[0]
             assert top in STDLIB or top == "__future__" or name in allowed or top in allowed, (
@@ -134,14 +136,15 @@ ALLOWED = {
     "lens.py": ("adapt.errors", "adapt.frames"),
     # scenario: of the engine, only its interface (the engine names a scenario's engine: takes)
     "scenario": ("adapt.scenario", "adapt.imagination", "adapt.geometry", "adapt.errors",
-                 "adapt.files", "adapt.engine.interface", "adapt.lens"),
+                 "adapt.files", "adapt.engine.interface", "adapt.lens", "adapt.plugins",
+                 "adapt.parameters"),
     "schemas": ("adapt.schemas", "adapt.engine", "adapt.vision", "adapt.imagination",
                 "adapt.mirror", "adapt.geometry", "adapt.errors", "adapt.kalman",
-                "adapt.frames", "adapt.scenario"),
+                "adapt.frames", "adapt.scenario", "adapt.plugins", "adapt.parameters"),
     # reality: never the engine or vision (it is what perception looks at, not a perceiver)
     "reality": ("adapt.reality", "adapt.imagination", "adapt.scenario", "adapt.geometry",
                 "adapt.errors", "adapt.files", "adapt.frames", "adapt.seeds", "adapt.native",
-                "adapt.lens"),
+                "adapt.lens", "adapt.plugins"),
     # sweep: runs the runner, and checks a grid's cells with the runner's scenario check
     "sweep": ("adapt.sweep", "adapt.runner", "adapt.scenario", "adapt.errors", "adapt.files"),
 }
@@ -180,7 +183,7 @@ def test_nothing_that_perceives_can_reach_ground_truth(layer: str) -> None:
 def test_only_the_runner_and_the_cli_open_the_reality() -> None:
     for path in PACKAGE.rglob("*.py"):
         parts = path.relative_to(PACKAGE).parts
-        if parts[0] in ("runner", "cli", "reality"):
+        if parts[0] in ("runner", "cli", "reality", "api.py", "__init__.py"):  # the top: API, CLI
             continue
         for name in imports_of(path):
             assert not name.startswith("adapt.reality"), f"{path} imports {name}"
@@ -279,7 +282,8 @@ def test_no_schema_module_uses_another_schema_class(module: str) -> None:
 #: schema (``ordered``, ``graph``, ``network[name]``, iteration).
 SCHEMA_NETWORK_API = {"mirror", "models", "goals", "predict", "rng", "frame_interval", "reality",
                       "frame_index", "time", "decision", "actuator", "publish", "percepts",
-                      "percept", "claims", "monitor_of", "note", "monitored_boxes"}
+                      "percept", "claims", "monitor_of", "note", "monitored_boxes",
+                      "robot", "robot_pose", "command_robot"}
 #: What the runner may use of the network besides: driving it, and reading what it publishes.
 RUNNER_NETWORK_API = SCHEMA_NETWORK_API | {
     "published", "names", "listeners", "changed", "subscene", "seconds", "perceive", "act",
@@ -468,3 +472,61 @@ def test_only_the_bullet_client_imports_pybullet() -> None:
             assert name.split(".")[0] != "pybullet", f"{path} imports {name}"
     text = (PACKAGE / "reality" / "bullet" / "client.py").read_text(encoding="utf-8")
     assert "import pybullet" not in text  # imported inside load_pybullet, by name
+
+
+# -- plugins and the public API ----------------------------------------------------------------
+
+def test_only_the_package_and_the_cli_import_the_api() -> None:
+    # adapt.api is the top of the stack, beside the CLI: no layer calls back up into it
+    for path in PACKAGE.rglob("*.py"):
+        rel = path.relative_to(PACKAGE)
+        if rel.parts[0] == "cli" or rel.name in ("api.py", "__init__.py") and len(rel.parts) == 1:
+            continue
+        for name in imports_of(path):
+            assert not name.startswith("adapt.api"), f"{rel} imports {name}"
+
+
+def test_the_registries_hold_origins_through_the_plugins_leaf() -> None:
+    # the schema and reality registries ask adapt.plugins where a name came from; nothing else
+    # of adapt imports a plugin's module by name (plugins are found, never imported statically)
+    users = {str(p.relative_to(PACKAGE)) for p in PACKAGE.rglob("*.py")
+             if any(n == "adapt.plugins" for n in imports_of(p))}
+    assert users <= {"schemas/registry.py", "scenario/kinds.py", "scenario/__init__.py",
+                     "api.py", "cli/schemas.py"}, users
+    for path in PACKAGE.rglob("*.py"):
+        text = path.read_text(encoding="utf-8")
+        assert "examples" not in {n.split(".")[0] for n in imports_of(path, text)}, path
+
+
+def test_the_public_api_gives_plugins_no_concrete_schema_and_no_truth() -> None:
+    # a plugin's schema meets the others only through percepts on ports, and nothing that
+    # perceives sees the ground truth: adapt.__all__ offers neither a built-in schema class
+    # nor anything of the reality's truth
+    import adapt
+    from adapt.schemas.base import Schema
+
+    for name in adapt.__all__:
+        value = getattr(adapt, name)
+        if isinstance(value, type) and issubclass(value, Schema):
+            assert value is Schema, f"adapt.{name} is a concrete schema class"
+        module = getattr(value, "__module__", "") or ""
+        assert not module.startswith("adapt.reality"), f"adapt.{name} comes from {module}"
+        assert "truth" not in name.lower(), f"adapt.{name}"
+
+
+@pytest.mark.parametrize("path", sorted((PACKAGE.parent / "examples").rglob("*.py")),
+                         ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_the_examples_import_only_the_package(path: Path) -> None:
+    # the examples are written as a user would: `import adapt`, nothing below it
+    for name in imports_of(path):
+        if name.split(".")[0] == "adapt":
+            assert name == "adapt", f"examples/{path.parent.name}/{path.name} imports {name}"
+
+
+@pytest.mark.parametrize("path", sorted((PACKAGE.parent / "examples").rglob("*.py")),
+                         ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_the_examples_schemas_use_only_the_networks_api_for_schemas(path: Path) -> None:
+    # a plugin's schema holds to the contract the built-in ones hold to
+    for line, attr in _network_uses(path):
+        assert attr in SCHEMA_NETWORK_API, (
+            f"examples/{path.parent.name}/{path.name}:{line} uses network.{attr}")

@@ -51,7 +51,8 @@ _COMMON = (Exit.OK, Exit.ERROR, Exit.USAGE, Exit.INTERRUPTED)
 COMMAND_STATUSES: dict[str, tuple[Exit, ...]] = {
     "run": _COMMON,
     "check": _COMMON,
-    "schemas list": (Exit.OK, Exit.USAGE, Exit.INTERRUPTED),
+    "schemas list": _COMMON,
+    "plugins list": _COMMON,
     "rules run": _COMMON + (Exit.DECISION_LIMIT, Exit.GOAL_DEPTH, Exit.RULE_INTERRUPT,
                             Exit.RULE_ERROR),
     "rules check": _COMMON,

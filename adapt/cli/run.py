@@ -262,7 +262,10 @@ def _check_json(name: str, found: Any, length: Any) -> dict[str, Any]:
         "world": {"walls": len(sc.scene.walls), "obstacles": len(sc.scene.obstacles),
                   "objects": [{"name": m.name, "create": m.create.value} for m in sc.objects],
                   "robot": sc.scene.robot is not None},
-        "reality": sc.reality.kind.value,
+        "reality": sc.reality.name,
+        "reality_origin": _reality_origin(sc),
+        "plugins": [{"name": p.name, "module": p.module, "origin": p.origin} for p in sc.plugins],
+        "schema_types": _type_origins(),
         "goals": [g.name for g in sc.goals],
         "rules": [{"file": str(r.path), "productions": r.productions,
                    "warnings": list(r.warnings)} for r in found.rules],
@@ -274,6 +277,18 @@ def _check_json(name: str, found: Any, length: Any) -> dict[str, Any]:
     }
 
 
+def _reality_origin(sc: Any) -> str:
+    from adapt.scenario import REALITIES
+
+    return REALITIES.origin(sc.reality.name) if sc.reality.name in REALITIES else "built-in"
+
+
+def _type_origins() -> list[dict[str, str]]:
+    from adapt.schemas import REGISTRY
+
+    return [{"name": name, "origin": REGISTRY.origin(name)} for name in REGISTRY.names()]
+
+
 def _check_lines(name: str, found: Any, length: Any) -> list[str]:
     sc = found.scenario
     objects = ", ".join(f"{m.name} ({m.create.value})" for m in sc.objects)
@@ -281,11 +296,16 @@ def _check_lines(name: str, found: Any, length: Any) -> list[str]:
              f"  camera {sc.camera.width}x{sc.camera.height}, {sc.mount.kind.value}; world: "
              f"{len(sc.scene.walls)} walls, {len(sc.scene.obstacles)} obstacles, objects: "
              f"{objects or 'none'}{', a robot' if sc.scene.robot else ''}",
-             f"  reality: {sc.reality.kind.value}; {length.frames} frames at {length.fps:g} "
+             f"  reality: {sc.reality.name} ({_reality_origin(sc)}); {length.frames} frames at {length.fps:g} "
              f"frames/s, {sc.run.decisions_per_frame} decisions per frame; seed {sc.seed}",
              f"  goals: {', '.join(g.name for g in sc.goals) or 'none'}; schema settings: "
              f"{', '.join(s.type for s in sc.schemas) or 'none'}",
              f"  engine: {sc.engine.value}"]
+    by_origin: dict[str, list[str]] = {}
+    for t in _type_origins():
+        by_origin.setdefault(t["origin"], []).append(t["name"])
+    lines.append("  schema types: " + "; ".join(f"{', '.join(names)} ({origin})"
+                                                for origin, names in by_origin.items()))
     for r in found.rules:
         lines.append(f"  rules: {r.path}: {r.productions} "
                      f"production{'' if r.productions == 1 else 's'}")

@@ -57,7 +57,8 @@ from __future__ import annotations
 
 from typing import Iterator, Protocol, runtime_checkable
 
-from adapt.frames import Actuator, Frame
+from adapt.errors import AdaptError, RealityError
+from adapt.frames import Actuator, Frame, FrameSource
 from adapt.lens import distorted
 from adapt.reality.synthetic import RealRobot, SyntheticSource, draw_parameters
 from adapt.reality.truth import (
@@ -72,7 +73,14 @@ from adapt.reality.truth import (
 )
 from adapt.reality.video import VideoSource
 from adapt.reality.warning import RealityWarning
-from adapt.scenario import BulletReality, CameraReality, Scenario, SyntheticReality
+from adapt.scenario import (
+    REALITIES,
+    BulletReality,
+    CameraReality,
+    PluginReality,
+    Scenario,
+    SyntheticReality,
+)
 from adapt.seeds import Streams
 
 __all__ = [
@@ -150,14 +158,64 @@ def open_reality(scenario: Scenario, *, streams: Streams) -> RealitySource:
         A camera that cannot be opened, states no frame rate, or gives images of
         another size (at the position of ``reality.device``).
     """
-    if isinstance(scenario.reality, SyntheticReality):  # seen through the camera's lens
+    reality = scenario.reality
+    if isinstance(reality, SyntheticReality):  # seen through the camera's lens
         return distorted(SyntheticSource(scenario, streams=streams), scenario.lens)  # type: ignore[return-value]
-    if isinstance(scenario.reality, BulletReality):
+    if isinstance(reality, BulletReality):
         from adapt.reality.bullet import BulletSource
 
         return distorted(BulletSource(scenario, streams=streams), scenario.lens)  # type: ignore[return-value]
-    if isinstance(scenario.reality, CameraReality):
+    if isinstance(reality, CameraReality):
         from adapt.reality.live import CameraSource
 
         return CameraSource.from_scenario(scenario)
+    if isinstance(reality, PluginReality):
+        return _open_plugin(reality, scenario, streams)
     return VideoSource.from_scenario(scenario)
+
+
+def _open_plugin(reality: PluginReality, scenario: Scenario, streams: Streams) -> RealitySource:
+    """A plugin's kind: its ``open``, and a clear error when it fails or returns no source."""
+    rt = REALITIES.get(reality.name)
+    where = f"{reality.source.location}: reality kind {reality.name!r} ({REALITIES.origin(rt.name)})"
+    try:
+        source = rt.open(reality, scenario, streams)
+    except AdaptError as exc:
+        raise RealityError(f"{where}: {exc}") from None
+    except Exception as exc:  # the plugin's code: its message, not a traceback
+        raise RealityError(f"{where} failed to open: {type(exc).__name__}: {exc}") from None
+    if not isinstance(source, FrameSource):
+        raise RealityError(f"{where}: open returned {type(source).__name__}; expected a frame "
+                           "source (size, fps, iteration, close)")
+    if isinstance(source, RealitySource):
+        return source
+    return _Plain(source)
+
+
+class _Plain:
+    """A plugin's frame source without robot or truth, as a reality source."""
+
+    def __init__(self, source: FrameSource) -> None:
+        self._source = source
+        self.robot: Actuator | None = None
+        self.truth: GroundTruth | None = None
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self._source.size
+
+    @property
+    def fps(self) -> float:
+        return self._source.fps
+
+    @property
+    def length(self) -> int | None:
+        """How many frames it has, when it says."""
+        n = getattr(self._source, "length", None)
+        return None if n is None else int(n)
+
+    def __iter__(self) -> Iterator[Frame]:
+        return iter(self._source)
+
+    def close(self) -> None:
+        self._source.close()

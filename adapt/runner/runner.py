@@ -47,7 +47,7 @@ import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, Iterator
+from typing import TYPE_CHECKING, Any, Callable, Generator, Iterator, Mapping
 
 import numpy as np
 
@@ -58,7 +58,7 @@ from adapt.geometry import Camera
 from adapt.lens import undistorted
 from adapt.mirror import Mirror
 from adapt.runner.agent import AGENT_HISTORY, RuleEngine, make_agent
-from adapt.runner.baseline import BaselineSet, default_baselines
+from adapt.runner.baseline import BaselineFactory, BaselineSet, default_baselines
 from adapt.runner.check import check_scenario, planned_frames
 from adapt.runner.evaluation import Evaluation
 from adapt.runner.figures import FigureCollector, write_figures
@@ -147,6 +147,16 @@ class Runner:
         every ``(write ...)`` of the rules.
     listeners : sequence of FrameListener
         More listeners on the frame records, after the run's own.
+    baselines : mapping of str to BaselineFactory
+        More baselines beside ``kalman``, by name: each makes an
+        :class:`~adapt.runner.baseline.ObjectBaseline` for an object from a
+        :class:`~adapt.runner.baseline.BaselineSetup`; they step on the same sightings,
+        are scored by the evaluation like the Kalman baseline and reported under their name.
+
+    Attributes
+    ----------
+    result : RunResult or None
+        How the run ended, once :meth:`run` returned or :meth:`frames` ended.
     """
 
     def __init__(self, scenario: Scenario, *, source: FrameSource | None = None,
@@ -155,7 +165,8 @@ class Runner:
                  registry: Registry = REGISTRY,
                  on_progress: Callable[[Progress], None] | None = None,
                  on_write: Callable[[str], None] | None = None,
-                 listeners: tuple[FrameListener, ...] = ()) -> None:
+                 listeners: tuple[FrameListener, ...] = (),
+                 baselines: Mapping[str, BaselineFactory] | None = None) -> None:
         if max_frames is not None and max_frames < 1:
             raise RunError(f"max_frames must be at least 1, got {max_frames}")
         check_scenario(scenario, registry)
@@ -170,6 +181,7 @@ class Runner:
         self.on_write = on_write
         self.trace: TraceOutput | None = None
         self._engine: RuleEngine | None = None  # to close: the Soar kernel's process
+        self.result: RunResult | None = None
         self._lock: FolderLock | None = None
         self._check_outputs()
         if self.out is not None:  # one run per folder; what a killed run left goes
@@ -195,6 +207,13 @@ class Runner:
             self.baselines: dict[str, BaselineSet] = default_baselines(
                 scenario.scene.robot, horizons=scenario.predict.horizons, dt=1.0 / self.fps,
                 scene=scenario.scene)
+            for name, factory in (baselines or {}).items():
+                if name in self.baselines or not name or not isinstance(name, str):
+                    raise RunError(f"a baseline called {name!r} is already in the run; "
+                                   "choose another name")
+                self.baselines[name] = BaselineSet(
+                    name, factory, robot=scenario.scene.robot, horizons=scenario.predict.horizons,
+                    dt=1.0 / self.fps, scene=scenario.scene)
             self.evaluation = Evaluation(scenario, self.truth, self.fps, tuple(self.baselines))
             self.stats = RunStats()
             self.frames_done = 0
@@ -238,11 +257,25 @@ class Runner:
                 raise sc.where("world.appearance").error(str(exc)) from None
         return mirror
 
+    def _reality(self) -> str:
+        """``the reality`` or, for a plugin's kind, ``reality kind 'x' (its origin) at file:line``."""
+        from adapt.scenario import REALITIES, PluginReality
+
+        r = self.scenario.reality
+        if isinstance(r, PluginReality) and r.name in REALITIES:
+            return (f"reality kind {r.name!r} ({REALITIES.origin(r.name)}, "
+                    f"{r.source.location})")
+        return "the reality"
+
     def _check_size(self) -> None:
-        w, h = self.source.size
+        try:
+            w, h = (int(v) for v in self.source.size)
+        except (TypeError, ValueError):
+            raise RunError(f"{self._reality()} gives frames of size {self.source.size!r}; "
+                           "expected (width, height)") from None
         cam = self.scenario.camera
         if (w, h) != (cam.width, cam.height):
-            raise RunError(f"the reality's frames are {w}x{h} but the scenario's camera is "
+            raise RunError(f"{self._reality()}'s frames are {w}x{h} but the scenario's camera is "
                            f"{cam.width}x{cam.height} "
                            f"({self.scenario.where('camera.width').location}); "
                            "make them the same size")
@@ -307,7 +340,7 @@ class Runner:
         if "report" in paths:
             self.report = ReportOutput(paths["report"], {
                 "scenario": str(self.scenario.path) if self.scenario.path else None,
-                "seed": self.seed, "fps": self.fps, "reality": self.scenario.reality.kind.value,
+                "seed": self.seed, "fps": self.fps, "reality": self.scenario.reality.name,
                 "frames_planned": self.max_frames}, self.evaluation, self.scenario.target)
             self.listeners.append(self.report)
         if self.trace is not None:
@@ -349,33 +382,44 @@ class Runner:
     def run(self) -> RunResult:
         """Run the loop to the end (or the interrupt); write and return the outputs; release
         the output folder."""
+        for _ in self.frames():
+            pass
+        assert self.result is not None
+        return self.result
+
+    def frames(self) -> Generator[FrameRecord, None, None]:
+        """The loop one frame at a time: yields each frame's record after its listeners have
+        had it (before the imagination steps on).  When the iterator ends -- the run's
+        length, a ``(halt)``, Ctrl-C, or the caller closing it early (``break`` then
+        ``close()``, or leaving a ``with``; counted as interrupted) -- the outputs are
+        written and :attr:`result` holds the :class:`RunResult`.  Between two frames the
+        caller may command its own robot or simulator: this is how the loop is closed with
+        something outside adapt."""
         try:
-            return self._run()
+            self._open_outputs(self._paths())
+            started = time.perf_counter()
+            interrupted = False
+            error: str | None = None
+            try:
+                yield from self._loop(started)
+            except (KeyboardInterrupt, GeneratorExit):
+                interrupted = True
+            except BaseException as exc:
+                error = f"{type(exc).__name__}: {exc}"
+                self.result = self._finish(time.perf_counter() - started, False, error)
+                written = self.result.outputs
+                if isinstance(exc, EngineError) and written:  # a rule failed, the kernel crashed
+                    raise EngineError(
+                        f"{exc}; the run stopped in frame {self.frames_done}, and "
+                        f"{' and '.join(str(p) for p in written.values())} hold what ran") from exc
+                raise
+            finally:
+                self.source.close()
+            self.result = self._finish(time.perf_counter() - started, interrupted, error)
         finally:
             self.close()
 
-    def _run(self) -> RunResult:
-        self._open_outputs(self._paths())
-        started = time.perf_counter()
-        interrupted = False
-        error: str | None = None
-        try:
-            self._loop(started)
-        except KeyboardInterrupt:
-            interrupted = True
-        except BaseException as exc:
-            error = f"{type(exc).__name__}: {exc}"
-            written = self._finish(time.perf_counter() - started, False, error).outputs
-            if isinstance(exc, EngineError) and written:  # a rule failed, the kernel crashed
-                raise EngineError(
-                    f"{exc}; the run stopped in frame {self.frames_done}, and "
-                    f"{' and '.join(str(p) for p in written.values())} hold what ran") from exc
-            raise
-        finally:
-            self.source.close()
-        return self._finish(time.perf_counter() - started, interrupted, error)
-
-    def _loop(self, started: float) -> None:
+    def _loop(self, started: float) -> Iterator[FrameRecord]:
         frames: Iterator[Frame] = iter(self.source)
         while self.frames_done < self.max_frames:
             t0 = time.perf_counter()
@@ -384,8 +428,9 @@ class Runner:
                 break
             self._check_frame(frame)
             self.stats.add("reality", time.perf_counter() - t0)
-            self._step(frame)
+            record = self._step(frame)
             self.frames_done += 1
+            yield record
             if self.agent.halted:
                 break
             if self.on_progress is not None:
@@ -394,15 +439,18 @@ class Runner:
                                           self.frames_done / wall if wall > 0 else 0.0,
                                           len(self.network)))
 
-    def _check_frame(self, frame: Frame) -> None:
+    def _check_frame(self, frame: object) -> None:
+        if not isinstance(frame, Frame) or not isinstance(frame.image, np.ndarray):
+            raise RunError(f"{self._reality()} gave {type(frame).__name__}; expected "
+                           "adapt.frames.Frame(index, time, image) with a numpy image")
         img = frame.image
         w, h = self.source.size
         if img.dtype != np.uint8 or img.ndim != 3 or img.shape[2] != 3 or img.shape[:2] != (h, w):
-            raise RunError(f"frame {frame.index} is {img.dtype} {tuple(img.shape)}; expected "
-                           f"uint8 BGR {h}x{w}x3 like the camera")
+            raise RunError(f"{self._reality()}: frame {frame.index} is {img.dtype} "
+                           f"{tuple(img.shape)}; expected uint8 BGR {h}x{w}x3 like the camera")
 
-    def _step(self, frame: Frame) -> None:
-        """Steps 2 to 6 of the module docstring for one frame."""
+    def _step(self, frame: Frame) -> FrameRecord:
+        """Steps 2 to 6 of the module docstring for one frame; returns its record."""
         stats = self.stats
         t1 = time.perf_counter()
         self.network.perceive(frame)
@@ -427,6 +475,7 @@ class Runner:
         stats.add("action", t4 - t3)
         stats.add("physics", t6 - t5)
         stats.add("outputs", t5 - t4)
+        return record
 
     def _create_twins(self) -> None:
         """An object the mirror created this frame is created in the uncorrected twin too,

@@ -1,6 +1,6 @@
 """Scenario files: the only YAML reader of adapt.
 
-A scenario is a YAML mapping with the sections ``seed``, ``camera``,
+A scenario is a YAML mapping with the sections ``plugins``, ``seed``, ``camera``,
 ``world``, ``reality``, ``goals``, ``rules``, ``engine``, ``schemas``,
 ``run``, ``predict`` and ``outputs`` (every key and its default is in
 ``docs/scenario.md``; a test keeps that page and this reader in step).  Each
@@ -41,7 +41,7 @@ adapt.errors.ScenarioError: <string>:5:47: world.walls[0].height: expected a pos
 >>> loads_scenario(text + "sede: 3\\n")
 Traceback (most recent call last):
 ...
-adapt.errors.ScenarioError: <string>:8:1: sede: unknown key (did you mean 'seed'?); expected one of seed, camera, world, reality, goals, rules, engine, schemas, run, predict, outputs
+adapt.errors.ScenarioError: <string>:8:1: sede: unknown key (did you mean 'seed'?); expected one of plugins, seed, camera, world, reality, goals, rules, engine, schemas, run, predict, outputs
 ...
 """
 
@@ -53,13 +53,15 @@ from types import MappingProxyType
 from typing import Mapping, Sequence
 
 from adapt.engine.interface import ENGINE_NAMES, EngineName
-from adapt.errors import ScenarioError
+from adapt.errors import PluginError, ScenarioError
 from adapt.files import Inputs
 from adapt.geometry import Camera
 from adapt.imagination.scene import SceneSpec
 from adapt.lens import Lens
+from adapt.plugins import PluginFrom, load_installed, load_plugin
 from adapt.scenario.inputs import scenario_inputs
-from adapt.scenario.nodes import Override, join  # noqa: F401  (re-exported)
+from adapt.scenario.kinds import REALITIES, RealityRegistry, RealityType
+from adapt.scenario.nodes import Node, Override, join  # noqa: F401  (join re-exported)
 from adapt.scenario.records import (
     BulletLook,
     BulletObject,
@@ -75,6 +77,8 @@ from adapt.scenario.records import (
     Mount,
     ObjectModel,
     OutputSettings,
+    PluginReality,
+    PluginRef,
     PredictSettings,
     Range,
     RealAppearance,
@@ -123,6 +127,11 @@ __all__ = [
     "TextureSource",
     "CameraReality",
     "VideoCodec",
+    "PluginReality",
+    "PluginRef",
+    "RealityType",
+    "RealityRegistry",
+    "REALITIES",
     "Reality",
     "Goal",
     "GoalKind",
@@ -138,8 +147,8 @@ __all__ = [
 MAX_BYTES = 16 * 1024 * 1024
 
 #: The top-level sections, in the order the documentation lists them.
-TOP_KEYS = ("seed", "camera", "world", "reality", "goals", "rules", "engine", "schemas", "run",
-            "predict", "outputs")
+TOP_KEYS = ("plugins", "seed", "camera", "world", "reality", "goals", "rules", "engine", "schemas",
+            "run", "predict", "outputs")
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -161,8 +170,10 @@ class Scenario:
         Whether the camera is fixed or on the robot.
     objects : tuple of ObjectModel
         Every declared object with what is known of it before it is seen.
-    reality : SyntheticReality or VideoReality
+    reality : SyntheticReality, VideoReality or PluginReality
         Where the real frames come from.
+    plugins : tuple of PluginRef
+        The ``plugins`` section: modules imported before the rest was read.
     goals, rules, schemas : tuples of Goal, RuleFile, SchemaSettings
     engine : EngineName
         The rule engine that runs the rules (``engine``): adapt's own (the
@@ -194,6 +205,7 @@ class Scenario:
     sources: Mapping[str, Source] = field(default_factory=lambda: MappingProxyType({}))
     appearance: Path | None = None
     lens: Lens | None = None
+    plugins: tuple[PluginRef, ...] = ()
 
     def where(self, path: str) -> Source:
         """The position of a key path (the nearest enclosing one that was read).
@@ -272,7 +284,11 @@ def loads_scenario(
     overrides: Sequence[Override | str] = (),
 ) -> Scenario:
     """Read a scenario from YAML text; relative paths resolve against ``base``
-    (default: the current directory)."""
+    (default: the current directory).
+
+    The installed plugins are loaded first (:func:`adapt.plugins.load_installed`), then the
+    ``plugins`` section's, so that their schema types and reality kinds are known to the rest.
+    """
     ovs = [o if isinstance(o, Override) else Override.parse(o) for o in overrides]
     return _Reader(text, file, base or Path.cwd()).read(path, ovs)
 
@@ -286,6 +302,8 @@ class _Reader(RunReader):
         root = self.apply_overrides(root, overrides)
         top = self.mapping(root, "")
         self.check_keys(top, TOP_KEYS, "")
+        load_installed()
+        plugins = self.plugins(top["plugins"][1], "plugins") if "plugins" in top else ()
         for key in ("camera", "world"):
             if key not in top:
                 raise self.error(root, "", f"missing section {key!r}")
@@ -323,6 +341,23 @@ class _Reader(RunReader):
             predict=predict,
             outputs=outputs, sources=MappingProxyType(dict(self.sources)), appearance=appearance,
             lens=lens,
+            plugins=plugins,
         )
         check_together(scenario)
         return scenario
+
+    def plugins(self, node: Node, path: str) -> tuple[PluginRef, ...]:
+        """``plugins``: module names or ``.py`` files (relative to the scenario), imported now."""
+        if self.is_null(node):
+            return ()
+
+        def one(item: Node, where: str, i: int) -> PluginRef:
+            name = self.string(item, where)
+            try:
+                plugin = load_plugin(name, base=self.base, found=PluginFrom.SCENARIO)
+            except PluginError as exc:
+                raise self.error(item, where, str(exc)) from None
+            return PluginRef(name, plugin.module, None if plugin.file is None else Path(plugin.file),
+                             plugin.origin, self.source(item, where))
+
+        return tuple(self.listed(node, path, one))

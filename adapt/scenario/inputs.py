@@ -3,7 +3,8 @@
 :func:`scenario_inputs` lists the YAML file itself, its rule files, every
 texture image (of the world's floor, walls, obstacles and objects, and of
 reality's objects), the learned-appearance folder, the video file or each
-frame of an image sequence, and the ground-truth file, each named by its key
+frame of an image sequence, the ground-truth file, the files a plugin's reality
+kind names, and each plugin's own module file, each named by its key
 path (``the scenario's world.floor.texture``).  The files a rule file
 ``source``\\ s are read by the rule loader, which adds them
 (``adapt.runner.inputs``).  Built from the scenario's records, so a scenario
@@ -25,7 +26,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Iterator
 
 from adapt.files import Input, Inputs
-from adapt.scenario.records import CameraReality, VideoReality
+from adapt.scenario.records import CameraReality, PluginReality, VideoReality
 
 if TYPE_CHECKING:
     from adapt.scenario import Scenario
@@ -46,6 +47,9 @@ def scenario_files(sc: "Scenario") -> Iterator[Input]:
     resolves a path once)."""
     if sc.path is not None:
         yield Input("the scenario", sc.path)
+    for i, plugin in enumerate(sc.plugins):
+        if plugin.file is not None:
+            yield Input(f"{_OWN} plugins[{i}] ({plugin.name}, a plugin)", plugin.file)
     for i, rf in enumerate(sc.rules):
         yield Input(f"{_OWN} {rf.source.path or f'rules[{i}]'} (a rule file)", rf.path)
     scene = sc.scene
@@ -57,7 +61,10 @@ def scenario_files(sc: "Scenario") -> Iterator[Input]:
     balls.update((m.name, m.ball) for m in sc.objects if m.name not in balls)  # when seen
     textures += [(f"world.objects.{name}.texture", b.texture) for name, b in balls.items()]
     reality = sc.reality
-    if reality is not None and not isinstance(reality, (VideoReality, CameraReality)):
+    if isinstance(reality, PluginReality):
+        for key, path in reality.files:
+            yield Input(f"{_OWN} reality.{key} (a file of reality kind {reality.name})", path)
+    if reality is not None and not isinstance(reality, (VideoReality, CameraReality, PluginReality)):
         textures += [(f"reality.objects.{o.name}.texture", o.ball.texture)
                      for o in reality.objects]
     for key, texture in textures:

@@ -4,8 +4,9 @@
 a ground-truth world that differs from the imagination as reality does;
 ``kind: video`` names a video file or an image sequence; ``kind: bullet`` a
 reality on PyBullet (read by :mod:`adapt.scenario.bullet`); ``kind: camera`` a
-camera (read by :mod:`adapt.scenario.device`).  See
-``docs/scenario.md`` for every key and its default.
+camera (read by :mod:`adapt.scenario.device`); any other kind is one a plugin
+registered (:mod:`adapt.scenario.kinds`), its keys checked against the kind's
+parameters.  See ``docs/scenario.md`` for every key and its default.
 """
 
 from __future__ import annotations
@@ -13,12 +14,15 @@ from __future__ import annotations
 import glob as globbing
 from dataclasses import replace
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any, Callable
 
 from adapt.geometry import Camera
 from adapt.imagination.scene import Ball, RobotSpec, SceneSpec
+from adapt.parameters import REQUIRED, ParameterError
 from adapt.scenario.bullet import BulletReader
 from adapt.scenario.device import read_camera_reality
+from adapt.scenario.kinds import BUILTIN_KINDS, REALITIES, RealityType
 from adapt.scenario.nodes import Node, join
 from adapt.scenario.records import (
     BulletReality,
@@ -27,6 +31,7 @@ from adapt.scenario.records import (
     CameraReality,
     Creation,
     ObjectModel,
+    PluginReality,
     Range,
     RealAppearance,
     RealityKind,
@@ -68,7 +73,7 @@ class RealityReader(BulletReader):
     def reality(self, node: Node | None, path: str, models: tuple[ObjectModel, ...],
                 robot: RobotSpec | None, *, scene: SceneSpec | None = None,
                 camera: tuple[Camera, CameraMount] | None = None
-                ) -> SyntheticReality | VideoReality | BulletReality | CameraReality:
+                ) -> SyntheticReality | VideoReality | BulletReality | CameraReality | PluginReality:
         """Read ``reality`` (``node`` None: the default synthetic reality); a PyBullet
         reality's geometry is checked against ``scene`` and ``camera``."""
         if node is None:
@@ -76,8 +81,11 @@ class RealityReader(BulletReader):
         items = self.mapping(node, path)
         kind = RealityKind.SYNTHETIC
         if "kind" in items:
-            kind = RealityKind(self.choice(items["kind"][1], join(path, "kind"),
-                                           [k.value for k in RealityKind]))
+            name = self.choice(items["kind"][1], join(path, "kind"),
+                               [*BUILTIN_KINDS, *REALITIES.names()])
+            if name not in BUILTIN_KINDS:
+                return self.plugin_reality(node, path, REALITIES.get(name))
+            kind = RealityKind(name)
         if kind is RealityKind.VIDEO:
             return self.video(node, path)
         if kind is RealityKind.BULLET:
@@ -98,6 +106,37 @@ class RealityReader(BulletReader):
             objects.append(self.true_from_model(m, None, {}, source))
         return SyntheticReality(DEFAULT_REALITY_DT, CameraOffset(source=source), DEFAULT_APPEARANCE,
                                 tuple(objects), RobotTruth(source=source), source)
+
+    # -- a plugin's kind --------------------------------------------------------------------
+
+    def plugin_reality(self, node: Node, path: str, rt: RealityType) -> PluginReality:
+        """A section of a plugin's kind: its keys checked against the kind's parameters."""
+        items = self.mapping(node, path)
+        self.check_keys(items, ("kind", *(p.name for p in rt.parameters)), path)
+        values: dict[str, Any] = {}
+        files: list[tuple[str, Path]] = []
+        sources: dict[str, Source] = {}
+        for p in rt.parameters:
+            key = join(path, p.name)
+            if p.name not in items:
+                if p.default is REQUIRED:
+                    raise self.error(node, path, f"missing key {p.name!r} of reality kind "
+                                     f"{rt.name!r} ({p.doc})")
+                values[p.name] = p.default
+                continue
+            vnode = items[p.name][1]
+            sources[p.name] = self.source(items[p.name][0], key)
+            if p.name in rt.files:
+                found = self.existing_file(vnode, key, p.doc or p.name)
+                values[p.name] = str(found)
+                files.append((p.name, found))
+                continue
+            try:
+                values[p.name] = p.check(self.scalar(vnode, key))
+            except ParameterError as exc:
+                raise self.error(vnode, key, str(exc)) from None
+        return PluginReality(rt.name, MappingProxyType(values), tuple(files), rt.like,
+                             self.source(node, path), MappingProxyType(sources))
 
     # -- video ---------------------------------------------------------------------------
 

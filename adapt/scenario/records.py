@@ -49,6 +49,8 @@ __all__ = [
     "RealAppearance",
     "RobotTruth",
     "SyntheticReality",
+    "PluginReality",
+    "PluginRef",
     "VideoReality",
     "BulletSurfaces",
     "BulletObject",
@@ -408,6 +410,11 @@ class SyntheticReality:
     source: Source = UNKNOWN
     kind: RealityKind = RealityKind.SYNTHETIC
 
+    @property
+    def name(self) -> str:
+        """``reality.kind`` as the scenario writes it."""
+        return self.kind.value
+
     def object(self, name: str) -> TrueObject:
         """The true object called ``name``."""
         for o in self.objects:
@@ -441,6 +448,11 @@ class VideoReality:
     ground_truth: Path | None
     source: Source = UNKNOWN
     kind: RealityKind = RealityKind.VIDEO
+
+    @property
+    def name(self) -> str:
+        """``reality.kind`` as the scenario writes it."""
+        return self.kind.value
 
 
 class TextureSource(enum.Enum):
@@ -551,6 +563,11 @@ class BulletReality:
     source: Source = UNKNOWN
     kind: RealityKind = RealityKind.BULLET
 
+    @property
+    def name(self) -> str:
+        """``reality.kind`` as the scenario writes it."""
+        return self.kind.value
+
     def object(self, name: str) -> BulletObject:
         """The true object called ``name``."""
         for o in self.objects:
@@ -580,8 +597,66 @@ class CameraReality:
     source: Source = UNKNOWN
     kind: RealityKind = RealityKind.CAMERA
 
+    @property
+    def name(self) -> str:
+        """``reality.kind`` as the scenario writes it."""
+        return self.kind.value
 
-Reality = SyntheticReality | VideoReality | BulletReality | CameraReality
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class PluginReality:
+    """A reality of a kind a plugin registered (:mod:`adapt.scenario.kinds`).
+
+    Attributes
+    ----------
+    name : str
+        ``reality.kind`` (the registered name).
+    values : mapping
+        Every parameter the kind declares, checked (defaults filled in); the ones
+        the kind names as files are absolute paths.
+    files : tuple of (str, Path)
+        The files it names (parameter, path), for :meth:`Scenario.inputs`.
+    kind : RealityKind
+        What the schemas may assume of its frames (``video``: a camera's images, looks
+        to be learned; ``synthetic``: rendered like the imagination).
+    source : Source
+        Where the section is; ``sources`` where each of its keys is.
+    """
+
+    name: str
+    values: Mapping[str, Any]
+    files: tuple[tuple[str, Path], ...] = ()
+    kind: RealityKind = RealityKind.VIDEO
+    source: Source = UNKNOWN
+    sources: Mapping[str, Source] = field(default_factory=lambda: MappingProxyType({}))
+
+    def get(self, key: str) -> Any:
+        """The value of parameter ``key``."""
+        return self.values[key]
+
+    def where(self, key: str) -> Source:
+        """The position of ``reality.<key>`` (the section's when it was not given)."""
+        return self.sources.get(key, self.source)
+
+
+Reality = SyntheticReality | VideoReality | BulletReality | CameraReality | PluginReality
+
+
+@dataclass(frozen=True, slots=True)
+class PluginRef:
+    """One entry of the scenario's ``plugins`` list, imported.
+
+    ``name`` as written (a module name or a ``.py`` file), ``module`` the imported
+    module's name, ``file`` its file (None for a namespace package), ``origin`` the label
+    of what it registered (``adapt schemas list``).
+    """
+
+    name: str
+    module: str
+    file: Path | None
+    origin: str
+    source: Source = UNKNOWN
 
 
 # -- goals, rules, schemas ------------------------------------------------------------

@@ -16,7 +16,9 @@ of false alignments, the learning schedule.
 
 Each region is reported with its bounding box, centroid and area (real-image
 pixels), its floor position (the bottom of its box back-projected onto the
-floor) and width on the floor (metres), and its age in frames.
+floor) and width on the floor (metres), its age in frames, its mean colour and
+the declared object it looks like (colour and size:
+:func:`~adapt.schemas.percepts.looks_like`).
 
 **Appearance learning** (``appearance``: ``on``; ``auto``, the default, is on
 for any reality but a synthetic one: a video, a PyBullet reality).  The scenario gives the room's geometry but rarely the
@@ -80,7 +82,13 @@ from adapt.mirror.structure import face_labels
 from adapt.scenario import RealityKind
 from adapt.schemas.base import BBox, Schema, Status
 from adapt.schemas.links import Structure
-from adapt.schemas.percepts import AppearanceStage, BackgroundPercept, FirstLook, RegionReport
+from adapt.schemas.percepts import (
+    AppearanceStage,
+    BackgroundPercept,
+    FirstLook,
+    RegionReport,
+    looks_like,
+)
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 from adapt.schemas.tracks import RegionTracker
 from adapt.vision.camera_correction import correct_rotation
@@ -142,6 +150,8 @@ class SceneBackground(Schema):
                  network: "SchemaNetwork") -> None:
         super().__init__(name, spec, parameters, network)
         self.tracker = RegionTracker()
+        #: the declared objects' colours and radii, for what a region looks like
+        self._looks = {name: (m.ball.color, m.ball.radius) for name, m in network.models.items()}
         self.result: MMDResult | None = None
         self.synthetic: NDArray[np.uint8] | None = None
         self.background_image: NDArray[np.uint8] | None = None
@@ -559,9 +569,11 @@ class SceneBackground(Schema):
             r = t.region
             x, y, w, h = r.bbox
             edge = x <= 0 or y <= 0 or x + w >= frame.image.shape[1] or y + h >= frame.image.shape[0]
+            color = _mean_color(frame.image, r.bbox, r.silhouette)
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
                                     owner, floor, size, percept.imagined_in(r), edge,
-                                    owner is None and self._still(r.bbox)))
+                                    owner is None and self._still(r.bbox), color,
+                                    looks_like(color, size, self._looks)))
         return out
 
     def _still(self, bbox: BBox) -> bool:
@@ -618,6 +630,9 @@ class SceneBackground(Schema):
             c.set("floor-y", None if r.floor is None else round(r.floor[1], 4))
             c.set("size", None if r.size is None else round(r.size, 4))
             c.set("imagined", r.imagined)
+            for key, v in zip(("color-r", "color-g", "color-b"), r.color or (None,) * 3):
+                c.set(key, v)
+            c.set("looks-like", r.looks_like)
             c.set("at-edge", r.at_edge)
             c.set("still", r.still)
             c.set("age", r.age)
@@ -634,6 +649,20 @@ class SceneBackground(Schema):
                     "appearance": self.stage.value,
                     "learned": len(self.network.mirror.appearance.learned)})
         return out
+
+
+def _mean_color(image: NDArray[np.uint8], bbox: BBox, silhouette: NDArray[np.bool_]
+                ) -> tuple[int, int, int] | None:
+    """The mean ``(r, g, b)`` of a BGR image's pixels in a region (its silhouette when it fits
+    the box, else the whole box)."""
+    x, y, w, h = bbox
+    patch = image[max(y, 0):y + h, max(x, 0):x + w]
+    if patch.size == 0:
+        return None
+    pixels = patch[silhouette] if silhouette.shape == patch.shape[:2] and silhouette.any() \
+        else patch.reshape(-1, 3)
+    b, g, r = (int(round(float(v))) for v in pixels.mean(axis=0))
+    return (r, g, b)
 
 
 def _floor_of(bbox: BBox, h_inv: NDArray[np.float64], camera: "Camera"

@@ -142,9 +142,7 @@ class Drive(Schema):
         self._velocity = velocity
         if turn is not None:
             self._turn = turn
-        self.network.mirror.command_robot(velocity, self._turn)
-        if self.network.actuator is not None:
-            self.network.actuator.command_robot(velocity, self._turn)
+        self.network.command_robot(velocity, self._turn)
 
     def distance(self) -> float | None:
         """Odometry distance to the target, or None."""

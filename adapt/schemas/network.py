@@ -58,6 +58,7 @@ from adapt.schemas.spec import ParameterError, SchemaKind, SchemaSpec
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Actuator, Frame
+    from adapt.imagination.scene import RobotSpec
     from adapt.mirror import Mirror
     from adapt.scenario import Goal, ObjectModel, PredictSettings, SchemaSettings
 
@@ -256,6 +257,25 @@ class SchemaNetwork:
                 return schema.name
         return None
 
+    # -- the robot, for motor schemas ------------------------------------------------------
+
+    @property
+    def robot(self) -> "RobotSpec | None":
+        """The robot's model (speed and acceleration limits, size), or None without a robot."""
+        return self.mirror.scene.robot
+
+    def robot_pose(self) -> tuple[tuple[float, float], float] | None:
+        """The imagined robot's pose (odometry): ``((x, y), heading)``, or None."""
+        return self.mirror.robot_pose()
+
+    def command_robot(self, velocity: tuple[float, float], turn: float = 0.0) -> None:
+        """Command the robot's velocity (m/s, floor frame) and turn rate (rad/s): the imagined
+        robot (odometry) and the real one (the reality's :class:`~adapt.frames.Actuator`,
+        when it has one) alike."""
+        self.mirror.command_robot(velocity, turn)
+        if self.actuator is not None:
+            self.actuator.command_robot(velocity, turn)
+
     # -- changing the network ---------------------------------------------------------------
 
     def instantiate(self, type_name: str, name: str | None = None,
@@ -270,8 +290,9 @@ class SchemaNetwork:
         ------
         SchemaError
             For an unknown type or parameter, a bad value, a name in use, a
-            second instance of a singleton type, or a schema that cannot
-            start (a drive schema without a robot).
+            second instance of a singleton type, a ``region`` another schema
+            owns (a region has one owner), or a schema that cannot start (a
+            drive schema without a robot).
         """
         spec = self.registry.get(type_name)
         if name is None:
@@ -300,6 +321,7 @@ class SchemaNetwork:
                 values[key] = p.check(value)
             except ParameterError as exc:
                 raise SchemaError(f"{spec.name} parameter {key}: {exc}") from None
+        self._check_owner(values.get("region"))
         try:
             schema = spec.factory(name, values, self)
         except ValueError as exc:
@@ -317,6 +339,17 @@ class SchemaNetwork:
                                 "parameters": {k: v for k, v in values.items()
                                                if k in (parameters or {})}}))
         return schema
+
+    def _check_owner(self, region: object) -> None:
+        """A region has one owner: refuse a schema for a difference region (its ``region``
+        parameter) that another schema claims or was made for."""
+        if isinstance(region, bool) or not isinstance(region, int) or region <= 0:
+            return
+        owner = self.claims().get(region) or next(
+            (s.name for s in self.ordered() if s.parameters.get("region") == region), None)
+        if owner is not None:
+            raise SchemaError(f"region {region} already has an owner, schema {owner!r}; a "
+                              "region has one owner")
 
     def _connect(self, schema: Schema) -> None:
         spec = schema.spec

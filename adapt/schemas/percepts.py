@@ -57,10 +57,38 @@ if TYPE_CHECKING:  # pragma: no cover
     from adapt.vision.regions import Region
 
 __all__ = ["BackgroundPercept", "ObjectPercept", "RegionReport", "Sighting", "FirstLook",
-           "AppearanceStage", "BBox", "Vec2"]
+           "AppearanceStage", "BBox", "Vec2", "LOOKS_LIKE_COLOR", "LOOKS_LIKE_SIZE", "LOOKS_LIKE_MARGIN",
+           "looks_like"]
 
 BBox = tuple[int, int, int, int]
 Vec2 = tuple[float, float]
+
+
+def looks_like(color: tuple[int, int, int] | None, size: float | None,
+               objects: Mapping[str, tuple[tuple[int, int, int], float]]) -> str | None:
+    """The object (name -> ``(colour, radius)``) a region of mean ``color`` and floor ``size``
+    looks like: the nearest colour within :data:`LOOKS_LIKE_COLOR` among those whose
+    diameter is within :data:`LOOKS_LIKE_SIZE` of ``size`` (any size when it is unknown);
+    None when none is near enough, or when the next is within :data:`LOOKS_LIKE_MARGIN` of it
+    (objects of one colour are told apart otherwise).
+
+    >>> objects = {"red": ((230, 60, 30), 0.1), "blue": ((40, 80, 220), 0.1)}
+    >>> looks_like((200, 70, 50), 0.18, objects), looks_like((60, 90, 200), None, objects)
+    ('red', 'blue')
+    >>> looks_like((120, 120, 120), 0.2, objects), looks_like((200, 70, 50), 1.5, objects)
+    (None, None)
+    >>> looks_like((200, 70, 50), 0.2, {"a": ((230, 60, 30), 0.1), "b": ((225, 65, 35), 0.1)})
+    """
+    if color is None:
+        return None
+    near = sorted((math.dist(color, c), name) for name, (c, radius) in objects.items()
+                  if size is None or 1.0 / LOOKS_LIKE_SIZE <= size / (2.0 * radius) <= LOOKS_LIKE_SIZE)
+    if not near or near[0][0] > LOOKS_LIKE_COLOR:
+        return None
+    if len(near) > 1 and near[1][0] - near[0][0] < LOOKS_LIKE_MARGIN:
+        return None  # two objects look alike: the colour does not tell which
+    return near[0][1]
+
 
 class AppearanceStage(enum.Enum):
     """Where the Scene Background's appearance learning is (``docs/appearance.md``)."""
@@ -68,6 +96,18 @@ class AppearanceStage(enum.Enum):
     OFF = "off"              # the scenario's look (or a loaded one), never changed
     STRUCTURE = "structure"  # aligning the camera to the scene's structure first
     LEARNED = "learned"      # the look is learned and refined
+
+
+#: Largest distance between a region's mean colour and an object's (RGB, 0-255) for the
+#: region to look like it: lighting, blur and the floor showing through move a ball's colour.
+LOOKS_LIKE_COLOR = 90.0
+
+#: A region looks like none of two objects whose colours are this close to it alike.
+LOOKS_LIKE_MARGIN = 25.0
+
+#: A region looks like an object when its size on the floor is within this factor of the
+#: object's diameter (either way): the box's bottom edge back-projected is a rough measure.
+LOOKS_LIKE_SIZE = 2.5
 
 
 @dataclass(frozen=True, slots=True)
@@ -80,7 +120,12 @@ class RegionReport:
     ``imagined`` the imagined moving object it shows; ``still`` that the
     camera's pixels in its box have not changed over its last frames while
     the look is learned: a difference nothing moves in is the learned look's
-    error (a ghost, background it never saw), not an object arriving.
+    error (a ghost, background it never saw), not an object arriving;
+    ``color`` the mean ``(r, g, b)`` of the real image's pixels in it;
+    ``looks_like`` the declared object whose colour and size it has (the
+    nearest colour within :data:`LOOKS_LIKE_COLOR`, a size within
+    :data:`LOOKS_LIKE_SIZE` of its diameter), so that rules can tell one
+    object from another before a schema claims it.
     """
 
     id: int
@@ -95,6 +140,8 @@ class RegionReport:
     imagined: str | None = None
     at_edge: bool = False
     still: bool = False
+    color: tuple[int, int, int] | None = None
+    looks_like: str | None = None
 
     def as_json(self) -> dict[str, Any]:
         """JSON form (trace and report)."""
@@ -104,7 +151,9 @@ class RegionReport:
                 "owner": self.owner,
                 "floor": None if self.floor is None else [round(v, 4) for v in self.floor],
                 "size": None if self.size is None else round(self.size, 4),
-                "imagined": self.imagined, "at_edge": self.at_edge, "still": self.still}
+                "imagined": self.imagined, "at_edge": self.at_edge, "still": self.still,
+                "color": None if self.color is None else list(self.color),
+                "looks_like": self.looks_like}
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -86,7 +86,7 @@ class DocShell:
 
     def __init__(self, scratch: Path) -> None:
         self.cwd = scratch
-        for folder in ("scenarios", "rules", "bench"):
+        for folder in ("scenarios", "rules", "bench", "examples"):
             (scratch / folder).symlink_to(ROOT / folder)
         bin_dir = scratch / "bin"
         bin_dir.mkdir()

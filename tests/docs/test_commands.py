@@ -50,6 +50,10 @@ SKIPPED: dict[tuple[str, str], str] = {
     ("sweeps.md", "srun "): "starts Dask workers under Slurm",
     ("mirror.md", "python bench/"): "benchmarks: an hour of PyBullet realities; "
                                     "tests/reality/test_foreign_bench.py checks its throws",
+    ("extending.md", "python examples/goalkeeper/run.py"): "50 whole runs (about 10 minutes); "
+        "tests/examples runs the same script for one throw",
+    ("extending.md", "python examples/two_balls/run.py"): "20 whole runs (about 10 minutes); "
+        "tests/examples runs the same script for one seed",
     ("mirror.md", "adapt run scenarios/"): "whole 640x480 runs, 15-40 s each; tests/mirror runs the "
                                            "same scenarios at 320x240 and tests/runner/test_cli.py "
                                            "runs the main job's command for a few frames",

@@ -93,7 +93,7 @@ def command_of(argv: list[str]) -> str:
     words = [a for a in argv[:2] if not a.startswith("-")]
     if not words:
         return ""
-    if words[0] in ("rules", "trace", "schemas") and len(words) > 1:
+    if words[0] in ("rules", "trace", "schemas", "plugins") and len(words) > 1:
         return f"{words[0]} {words[1]}"
     return words[0]
 

@@ -120,7 +120,7 @@ def test_unknown_top_level_sections_are_errors_with_a_suggestion(tmp_path: Path)
     assert err.message.startswith("sede: unknown key (did you mean 'seed'?)")
     assert (err.line, err.col) == (12, 1)
     p = write(tmp_path, "  objects: [{name: b}]\n", "agent: {}\n")
-    assert error_of(p).message.startswith("agent: unknown key; expected one of seed, camera")
+    assert error_of(p).message.startswith("agent: unknown key; expected one of plugins, seed, camera")
 
 
 def test_file_level_errors(tmp_path: Path) -> None:

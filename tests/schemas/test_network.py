@@ -253,3 +253,8 @@ def test_a_region_has_one_owner_and_an_object_one_monitor() -> None:
     # spawned for a region no provider reports: it claims nothing
     fo = net.instantiate("foreground-object", parameters={"region": 7}, origin=Origin.BOTTOM_UP)
     assert fo.claimed_regions() == () and net.claims() == {}
+    # a second schema for the same region is refused: a region has one owner
+    with pytest.raises(SchemaError, match=f"region 7 already has an owner, schema '{fo.name}'"):
+        net.instantiate("foreground-object", parameters={"region": 7}, origin=Origin.BOTTOM_UP)
+    net.remove(fo.name)
+    assert net.instantiate("foreground-object", parameters={"region": 7}).parameters["region"] == 7
