@@ -147,8 +147,23 @@ def summary_lines(s: dict[str, Any]) -> list[str]:
     if pos and rot:
         lines.append(f"camera vs truth at the end: {100 * pos['last']:.2f} cm, "
                      f"{rot['last']:.3f} deg")
-    return (lines + _source_lines(s) + _goal_lines(s) + _tracking_lines(s)
-            + _intercept_lines(s) + _prediction_lines(s))
+    return (lines + _source_lines(s) + _goal_lines(s) + _tracking_lines(s) + _intercept_lines(s)
+            + _prediction_lines(s))
+
+
+def _source_lines(s: dict[str, Any]) -> list[str]:
+    """What a camera did: frames dropped, the rate measured, a stall."""
+    src = s.get("source")
+    if not src:
+        return []
+    measured = src.get("fps_measured")
+    rate = f"{measured:g} frames/s measured" if measured else "no rate measured"
+    line = (f"{src['device']}: {src['frames_delivered']} frames taken of {src['frames_read']} "
+            f"read, {src['frames_dropped']} dropped; {rate} (assumed {src['fps']:g}, "
+            f"{src['clock']} clock)")
+    if src.get("stalled"):
+        line += f"; stalled: no frame for {src['stall_s']:g} s"
+    return [line]
 
 
 def _goal_lines(s: dict[str, Any]) -> list[str]:
@@ -166,21 +181,6 @@ def _goal_lines(s: dict[str, Any]) -> list[str]:
             lines.append(f"the goal's object {name!r} was first seen after "
                          f"{g['first_seen_s']:g} s")
     return lines
-
-
-def _source_lines(s: dict[str, Any]) -> list[str]:
-    """What a camera did: frames dropped, the rate measured, a stall."""
-    src = s.get("source")
-    if not src:
-        return []
-    measured = src.get("fps_measured")
-    rate = f"{measured:g} frames/s measured" if measured else "no rate measured"
-    line = (f"{src['device']}: {src['frames_delivered']} frames taken of {src['frames_read']} "
-            f"read, {src['frames_dropped']} dropped; {rate} (assumed {src['fps']:g}, "
-            f"{src['clock']} clock)")
-    if src.get("stalled"):
-        line += f"; stalled: no frame for {src['stall_s']:g} s"
-    return [line]
 
 
 def _tracking_lines(s: dict[str, Any]) -> list[str]:

@@ -22,10 +22,10 @@ Modules, one noun each:
   render (tint, lighting, contrast, colour, blur, noise, spin markers);
 * :mod:`~adapt.reality.surfaces` - the real surfaces' texture phase;
 * :mod:`~adapt.reality.video` - a video file or an image sequence;
-* :mod:`~adapt.reality.bullet` - a reality on PyBullet (another physics engine
-  and renderer; the optional extra ``adapt[bullet]``);
 * :mod:`~adapt.reality.live` - a camera: a device, a stream URL, or a file
   played as a camera;
+* :mod:`~adapt.reality.bullet` - a reality on PyBullet (another physics engine
+  and renderer; the optional extra ``adapt[bullet]``);
 * :mod:`~adapt.reality.truth` - ground-truth records and the CSV reader;
 * :mod:`~adapt.reality.record` - a synthetic reality written out as an image
   sequence with its truth (how the bundled video scenario was made);
@@ -151,12 +151,12 @@ def open_reality(scenario: Scenario, *, streams: Streams) -> RealitySource:
         rate.
     GroundTruthError
         A ground-truth file with a bad header or row.
-    RealityError
-        A ``bullet`` reality without PyBullet installed (the message says what to
-        install), or one whose drawn camera ends up inside a wall.
     ScenarioError
         A camera that cannot be opened, states no frame rate, or gives images of
         another size (at the position of ``reality.device``).
+    RealityError
+        A ``bullet`` reality without PyBullet installed (the message says what to
+        install), or one whose drawn camera ends up inside a wall.
     """
     reality = scenario.reality
     if isinstance(reality, SyntheticReality):  # seen through the camera's lens

@@ -119,6 +119,8 @@ __all__ = [
     "RobotTruth",
     "SyntheticReality",
     "VideoReality",
+    "CameraReality",
+    "VideoCodec",
     "BulletReality",
     "BulletObject",
     "BulletSurfaces",

@@ -48,7 +48,7 @@ from adapt.imagination.scene import (
 
 __all__ = ["Bound", "BOUNDS", "BULLET_BOUNDS", "CHANNEL", "generic", "bound_of", "bullet_bound",
            "show", "MAX_STEP", "MIN_STEP", "MAX_BODY_SPEED",
-           "MAX_OFFSET", "MAX_ANGLE", "MAX_SEED"]
+           "MAX_OFFSET", "MAX_ANGLE", "MAX_SEED", "MAX_DISTORTION", "MAX_DEVICE"]
 
 #: The physics steps a scenario may choose (``world.dt``, ``reality.dt``), seconds.
 MIN_STEP, MAX_STEP = 1.0e-5, 0.1
@@ -58,6 +58,12 @@ MAX_BODY_SPEED = 100.0
 MAX_OFFSET = 100.0
 #: Angles are within one turn either way, degrees.
 MAX_ANGLE = 360.0
+#: The largest lens distortion coefficient, either sign (OpenCV's rational model's k4..k6
+#: reach tens; beyond this no real lens is described).
+MAX_DISTORTION = 1000.0
+#: The highest camera device index (OpenCV adds its capture API's number, up to a few
+#: thousand, to an index).
+MAX_DEVICE = 9999
 #: The largest seed (numpy's generators take any, the report's JSON readers do not).
 MAX_SEED = 2**63 - 1
 
@@ -176,7 +182,7 @@ BOUNDS: dict[str, Bound] = {
     "camera.position": _COORD,
     "camera.look_at": _COORD,
     "camera.roll_deg": _ANGLE,
-    "camera.distortion": _b(-1000.0, 1000.0),  # each coefficient
+    "camera.distortion": _b(-MAX_DISTORTION, MAX_DISTORTION),
     "world.dt": _STEP,
     "world.gravity": _ACCEL,
     "world.floor.tile": _SIZE,
@@ -210,6 +216,7 @@ BOUNDS: dict[str, Bound] = {
     "world.robot.height": _SIZE,
     "reality.dt": _STEP,
     "reality.fps": _b(0.1, 1000.0, "frames/s"),
+    "reality.device": _b(0, MAX_DEVICE, integer=True),
     "reality.stall_s": _b(0.0, 3600.0, "seconds", low_open=True),
     "reality.camera_offset": _b(-MAX_OFFSET, MAX_OFFSET, "metres"),
     "reality.camera_offset_deg": _b(-180.0, 180.0, "degrees"),

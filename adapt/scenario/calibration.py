@@ -70,6 +70,7 @@ import yaml
 
 from adapt.errors import ScenarioError
 from adapt.lens import DISTORTION_LENGTHS, Lens
+from adapt.scenario.bounds import bound_of
 from adapt.scenario.nodes import Node, NodeReader, join
 
 __all__ = ["read_calibration", "DISTORTION_MODELS", "MAX_CALIBRATION_BYTES"]
@@ -78,6 +79,8 @@ __all__ = ["read_calibration", "DISTORTION_MODELS", "MAX_CALIBRATION_BYTES"]
 DISTORTION_MODELS = {"plumb_bob": 5, "rational_polynomial": 8}
 #: The largest calibration file read, bytes.
 MAX_CALIBRATION_BYTES = 1024 * 1024
+#: The scenario key whose bound a calibration file's image size is held to.
+SCENARIO_KEY = {"image_width": "camera.width", "image_height": "camera.height"}
 
 
 @dataclass(frozen=True, slots=True)
@@ -221,7 +224,15 @@ class _Calibration:
         x = self.number(v, name)
         if x != int(x) or x <= 0:
             raise self.error(v, name, f"expected a positive whole number, got {v.value!r}")
+        self.within(v, name, x, SCENARIO_KEY[name])
         return int(x)
+
+    def within(self, at: _Value, path: str, x: float, key: str) -> None:
+        """``x`` within the bound the scenario's own ``key`` has (a calibration file is no
+        scenario, but its numbers become the same camera's)."""
+        problem = bound_of(key).problem(x)
+        if problem is not None:
+            raise self.error(at, path, f"{problem} (as for {key})")
 
     def matrix(self, name: str, shapes: tuple[tuple[int, int], ...]) -> np.ndarray:
         """A ``rows cols data`` matrix of one of ``shapes`` (``(0, n)``: any vector of n)."""
@@ -259,6 +270,9 @@ class _Calibration:
         if not (k[0, 0] > 0 and k[1, 1] > 0 and k[2, 2] == 1 and k[1, 0] == k[2, 0] == k[2, 1] == 0):
             raise self.error(kv, "camera_matrix", "expected [fx 0 cx; 0 fy cy; 0 0 1] with "
                              "positive fx and fy")
+        for (i, j), key in (((0, 0), "camera.fx"), ((1, 1), "camera.fy"), ((0, 2), "camera.cx"),
+                            ((1, 2), "camera.cy")):
+            self.within(kv, "camera_matrix", float(k[i, j]), key)
         lengths: tuple[int, ...] = DISTORTION_LENGTHS
         if "distortion_model" in self.items:
             mv = self.items["distortion_model"]
@@ -268,6 +282,9 @@ class _Calibration:
                                  f"{mv.value!r}; expected " + " or ".join(DISTORTION_MODELS))
             lengths = (DISTORTION_MODELS[model],)
         d = self.matrix("distortion_coefficients", tuple((0, n) for n in lengths)).ravel()
+        for x in d:
+            self.within(self.items["distortion_coefficients"], "distortion_coefficients",
+                        float(x), "camera.distortion")
         r = (self.matrix("rectification_matrix", ((3, 3),)) if "rectification_matrix" in self.items
              else np.eye(3))
         p = k
@@ -276,4 +293,8 @@ class _Calibration:
             if not (p[0, 0] > 0 and p[1, 1] > 0):
                 raise self.error(self.items["projection_matrix"], "projection_matrix",
                                  "expected positive focal lengths in the projection matrix")
+            for (i, j), key in (((0, 0), "camera.fx"), ((1, 1), "camera.fy"),
+                                ((0, 2), "camera.cx"), ((1, 2), "camera.cy")):
+                self.within(self.items["projection_matrix"], "projection_matrix", float(p[i, j]),
+                            key)
         return Lens(k, tuple(float(x) for x in d), (width, height), r, p)

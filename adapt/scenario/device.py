@@ -25,6 +25,7 @@ adapt.errors.ScenarioError: <string>:3:33: reality.device: expected a device ind
 
 from __future__ import annotations
 
+from adapt.scenario.bounds import bound_of
 from adapt.scenario.nodes import Node, NodeReader, join
 from adapt.scenario.records import CameraReality
 
@@ -48,6 +49,9 @@ def read_camera_reality(reader: NodeReader, node: Node, path: str) -> CameraReal
     value = reader.scalar(dnode, dpath)
     device: int | str
     if isinstance(value, int) and not isinstance(value, bool) and value >= 0:
+        problem = bound_of(dpath).problem(value)
+        if problem is not None:
+            raise reader.error(dnode, dpath, f"a device index: {problem}")
         device = value
     elif isinstance(value, str) and "://" in value:
         device = value

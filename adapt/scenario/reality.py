@@ -88,11 +88,11 @@ class RealityReader(BulletReader):
             kind = RealityKind(name)
         if kind is RealityKind.VIDEO:
             return self.video(node, path)
+        if kind is RealityKind.CAMERA:
+            return read_camera_reality(self, node, path)
         if kind is RealityKind.BULLET:
             return self.bullet(node, path, models, scene if scene is not None else
                                SceneSpec(robot=robot), camera)
-        if kind is RealityKind.CAMERA:
-            return read_camera_reality(self, node, path)
         return self.synthetic(node, path, models, robot)
 
     def default_reality(self, models: tuple[ObjectModel, ...], source: Source) -> SyntheticReality:

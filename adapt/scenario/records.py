@@ -52,14 +52,14 @@ __all__ = [
     "PluginReality",
     "PluginRef",
     "VideoReality",
+    "CameraReality",
+    "VideoCodec",
     "BulletSurfaces",
     "BulletObject",
     "BulletLook",
     "BulletRobot",
     "BulletReality",
     "TextureSource",
-    "CameraReality",
-    "VideoCodec",
     "Reality",
     "Goal",
     "GoalKind",
@@ -251,8 +251,8 @@ class RealityKind(enum.Enum):
 
     SYNTHETIC = "synthetic"
     VIDEO = "video"
-    BULLET = "bullet"
     CAMERA = "camera"
+    BULLET = "bullet"
 
 
 @dataclass(frozen=True, slots=True)
@@ -601,7 +601,6 @@ class CameraReality:
     def name(self) -> str:
         """``reality.kind`` as the scenario writes it."""
         return self.kind.value
-
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -213,7 +213,7 @@ class WorldReader(NodeReader):
                    else self.describe(node))
             raise self.error(node, path, "expected [k1, k2, p1, p2, k3] (4, 5 or 8 numbers in "
                              f"OpenCV's order), got {got}")
-        each = bound_of(path)
+        each = bound_of(path)  # one bound for every coefficient
         return tuple(self.number(v, join(path, i), each) for i, v in enumerate(node.value))
 
     # -- the world ----------------------------------------------------------------------------

@@ -36,6 +36,7 @@ VECTORS: dict[str, list[Any]] = {
     "reality.objects[i].position": [-0.8, 0.6],
     "reality.objects[i].velocity": [0.0, 0.0],
     "world.robot.size": [0.5, 0.4],
+    "camera.distortion": [0.0, 0.0, 0.0, 0.0],
 }
 VECTOR_KEYS = {"camera.position", "camera.look_at", "world.floor.extent", "world.walls[i].from",
                "world.walls[i].to", "world.objects[i].position", "world.objects[i].velocity",

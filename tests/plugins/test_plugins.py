@@ -178,7 +178,8 @@ def test_the_python_api_loads_plugins_and_steps_a_run(tmp_path: Path, unique: st
     (tmp_path / "flat2.py").write_text(REALITY_PLUGIN.replace("NAME", unique))
     text = CAMERA + f"reality: {{kind: {unique}, frames: 5}}\n"
     (tmp_path / "s.yaml").write_text(text)
-    with pytest.raises(ScenarioError, match="expected one of 'synthetic', 'video', 'bullet', 'camera', 'external'.*got"):
+    with pytest.raises(ScenarioError,
+                       match="expected one of 'synthetic', 'video', 'camera', 'bullet', 'external'.*got"):
         adapt.load_scenario(tmp_path / "s.yaml")
     with adapt.start(tmp_path / "s.yaml", plugins=[str(tmp_path / "flat2.py")],
                      out=tmp_path / "out") as run:

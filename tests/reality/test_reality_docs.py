@@ -43,13 +43,13 @@ def table_keys(heading: str) -> set[str]:
     ("### `reality.appearance`", APPEARANCE_KEYS),
     ("### `reality.robot`", REALITY_ROBOT_KEYS),
     ("## The video source", VIDEO_KEYS),
+    ("## The camera source", CAMERA_REALITY_KEYS),
     ("### Keys of `reality` (bullet)", BULLET_KEYS),
     ("### `reality.floor`, `reality.walls`, `reality.obstacles` (bullet)", BULLET_SURFACE_KEYS),
     ("### `reality.objects[i]` (bullet)", BULLET_OBJECT_KEYS),
     ("### `reality.objects[i].throw` (bullet)", BULLET_THROW_KEYS),
     ("### `reality.look` (bullet)", LOOK_KEYS),
     ("### `reality.robot` (bullet)", BULLET_ROBOT_KEYS),
-    ("## The camera source", CAMERA_REALITY_KEYS),
 ])
 def test_every_key_is_documented_and_nothing_else(heading: str, keys: tuple[str, ...]) -> None:
     assert table_keys(heading) == set(keys)

@@ -164,7 +164,7 @@ def test_distortion_beside_the_scenarios_own_intrinsics() -> None:
                         f"height: 240, {POSE}, distortion: [-0.2, 0.05, 0, 0, 0]}}\n" + HEAD)
     assert sc.lens is not None and sc.lens.intrinsics == (300, 300, 159.5, 119.5)
     assert sc.lens.distortion == (-0.2, 0.05, 0.0, 0.0, 0.0) and sc.lens.size == (320, 240)
-    assert loads_scenario(f"camera: {{fx: 1, fy: 1, cx: 0, cy: 0, width: 64, height: 48, {POSE}}}\n"
+    assert loads_scenario(f"camera: {{fx: 1, fy: 1, cx: 0, cy: 0, width: 32, height: 32, {POSE}}}\n"
                           + HEAD).lens is None
 
 
@@ -173,10 +173,12 @@ def test_distortion_beside_the_scenarios_own_intrinsics() -> None:
      "gives the camera's intrinsics and distortion; remove this key"),
     (f"{{calibration: ros.yaml, distortion: [0, 0, 0, 0], {POSE}}}", "1:33", "camera.distortion: the calibration file"),
     (f"{{calibration: nothing.yaml, {POSE}}}", "1:23", "camera.calibration: calibration file .* not found"),
-    (f"{{fx: 1, fy: 1, cx: 0, cy: 0, width: 64, height: 48, {POSE}, distortion: [0.1, 0, 0]}}",
+    (f"{{fx: 1, fy: 1, cx: 0, cy: 0, width: 32, height: 32, {POSE}, distortion: [0.1, 0, 0]}}",
      "1:115", r"camera.distortion: expected \[k1, k2, p1, p2, k3\] \(4, 5 or 8 numbers in OpenCV's order\), got 3 values"),
-    (f"{{fx: 1, fy: 1, cx: 0, cy: 0, width: 64, height: 48, {POSE}, distortion: [a, 0, 0, 0]}}",
+    (f"{{fx: 1, fy: 1, cx: 0, cy: 0, width: 32, height: 32, {POSE}, distortion: [a, 0, 0, 0]}}",
      "1:116", r"camera.distortion\[0\]: expected a number"),
+    (f"{{fx: 1, fy: 1, cx: 0, cy: 0, width: 32, height: 32, {POSE}, distortion: [0, 0, 0, 1e9]}}",
+     "1:125", r"camera.distortion\[3\]: expected a number from -1000 to 1000, got 1000000000"),
     ("{calibration: ros.yaml, look_at: [0, 1, 0]}", "1:9", "camera: missing key 'position'"),
 ])
 def test_bad_camera_lens_keys_are_positioned_errors(tmp_path: Path, camera: str, where: str,
@@ -224,3 +226,23 @@ def test_a_synthetic_reality_is_seen_through_the_lens_and_the_runner_undistorts_
     for i in range(3):
         assert error(raw[i], ideal[i]) > 3 * error(seen[i], ideal[i])
         assert error(seen[i], ideal[i]) < 4.0
+
+
+@pytest.mark.parametrize("old, new, where, message", [
+    ("image_width: 320", "image_width: 16", "1:14", r"image_width: expected an integer from 32 to "
+     r"8192 pixels, got 16 \(as for camera.width\)"),
+    ("[-0.28, 0.09,", "[-0.28, 5e4,", "10:3", r"distortion_coefficients: expected a number from "
+     r"-1000 to 1000, got 50000 \(as for camera.distortion\)"),
+    ("[300.0, 0.0, 159.5,", "[3e7, 0.0, 159.5,", "5:3",
+     r"camera_matrix: expected at most 1000000 pixels, got 30000000 \(as for camera.fx\)"),
+])
+def test_a_calibration_files_numbers_keep_the_scenario_keys_bounds(
+        tmp_path: Path, old: str, new: str, where: str, message: str) -> None:
+    """The file is no scenario (no BOUNDS keys of its own), but its numbers become the
+    camera's: held to the bounds of camera.width, camera.fx, camera.distortion, at the
+    file's line and column."""
+    assert old in ROS
+    (tmp_path / "ros.yaml").write_text(ROS.replace(old, new))
+    (tmp_path / "s.yaml").write_text(f"camera: {{calibration: ros.yaml, {POSE}}}\n" + HEAD)
+    with pytest.raises(ScenarioError, match=f"ros.yaml:{where}: {message}"):
+        load_scenario(tmp_path / "s.yaml")

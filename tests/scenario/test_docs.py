@@ -37,6 +37,7 @@ TABLES = {
     "`reality.objects[i]`": (R.TRUE_OBJECT_KEYS, None, {}),
     "`reality.objects[i].throw`": (R.THROW_KEYS, None, {}),
     "`reality` with `kind: video`": (R.VIDEO_KEYS, None, {}),
+    "`reality` with `kind: camera`": (D.CAMERA_REALITY_KEYS, None, {}),
     "`reality` with `kind: bullet`": (BU.BULLET_KEYS, None, {}),
     "`reality.floor`, `reality.walls` and `reality.obstacles` (bullet)":
         (BU.BULLET_SURFACE_KEYS, None, {}),
@@ -44,7 +45,6 @@ TABLES = {
     "`reality.objects[i].throw` (bullet)": (BU.BULLET_THROW_KEYS, None, {}),
     "`reality.look` (bullet)": (BU.LOOK_KEYS, None, {}),
     "`reality.robot` (bullet)": (BU.BULLET_ROBOT_KEYS, None, {}),
-    "`reality` with `kind: camera`": (D.CAMERA_REALITY_KEYS, None, {}),
     "`run`": (RUN.RUN_KEYS, RunSettings, {}),
     "`predict`": (RUN.PREDICT_KEYS, PredictSettings, {}),
     "`outputs`": (RUN.OUTPUT_KEYS, OutputSettings, {}),
