@@ -221,28 +221,12 @@ class BulletReader(WorldReader):
                 raise self.error(items["robot"][0], join(path, "robot"),
                                  "the world has no robot for reality.robot to describe")
             robot = self.bullet_robot(items["robot"][1], join(path, "robot"))
-        given: dict[str, BulletObject] = {}
-        if "objects" in items:
-            by_name = {m.name: m for m in models}
-            for obj in self.listed(items["objects"][1], join(path, "objects"),
-                                   lambda n, p, i: self.bullet_object(n, p, by_name, scene,
-                                                                      thickness)):
-                if obj.name in given:
-                    raise obj.source.error(f"a second reality object called {obj.name!r}")
-                given[obj.name] = obj
-        objects = []
-        for m in models:
-            if m.name in given:
-                objects.append(given.pop(m.name))
-                continue
-            if m.create is Creation.WHEN_SEEN:
-                raise m.source.error(
-                    f"object {m.name!r} is created when seen; reality.objects must say when and "
-                    "how it appears (a throw)")
-            objects.append(self._bullet_from_model(m, None, {}, src))
-        objects.extend(given.values())
+        objects = self.reality_objects(
+            items["objects"][1] if "objects" in items else None, join(path, "objects"), models,
+            lambda n, p, by_name: self.bullet_object(n, p, by_name, scene, thickness),
+            lambda m: self._bullet_from_model(m, None, {}, src))
         reality = BulletReality(dt, offset, thickness, surfaces["floor"], surfaces["walls"],
-                                surfaces["obstacles"], look, robot, tuple(objects), src)
+                                surfaces["obstacles"], look, robot, objects, src)
         if camera is not None:
             self._check_camera(camera[0], camera[1], scene, thickness)
         return reality

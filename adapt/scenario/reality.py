@@ -191,26 +191,10 @@ class RealityReader(BulletReader):
                 raise self.error(items["robot"][0], join(path, "robot"),
                                  "the world has no robot for reality.robot to describe")
             truth = self.robot_truth(items["robot"][1], join(path, "robot"))
-        given: dict[str, TrueObject] = {}
-        if "objects" in items:
-            by_name = {m.name: m for m in models}
-            for obj in self.listed(items["objects"][1], join(path, "objects"),
-                                   lambda n, p, i: self.true_object(n, p, by_name)):
-                if obj.name in given:
-                    raise obj.source.error(f"a second reality object called {obj.name!r}")
-                given[obj.name] = obj
-        objects = []
-        for m in models:
-            if m.name in given:
-                objects.append(given.pop(m.name))
-                continue
-            if m.create is Creation.WHEN_SEEN:
-                raise m.source.error(
-                    f"object {m.name!r} is created when seen; reality.objects must say when and "
-                    "how it appears (a throw)")
-            objects.append(self.true_from_model(m, None, {}, src))
-        objects.extend(given.values())  # objects of reality only, in file order
-        return SyntheticReality(dt, offset, appearance, tuple(objects), truth, src)
+        objects = self.reality_objects(
+            items["objects"][1] if "objects" in items else None, join(path, "objects"), models,
+            self.true_object, lambda m: self.true_from_model(m, None, {}, src))
+        return SyntheticReality(dt, offset, appearance, objects, truth, src)
 
     def appearance(self, node: Node, path: str) -> RealAppearance:
         spec: dict[str, Callable[[Node, str], Any]] = {

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Callable
+from typing import Any, Callable, Protocol, Sequence, TypeVar
 
 import yaml
 
@@ -40,6 +40,7 @@ from adapt.scenario.records import (
     Mount,
     ObjectModel,
     Range,
+    Source,
 )
 
 __all__ = ["WorldReader", "CAMERA_KEYS", "CALIBRATED_KEYS", "WORLD_KEYS", "FLOOR_KEYS", "WALL_KEYS",
@@ -58,6 +59,19 @@ OBJECT_KEYS = ("name", "radius", "mass", "restitution", "friction", "rolling_res
                "ranges")
 ROBOT_KEYS = ("name", "shape", "radius", "size", "position", "heading_deg", "max_speed",
               "max_accel", "mass", "height", "color")
+
+
+class _Named(Protocol):
+    """An object of reality, whichever the kind: its name and where it is written."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def source(self) -> Source: ...
+
+
+_Real = TypeVar("_Real", bound=_Named)
 
 
 class WorldReader(NodeReader):
@@ -215,6 +229,38 @@ class WorldReader(NodeReader):
                              f"OpenCV's order), got {got}")
         each = bound_of(path)  # one bound for every coefficient
         return tuple(self.number(v, join(path, i), each) for i, v in enumerate(node.value))
+
+    def reality_objects(self, node: Node | None, path: str, models: Sequence[ObjectModel],
+                        read: Callable[[Node, str, dict[str, ObjectModel]], _Real],
+                        from_model: Callable[[ObjectModel], _Real]) -> tuple[_Real, ...]:
+        """The objects of a ``reality`` section (``node``: its ``objects`` list, or None): those
+        it gives (``read``), in the world's order, then every other world object as its model
+        says (``from_model``), then the objects of reality only, in the file's order.
+
+        Raises
+        ------
+        ScenarioError
+            An object given twice, or one created when seen that the section does not give.
+        """
+        given: dict[str, _Real] = {}
+        if node is not None:
+            by_name = {m.name: m for m in models}
+            for obj in self.listed(node, path, lambda n, p, i: read(n, p, by_name)):
+                if obj.name in given:
+                    raise obj.source.error(f"a second reality object called {obj.name!r}")
+                given[obj.name] = obj
+        objects: list[_Real] = []
+        for m in models:
+            if m.name in given:
+                objects.append(given.pop(m.name))
+                continue
+            if m.create is Creation.WHEN_SEEN:
+                raise m.source.error(
+                    f"object {m.name!r} is created when seen; reality.objects must say when and "
+                    "how it appears (a throw)")
+            objects.append(from_model(m))
+        objects.extend(given.values())
+        return tuple(objects)
 
     # -- the world ----------------------------------------------------------------------------
 

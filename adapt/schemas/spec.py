@@ -11,14 +11,14 @@ checked here.
 
 Examples
 --------
->>> p = Parameter("gain", float, 0.5, "fraction of the camera correction applied per frame",
-...               low=0.0, high=1.0, low_open=True)
->>> p.check(0.25), p.check(1)
-(0.25, 1.0)
->>> p.check(2)
-Traceback (most recent call last):
-...
-adapt.parameters.ParameterError: expected at most 1, got 2
+>>> from adapt.schemas import REGISTRY
+>>> spec = REGISTRY.get("intercept")
+>>> spec.kind, spec.provides, [port.name for port in spec.consumes]
+(<SchemaKind.MOTOR: 'motor'>, (), ['object', 'camera'])
+>>> spec.parameter("object").describe()
+"object (str; default 'ball'): the world object to intercept"
+
+A parameter (:class:`~adapt.parameters.Parameter`) checks its values itself.
 """
 
 from __future__ import annotations
