@@ -303,28 +303,12 @@ class BulletReader(WorldReader):
     def bullet_object(self, node: Node, path: str, models: dict[str, ObjectModel],
                       scene: SceneSpec, thickness: float) -> BulletObject:
         """One ``reality.objects[i]``: a world object's truth, or a ball of reality only."""
-        items = self.mapping(node, path)
-        self.check_keys(items, BULLET_OBJECT_KEYS, path)
-        if "name" not in items:
-            raise self.error(node, path, "missing key 'name' (a world object's name, or a new name "
-                             "for an object that exists in reality only)")
-        name = self.string(items["name"][1], join(path, "name"))
-        model = models.get(name)
+        items, name, model, look = self.reality_object(node, path, BULLET_OBJECT_KEYS, models,
+                                                       self.bullet_number)
         params: dict[str, Range] = {}
         for key in _OBJECT_NUMBERS:
             if key in items:
                 params[key] = self.bullet_range(items[key][1], join(path, key))
-        look: dict[str, Any] = {}
-        if "radius" in items:
-            if model is not None:
-                raise self.error(items["radius"][0], join(path, "radius"),
-                                 f"{name!r} is a world object: its radius is the world's; remove "
-                                 "this key")
-            look["radius"] = self.bullet_number(items["radius"][1], join(path, "radius"))
-        if "color" in items:
-            look["color"] = self.color(items["color"][1], join(path, "color"))
-        if "texture" in items:
-            look["texture"] = self.texture(items["texture"][1], join(path, "texture"))
         throw = None
         if "throw" in items:
             throw = self.bullet_throw(items["throw"][1], join(path, "throw"))

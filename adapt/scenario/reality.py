@@ -237,28 +237,12 @@ class RealityReader(BulletReader):
 
     def true_object(self, node: Node, path: str, models: dict[str, ObjectModel]) -> TrueObject:
         """One ``reality.objects[i]``: the truth about a world object, or an object of reality only."""
-        items = self.mapping(node, path)
-        self.check_keys(items, TRUE_OBJECT_KEYS, path)
-        if "name" not in items:
-            raise self.error(node, path, "missing key 'name' (a world object's name, or a new name "
-                             "for an object that exists in reality only)")
-        name = self.string(items["name"][1], join(path, "name"))
-        model = models.get(name)
+        items, name, model, look = self.reality_object(node, path, TRUE_OBJECT_KEYS, models,
+                                                       self.number)
         params: dict[str, Range] = {}
         for key in ("restitution", "friction", "rolling_resistance", "mass", "drag", "spin"):
             if key in items:
                 params[key] = self.range(items[key][1], join(path, key))
-        look: dict[str, Any] = {}
-        if "radius" in items:
-            if model is not None:
-                raise self.error(items["radius"][0], join(path, "radius"),
-                                 f"{name!r} is a world object: its radius is the world's; remove "
-                                 "this key")
-            look["radius"] = self.number(items["radius"][1], join(path, "radius"))
-        if "color" in items:
-            look["color"] = self.color(items["color"][1], join(path, "color"))
-        if "texture" in items:
-            look["texture"] = self.texture(items["texture"][1], join(path, "texture"))
         for key in ("position", "velocity"):
             if key in items:
                 look[key] = self.vector(items[key][1], join(path, key), 2)

@@ -262,6 +262,34 @@ class WorldReader(NodeReader):
         objects.extend(given.values())
         return tuple(objects)
 
+    def reality_object(self, node: Node, path: str, keys: Sequence[str],
+                       models: dict[str, ObjectModel], number: Callable[[Node, str], float]
+                       ) -> tuple[dict[str, tuple[Node, Node]], str, ObjectModel | None,
+                                  dict[str, Any]]:
+        """What every kind's ``reality.objects[i]`` starts with: its keys (checked against
+        ``keys``), its name, the world object of that name (None: an object of reality only)
+        and the look it gives (``radius``, read with ``number``, only for an object of reality
+        only; ``color``; ``texture``)."""
+        items = self.mapping(node, path)
+        self.check_keys(items, keys, path)
+        if "name" not in items:
+            raise self.error(node, path, "missing key 'name' (a world object's name, or a new name "
+                             "for an object that exists in reality only)")
+        name = self.string(items["name"][1], join(path, "name"))
+        model = models.get(name)
+        look: dict[str, Any] = {}
+        if "radius" in items:
+            if model is not None:
+                raise self.error(items["radius"][0], join(path, "radius"),
+                                 f"{name!r} is a world object: its radius is the world's; remove "
+                                 "this key")
+            look["radius"] = number(items["radius"][1], join(path, "radius"))
+        if "color" in items:
+            look["color"] = self.color(items["color"][1], join(path, "color"))
+        if "texture" in items:
+            look["texture"] = self.texture(items["texture"][1], join(path, "texture"))
+        return items, name, model, look
+
     # -- the world ----------------------------------------------------------------------------
 
     def world(self, node: Node, path: str) -> tuple[SceneSpec, tuple[ObjectModel, ...]]:
