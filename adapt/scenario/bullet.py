@@ -44,7 +44,7 @@ import numpy as np
 import yaml
 
 from adapt.geometry import Camera
-from adapt.imagination.scene import Ball, Obstacle, RobotSpec, SceneSpec, Wall
+from adapt.imagination.scene import Ball, Obstacle, RobotShape, RobotSpec, SceneSpec, Wall
 from adapt.scenario.bounds import bound_of, bullet_bound
 from adapt.scenario.nodes import Node, join
 from adapt.scenario.records import (
@@ -415,7 +415,7 @@ def _in_robot(robot: RobotSpec, p: Sequence[float]) -> bool:
     """Whether a point in the robot's frame is inside its body."""
     if not 0 <= p[2] < robot.height:
         return False
-    if robot.shape == "disc":
+    if robot.shape is RobotShape.DISC:
         return math.hypot(p[0], p[1]) < robot.radius
     length, width = robot.size
     return abs(p[0]) < length / 2 and abs(p[1]) < width / 2

@@ -152,6 +152,21 @@ def test_the_robot_drives_as_commanded_and_carries_its_camera() -> None:
     assert truth.camera.position[2] == pytest.approx(0.6)
 
 
+@pytest.mark.parametrize(("shape", "geometry"), [("disc", "GEOM_CYLINDER"), ("box", "GEOM_BOX")])
+def test_the_robot_body_has_the_scenario_shape(shape: str, geometry: str) -> None:
+    extra = ", size: [0.5, 0.3]" if shape == "box" else ""
+    robot = ROBOT.replace("heading_deg: 90", f"heading_deg: 90, shape: {shape}{extra}")
+    src = open_source(scenario(camera=ROBOT_CAMERA, world=WORLD + robot))
+    c = src.client
+    visual = c.getVisualShapeData(src.bodies.robot)[0]
+    collision = c.getCollisionShapeData(src.bodies.robot, -1)[0]
+    assert visual[2] == collision[2] == getattr(c, geometry)
+    if shape == "disc":   # a cylinder's dimensions: (length, radius, -)
+        assert visual[3][:2] == pytest.approx((0.3, 0.25))
+    else:                 # a box's: full extents
+        assert visual[3] == pytest.approx((0.5, 0.3, 0.3))
+
+
 def test_the_robot_stops_at_a_wall() -> None:
     sc = scenario(camera=ROBOT_CAMERA, world=WORLD + ROBOT,
                   run="run: {fps: 10, max_frames: 60}\n")

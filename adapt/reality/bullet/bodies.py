@@ -32,7 +32,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Sequence
 
-from adapt.imagination.scene import RobotSpec, SceneSpec
+from adapt.imagination.scene import RobotShape, RobotSpec, SceneSpec
 from adapt.reality.bullet.client import Client
 from adapt.reality.bullet.draw import BallDraw, BulletDraw, SurfaceDraw, SurfaceLook
 from adapt.scenario.bullet import arena_centre, wall_body
@@ -232,7 +232,7 @@ def build(client: Client, scene: SceneSpec, drawn: BulletDraw, thickness: float,
 
 def _robot(client: Client, robot: RobotSpec) -> int:
     rgba = [c / 255.0 for c in robot.color] + [1.0]
-    if robot.shape == "disc":
+    if robot.shape is RobotShape.DISC:
         collision = client.createCollisionShape(client.GEOM_CYLINDER, radius=robot.radius,
                                                 height=robot.height)
         visual = client.createVisualShape(client.GEOM_CYLINDER, radius=robot.radius,
