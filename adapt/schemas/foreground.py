@@ -658,9 +658,15 @@ class ForegroundObject(Schema):
         node.keep_children("contact", list(range(len(upcoming))))
 
     def stop(self) -> None:
+        """Release the step hook.  A declared object's body stays in the imagination (the
+        world has it); the body of an object the scenario does not know goes with its schema:
+        nothing else would pull it, and what the schema took for a new object may be one the
+        rules now know by its name (``rules/mirror/perception.soar``, ``recognise``)."""
         if self._hooked:
             self.network.mirror.remove_hook(self.before_step)
             self._hooked = False
+        if not self.declared and self.in_imagination:
+            self.network.mirror.remove_ball(self.body)
 
     def summary(self) -> dict[str, Any]:
         out = super().summary()

@@ -10,7 +10,7 @@ import pytest
 from adapt.engine import Agent
 from adapt.errors import ScenarioError, SchemaError
 from adapt.geometry import Camera
-from adapt.imagination import RobotSpec, SceneSpec
+from adapt.imagination import Ball, RobotSpec, SceneSpec
 from adapt.mirror import Mirror
 from adapt.scenario import SchemaSettings, Source
 from adapt.schemas import REGISTRY, EventKind, Origin, SchemaNetwork, Status, check_settings
@@ -262,3 +262,18 @@ def test_a_region_has_one_owner_and_an_object_one_monitor() -> None:
         net.instantiate("foreground-object", parameters={"region": 7}, origin=Origin.BOTTOM_UP)
     net.remove(fo.name)
     assert net.instantiate("foreground-object", parameters={"region": 7}).parameters["region"] == 7
+
+
+def test_removing_an_unknown_objects_schema_takes_its_body_and_a_declared_ones_stays() -> None:
+    from adapt.scenario import ObjectModel
+
+    net = SchemaNetwork(Mirror(SceneSpec(), CAM), models={"ball": ObjectModel(Ball("ball"))})
+    known = net.instantiate("foreground-object", parameters={"object": "ball"})
+    unknown = net.instantiate("foreground-object", parameters={"region": 3},
+                              origin=Origin.BOTTOM_UP)
+    for name, x in (("ball", -0.5), (unknown.name, 0.5)):
+        net.mirror.add_ball(Ball(name, radius=0.1), (x, 0.5), (0.0, 0.0))
+    net.remove(unknown.name)
+    net.remove(known.name)
+    assert not net.mirror.has_body(unknown.name)   # nothing else would pull it
+    assert net.mirror.has_body("ball")             # the world declares it

@@ -1,0 +1,146 @@
+"""The mirror's perception rules (``rules/mirror/perception.soar``) against a scripted
+input-link: a small stand-in for the schema network writes schemas and regions as the
+network does (``docs/schemas.md``) and carries out the commands the rules give.
+
+The case is the ghost of issue 20: the goal's object was spawned on a region that never
+showed it (the learned look's error where the ball stood while the look was learned), and
+the real ball, moving, was taken for an object the scenario does not know.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from adapt.engine import Agent, OutputView
+from adapt.engine.interface import InputLink
+
+RULES = Path(__file__).resolve().parents[2] / "rules" / "mirror" / "perception.soar"
+
+#: A region's attributes as the Scene Background writes them (the ones the rules read).
+GHOST = {"id": 1, "expected": True, "monitored-by": "ball", "age": 20, "size": 0.4,
+         "still": False, "at-edge": False}
+BALL = {"id": 2, "expected": True, "monitored-by": "foreground-object-1", "age": 8,
+        "size": 0.22, "still": False, "at-edge": False, "looks-like": "ball"}
+
+
+class Network:
+    """Writes the input-link from :attr:`schemas` and :attr:`regions` in each input phase
+    and carries out ``^remove`` and ``^instantiate`` (a region's new owner)."""
+
+    def __init__(self, schemas: dict[str, dict[str, Any]], regions: list[dict[str, Any]]):
+        self.schemas = schemas
+        self.regions = regions
+        self.done: list[tuple[str, dict[str, Any]]] = []
+        self._pending: list[Any] = []
+        self._answered: set[Any] = set()
+
+    def write(self, w: InputLink) -> None:
+        for cid in self._pending:
+            w.add(cid, "status", "complete")
+        self._pending.clear()
+        w.clear(w.input_link, "schema")
+        w.clear(w.input_link, "goal")
+        goal = w.new_id("G")
+        w.add(w.input_link, "goal", goal)
+        w.add(goal, "name", "watch")
+        w.add(goal, "object", "ball")
+        bg = w.new_id("B")
+        w.add(w.input_link, "schema", bg)
+        for key, value in {"name": "background", "type": "scene-background",
+                           "kind": "perceptual", "pixel-error": 0.2}.items():
+            w.add(bg, key, value)
+        for region in self.regions:
+            r = w.new_id("R")
+            w.add(bg, "region", r)
+            for key, value in region.items():
+                w.add(r, key, ("yes" if value else "no") if isinstance(value, bool) else value)
+        for name, attrs in self.schemas.items():
+            s = w.new_id("S")
+            w.add(w.input_link, "schema", s)
+            for key, value in {"name": name, **attrs}.items():
+                w.add(s, key, ("yes" if value else "no") if isinstance(value, bool) else value)
+
+    def read(self, view: OutputView) -> None:
+        for verb, cid in view.commands():
+            if cid in self._answered or view.values(cid, "status"):  # type: ignore[arg-type]
+                continue
+            self._answered.add(cid)
+            attrs = {str(a): v for a in ("name", "type", "region", "object")
+                     for v in view.values(cid, a)}  # type: ignore[arg-type]
+            attrs = {k: (v if isinstance(v, (int, float)) else str(v)) for k, v in attrs.items()}
+            self.done.append((str(verb), attrs))
+            self._pending.append(cid)
+            if verb == "remove":
+                self.schemas.pop(str(attrs["name"]), None)
+                for region in self.regions:   # nobody monitors its region now
+                    if region["monitored-by"] == attrs["name"]:
+                        region.update({"expected": False, "monitored-by": "nil"})
+            elif verb == "instantiate":
+                name = str(attrs.get("name", f"foreground-object-{len(self.done)}"))
+                self.schemas[name] = {"type": attrs["type"], "kind": "perceptual",
+                                      "object": attrs.get("object", name), "frames-seen": 0,
+                                      "declared": "object" in attrs, "seen": False}
+                for region in self.regions:
+                    if region["id"] == attrs.get("region"):
+                        region.update({"expected": True, "monitored-by": name})
+
+
+def run(net: Network, decisions: int = 12) -> list[tuple[str, dict[str, Any]]]:
+    agent = Agent()
+    agent.load_file(RULES)
+    agent.on_input(net.write)
+    agent.on_output(net.read)
+    agent.run(decisions)
+    return net.done
+
+
+def stale_and_other() -> dict[str, dict[str, Any]]:
+    return {"ball": {"type": "foreground-object", "kind": "perceptual", "object": "ball",
+                     "declared": True, "seen": False, "frames-seen": 0},
+            "foreground-object-1": {"type": "foreground-object", "kind": "perceptual",
+                                    "object": "foreground-object-1", "declared": False,
+                                    "seen": True, "frames-seen": 9}}
+
+
+@pytest.mark.parametrize("ghost_first", [True, False])
+def test_the_goals_object_on_a_ghost_is_recognised_in_the_unknown_object_that_looks_like_it(
+        ghost_first: bool) -> None:
+    regions = [dict(GHOST), dict(BALL)]
+    net = Network(stale_and_other(), regions if ghost_first else regions[::-1])
+    done = run(net)
+    removed = sorted(a["name"] for verb, a in done if verb == "remove")
+    assert removed == ["ball", "foreground-object-1"], done
+    # then the region that looks like the ball is spawned for it, before the ghost
+    spawned = [a for verb, a in done if verb == "instantiate"]
+    assert spawned[0] == {"type": "foreground-object", "region": 2, "object": "ball",
+                          "name": "ball"}, done
+    assert next(r for r in net.regions if r["id"] == 1)["monitored-by"] != "ball"
+
+
+def test_nothing_is_recognised_once_the_goals_object_was_seen_or_the_other_looks_unlike_it(
+) -> None:
+    seen = stale_and_other()
+    seen["ball"]["frames-seen"] = 3
+    assert not [v for v, _ in run(Network(seen, [dict(GHOST), dict(BALL)]))
+                if v == "remove"]
+    unlike = dict(BALL)
+    del unlike["looks-like"]
+    assert not [v for v, _ in run(Network(stale_and_other(), [dict(GHOST), unlike]))
+                if v == "remove"]
+
+
+def test_an_object_is_recognised_once() -> None:
+    net = Network(stale_and_other(), [dict(GHOST), dict(BALL)])
+    agent = Agent()
+    agent.load_file(RULES)
+    agent.on_input(net.write)
+    agent.on_output(net.read)
+    agent.run(12)
+    # the ball was spawned on its region; put the ghost's deadlock back as it was
+    net.schemas = stale_and_other()
+    net.regions = [dict(GHOST), dict(BALL)]
+    agent.run(12)
+    assert sum(1 for v, _ in net.done if v == "remove") == 2, net.done
