@@ -80,7 +80,7 @@ class Network:
                         region.update({"expected": False, "monitored-by": "nil"})
             elif verb == "instantiate":
                 name = str(attrs.get("name", f"foreground-object-{len(self.done)}"))
-                self.schemas[name] = {"type": attrs["type"], "kind": "perceptual",
+                self.schemas[name] = {"type": attrs["type"], "kind": "perceptual", "status": "waiting",
                                       "object": attrs.get("object", name), "frames-seen": 0,
                                       "declared": "object" in attrs, "seen": False}
                 for region in self.regions:
@@ -144,3 +144,20 @@ def test_an_object_is_recognised_once() -> None:
     net.regions = [dict(GHOST), dict(BALL)]
     agent.run(12)
     assert sum(1 for v, _ in net.done if v == "remove") == 2, net.done
+
+
+def lost() -> dict[str, dict[str, Any]]:
+    return {"ball": {"type": "foreground-object", "kind": "perceptual", "object": "ball",
+                     "declared": True, "seen": False, "frames-seen": 40, "status": "lost"}}
+
+
+def test_a_lost_goals_object_is_found_again_in_a_region_that_looks_like_it() -> None:
+    moved = dict(BALL, **{"expected": False, "monitored-by": "nil", "age": 4})
+    unlike = {k: v for k, v in moved.items() if k != "looks-like"}
+    done = run(Network(lost(), [moved]))
+    assert [v for v, _ in done][:2] == ["remove", "instantiate"], done
+    assert done[1][1] == {"type": "foreground-object", "region": 2, "object": "ball",
+                          "name": "ball"}
+    # a region that does not look like it is something else: an object of its own
+    done = run(Network(lost(), [unlike]))
+    assert [(v, "object" in a) for v, a in done] == [("instantiate", False)], done
