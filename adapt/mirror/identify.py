@@ -382,8 +382,10 @@ class Identifier:
 
         best = _Best(x, None, {}, math.inf, math.inf, math.inf)
         jtj = np.eye(len(free))
+        fitted = list(free)  # the parameters jtj is for (free may grow after the last step)
         for _ in range(MAX_ITERATIONS):
             best, jtj = self._iterate(best, free, keys, ns, residuals, prior_std)
+            fitted = list(free)
             if best.contact < math.inf and not contact:
                 # the path meets a surface it did not before: what a contact teaches is
                 # free from now on (this fit too)
@@ -411,11 +413,11 @@ class Identifier:
         scale = math.sqrt(max(1.0, chi2))
         std = np.concatenate([prior_std[:ns], self.theta_std])
         try:
-            std[free] = scale * np.sqrt(np.clip(np.diag(np.linalg.inv(jtj)), 0.0, None))
+            std[fitted] = scale * np.sqrt(np.clip(np.diag(np.linalg.inv(jtj)), 0.0, None))
         except np.linalg.LinAlgError:
             pass
         now = window[-1][0]
-        for i in free:
+        for i in fitted:
             if i >= ns:
                 self.counts[keys[i]] += 1
         self.theta = best.x[ns:].copy()

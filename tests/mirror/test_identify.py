@@ -227,3 +227,37 @@ def test_bad_settings_are_refused() -> None:
         Identifier(scene, model(), {}, every=0)
     with pytest.raises(ImaginationError, match="floor_friction: the ball has no spin"):
         Identifier(scene, model(), {"floor_friction": (0.5, 0.2)})
+
+
+def test_a_contact_first_met_on_the_last_step_of_a_fit_frees_what_a_contact_teaches(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    # every fit takes all its steps, and the third of each finds the path meeting a wall
+    # for the first time: the contact's parameters are free from then on, though no step
+    # of this fit moved them (their uncertainty is still the prior's)
+    import dataclasses
+
+    import adapt.mirror.identify as module
+
+    monkeypatch.setattr(module, "REFIT_CHI2", -1.0)
+    real = Identifier._iterate
+    calls: list[int] = []
+
+    def late(self: Identifier, start: object, free: list[int], *rest: object) -> object:
+        best, jtj = real(self, start, free, *rest)  # type: ignore[arg-type]
+        calls.append(len(free))
+        if len(calls) % MAX_ITERATIONS == 0 and best.contact == math.inf:
+            best = dataclasses.replace(best, contact=1e9)
+        return best, jtj
+
+    monkeypatch.setattr(Identifier, "_iterate", late)
+    ident = Identifier(SceneSpec(walls=WALLS), model(), {"restitution": (0.7, 0.17)},
+                       noise=0.003)
+    first = None
+    for t, p, _ in track(model(velocity=(0.5, 0.0)), 0.5):
+        first = ident.observe(t, p)
+        if first is not None:
+            break
+    assert first is not None and first.contact
+    assert calls == [4] * MAX_ITERATIONS                # restitution was never stepped...
+    assert first.std["restitution"] == pytest.approx(0.17)   # ...so it keeps its prior's
+    assert ident.counts["restitution"] == 0
