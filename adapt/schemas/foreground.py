@@ -75,6 +75,9 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["ForegroundObject", "FOREGROUND_OBJECT"]
 
+#: A sighting of an object the scenario does not declare fitted with a larger radius (m)
+#: is a misfit, refused (the mirror's perception rules spawn objects up to 1.5 m across).
+MAX_UNKNOWN_RADIUS = 1.0
 #: Colour of an object the scenario does not declare until its own is measured (BGR).
 UNKNOWN_COLOR = (128, 128, 128)
 #: A sighting whose fitted radius is off the object's by more than this fraction is refused.
@@ -455,6 +458,11 @@ class ForegroundObject(Schema):
         if free is None:
             return None
         if self.ball is None:
+            if not free.radius <= MAX_UNKNOWN_RADIUS:
+                # a misfit (a blob near the horizon fits a sphere kilometres wide, and a
+                # radius that large would pass any test of where it stands)
+                self.refused += 1
+                return None
             fit = free
         else:
             # a blob of the wrong size is not the ball (cut by the image's bottom, merged

@@ -168,3 +168,42 @@ def test_a_ball_hidden_for_a_while_is_found_again_along_its_path() -> None:
     assert g["lost"] >= 1 and not g["lost_at_end"], g
     seen = [row for row in rec.rows if row["observed"] is not None]
     assert all(math.dist(row["observed"], row["truth"]) < 2 * 0.11 for row in seen)
+
+
+def test_a_misfit_of_an_unknown_object_kilometres_wide_is_refused(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    # a blob near the horizon can fit a sphere 8e9 m wide (seed 49 of bench/foreign.py):
+    # a radius like that passes any test of where it stands, and cannot be a body
+    import dataclasses
+
+    import adapt.schemas.foreground as foreground
+    from adapt.mirror import Mirror
+    from adapt.reality import open_reality
+    from adapt.scenario import RealityKind, load_scenario
+    from adapt.schemas import Origin, SchemaNetwork
+    from adapt.seeds import Streams
+
+    real = foreground.fit_ball
+
+    def wide(*args: Any, **kw: Any) -> Any:
+        fit = real(*args, **kw)
+        return None if fit is None else dataclasses.replace(fit, radius=8.09e9)
+
+    monkeypatch.setattr(foreground, "fit_ball", wide)
+    sc = load_scenario(C.SYNTHETIC)
+    net = SchemaNetwork(Mirror(sc.scene, sc.camera), frame_interval=1 / 15,
+                        models={m.name: m for m in sc.objects}, reality=RealityKind.SYNTHETIC)
+    bg = net.instantiate("scene-background", parameters={"appearance": "on", "learn_every": 2})
+    source = open_reality(sc, streams=Streams(sc.seed or 0))
+    unknown = None
+    try:
+        for f, _ in zip(source, range(32)):  # the ball comes into view at frame 24
+            net.perceive(f)
+            regions = [r for r in bg.regions if not r.expected]
+            if unknown is None and regions:
+                unknown = net.instantiate("foreground-object", origin=Origin.BOTTOM_UP,
+                                          parameters={"region": regions[0].id})
+    finally:
+        source.close()
+    assert isinstance(unknown, foreground.ForegroundObject)
+    assert unknown.refused > 0 and unknown.sightings == 0 and unknown.ball is None
