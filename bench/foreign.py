@@ -26,7 +26,9 @@ Figures, each a median over throws of each throw's value (ratios taken per throw
 
 * **coverage**: of the frames where the ball is visible (at least a fifth of its disc
   shows in the true camera's image: PyBullet's segmentation), the share where the ball's
-  schema observed it within two radii of the truth;
+  schema observed it within two radii of the truth; and where the rest went: before the
+  look was learned, with the ball at the robot (within 10 cm of touching it), with no schema
+  for the ball, with its schema not finding it, or found further off;
 * **spurious schemas**: object schemas spawned for something the scenario does not have;
 * **the Scene Background**: the share of frames with the camera aligned, and the throws in
   which the surfaces' look was never learned (``appearance: "on"`` waits for the camera to be
@@ -66,6 +68,12 @@ COLORS = ((230, 60, 30), (240, 150, 20), (235, 220, 40), (40, 90, 220), (220, 50
 VISIBLE = 0.2
 #: An observation within this many radii of the truth is tracking.
 TRACKED_RADII = 2.0
+#: Why a visible frame was not tracked, in this order: the look not learned yet; the ball
+#: within NEAR_ROBOT of touching the robot (m); the ball's schema not there (not spawned,
+#: or the ball taken for another object); the schema there but not finding it; found, but
+#: further off than TRACKED_RADII.
+MISSED = ("no look", "at the robot", "no schema", "not found", "off")
+NEAR_ROBOT = 0.1
 
 
 def _box(cx: float, cy: float, w: float, h: float, angle: float) -> list[list[float]]:
@@ -288,7 +296,11 @@ class Recording:
         confident = prediction is not None and any(
             h.horizon == 1.0 and h.confidence >= 0.7 for h in prediction.horizons)
         bg = record.background
+        robot = None if truth is None or truth.robot is None else truth.robot.position
         self.frames.append({
+            "has_schema": tracked is not None,
+            "robot_m": None if ball is None or robot is None
+            else math.dist(ball.position, robot),
             "t": record.time, "visible": visible,
             "truth": None if ball is None else list(ball.position),
             "velocity": None if ball is None else list(ball.velocity),
@@ -306,6 +318,22 @@ def _figures(summary: dict[str, Any], frames: list[dict[str, Any]], sc: Any) -> 
     tracked = [f for f in visible if f["observed"] is not None
                and math.dist(f["observed"], f["truth"]) <= TRACKED_RADII * r]
     seen = [f for f in visible if f["observed"] is not None]
+    robot = sc.scene.robot
+    near = (robot.outer_radius + r + NEAR_ROBOT) if robot is not None else -1.0
+    missed = {key: 0 for key in MISSED}
+    for f in visible:
+        if f in tracked:
+            continue
+        if not f["learned"]:
+            missed["no look"] += 1
+        elif f["robot_m"] is not None and f["robot_m"] <= near:
+            missed["at the robot"] += 1
+        elif not f["has_schema"]:
+            missed["no schema"] += 1
+        elif f["observed"] is None:
+            missed["not found"] += 1
+        else:
+            missed["off"] += 1
     spurious = sorted({n for f in frames for n in f["names"] if n not in declared})
     # the first contact: the true velocity turned by more than 20 degrees between frames
     first = None
@@ -326,6 +354,7 @@ def _figures(summary: dict[str, Any], frames: list[dict[str, Any]], sc: Any) -> 
         "visible_frames": len(visible), "frames": len(frames),
         "coverage": len(tracked) / len(visible) if visible else None,
         "seen_share": len(seen) / len(visible) if visible else None,
+        "missed": missed,
         "spurious": len(spurious), "spurious_names": spurious,
         "aligned_share": sum(f.get("aligned", False) for f in frames) / len(frames) if frames else None,
         "learned_share": sum(f.get("learned", False) for f in frames) / len(frames) if frames else None,
@@ -370,6 +399,13 @@ def report(runs: list[dict[str, Any]]) -> None:
               f"observed at all {pct(med(seen))}; spurious schemas "
               f"{sum(r['spurious'] for r in group)} in all (target 0), "
               f"{sum(1 for r in group if r['spurious'])} throws with any")
+    for kind in ("all",) + CAMERAS:
+        group = ok if kind == "all" else [r for r in ok if r["camera"] == kind]
+        visible = sum(r["visible_frames"] for r in group)
+        if not group or not visible:
+            continue
+        print(f"  visible frames not tracked, {kind} ({visible} visible): " + ", ".join(
+            f"{key} {pct(sum(r['missed'][key] for r in group) / visible)}" for key in MISSED))
     never = [r for r in ok if not r.get("learned_share")]
     aligned = [r["aligned_share"] for r in ok if r.get("aligned_share") is not None]
     print(f"the Scene Background: frames with the camera aligned {pct(med(aligned))} median; "

@@ -308,13 +308,13 @@ class SceneBackground(Schema):
     def _publish(self, index: int, time_s: float, camera: "Camera",
                  started: float | None = None) -> BackgroundPercept:
         """This frame's percept, published on both ports."""
-        from adapt.imagination import LABEL_BALL, LABEL_ROBOT
+        from adapt.imagination import LABEL_BALL
 
         if started is not None:
             self.ms = (time.perf_counter() - started) * 1000.0
         res = self.result
-        balls = any(LABEL_BALL <= lab < LABEL_ROBOT for lab in self._label_of.values())
-        if not (self.trusted and res is not None and res.aligned and balls
+        moving = any(lab >= LABEL_BALL for lab in self._label_of.values())  # balls, robot
+        if not (self.trusted and res is not None and res.aligned and moving
                 and self.labels is not None):
             self._warped = None
         elif self._warped is None or self._warped[0] is not res:

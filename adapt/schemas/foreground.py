@@ -67,7 +67,7 @@ from adapt.schemas.percepts import BackgroundPercept, ObjectPercept, Sighting
 from adapt.schemas.predictor import Prediction, Predictor
 from adapt.schemas.silhouette import fit_ball
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
-from adapt.vision.regions import find_regions
+from adapt.vision.regions import Region, find_regions
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Frame
@@ -78,6 +78,11 @@ __all__ = ["ForegroundObject", "FOREGROUND_OBJECT"]
 #: A sighting of an object the scenario does not declare fitted with a larger radius (m)
 #: is a misfit, refused (the mirror's perception rules spawn objects up to 1.5 m across).
 MAX_UNKNOWN_RADIUS = 1.0
+#: The imagined robot's pixels, grown by this many (its odometry slips), are left out of
+#: the search: the robot knows where it is, and its image is no object's.
+ROBOT_MARGIN = 3
+#: At most this many blobs of a search are tried, nearest and largest first.
+MAX_BLOBS = 4
 #: Colour of an object the scenario does not declare until its own is measured (BGR).
 UNKNOWN_COLOR = (128, 128, 128)
 #: A sighting whose fitted radius is off the object's by more than this fraction is refused.
@@ -434,61 +439,77 @@ class ForegroundObject(Schema):
             return None
         others = [m for m in (bg.imagined_mask(lab) for lab in bg.balls_except(self.body))
                   if m is not None]
+        robot = bg.robot_mask(margin=ROBOT_MARGIN)
+        if robot is not None:
+            others.append(robot)
         if others:
             d = np.array(d)
             for imagined in others:
                 d[imagined[y0:y1, x0:x1]] = 0  # what another imagined object explains
-        # prefer large blobs near the prediction
-        blobs = [r for r in find_regions(d, threshold=bg.threshold,
-                                         min_area=int(self.parameters["min_area"]),
-                                         open_size=BLOB_OPEN, close=False)]
-        if not blobs:
-            return None
-        best = min(blobs, key=lambda r: math.dist((r.centroid[0] + x0, r.centroid[1] + y0),
-                                                  (cx, cy)) / math.sqrt(r.area))
-        bx, by, bw, bh = best.bbox
-        mask = best.silhouette
-        area = best.area
+        # large blobs near the prediction first; the first that is the object is it (the
+        # nearest may be something else: a part of the robot's image, another object)
+        blobs = sorted(find_regions(d, threshold=bg.threshold,
+                                    min_area=int(self.parameters["min_area"]),
+                                    open_size=BLOB_OPEN, close=False),
+                       key=lambda r: math.dist((r.centroid[0] + x0, r.centroid[1] + y0),
+                                               (cx, cy)) / math.sqrt(r.area))
+        refused = False
+        for blob in blobs[:MAX_BLOBS]:
+            found = self._sighting(frame, bg, blob, (x0, y0))
+            if isinstance(found, Sighting):
+                return found
+            refused = refused or found
+        if refused:
+            self.refused += 1
+        return None
+
+    def _sighting(self, frame: "Frame", bg: BackgroundPercept, blob: Region,
+                  offset: tuple[int, int]) -> Sighting | bool:
+        """The sighting ``blob`` (found at ``offset`` in the frame) is, or whether it was
+        refused as something else (True: off the floor, behind a wall, a misfit) or is not
+        the object (False: its size is not, or its outline cannot be fitted)."""
+        x0, y0 = offset
+        h, w = frame.image.shape[:2]
+        bx, by, bw, bh = blob.bbox
+        mask = blob.silhouette
         bbox = (bx + x0, by + y0, bw, bh)
         if bbox[0] == 0 or bbox[1] == 0 or bbox[0] + bw >= w:
-            return None  # cut by the image's edge: its outline would mislead the fit
+            return False  # cut by the image's edge: its outline would mislead the fit
         cam = self.network.mirror.camera
         free = fit_ball(mask, (bx + x0, by + y0), cam, radius=None,
                         to_camera=bg.to_synthetic)
         if free is None:
-            return None
+            return False
         if self.ball is None:
             if not free.radius <= MAX_UNKNOWN_RADIUS:
                 # a misfit (a blob near the horizon fits a sphere kilometres wide, and a
                 # radius that large would pass any test of where it stands)
-                self.refused += 1
-                return None
+                return True
             fit = free
         else:
             # a blob of the wrong size is not the ball (cut by the image's bottom, merged
             # with something else, a fragment): do not let it move the estimate
             if abs(free.radius - self.ball.radius) > RADIUS_TOLERANCE * self.ball.radius:
-                return None
-            fit = fit_ball(mask, (bx + x0, by + y0), cam, radius=self.ball.radius,  # type: ignore[assignment]
-                           to_camera=bg.to_synthetic)
-            if fit is None:
-                return None
+                return False
+            known = fit_ball(mask, (bx + x0, by + y0), cam, radius=self.ball.radius,
+                             to_camera=bg.to_synthetic)
+            if known is None:
+                return False
+            fit = known
         if not self._on_floor(fit.position, fit.radius):
             # fitted off the floor (a blob near the horizon, fitted kilometres away): a ball
             # rests on the floor, so this is something else
-            self.refused += 1
-            return None
+            return True
         eye = (float(cam.position[0]), float(cam.position[1]), float(cam.position[2]))
         if hidden_by(self.network.mirror.scene, eye, fit.position, fit.radius) is not None:
             # a wall or an obstacle hides whatever is behind it (in 3D: a camera above a low
             # wall sees over it): the blob is something else (a fragment merged with the
             # wall's difference, a misfit near the horizon)
-            self.refused += 1
-            return None
+            return True
         if self.ball is None:
             self._measure_unknown(frame, fit.radius, mask, bbox)
-        centre = (best.centroid[0] + x0, best.centroid[1] + y0)
-        return Sighting(frame.index, frame.time, bbox, centre, area, fit.position)
+        centre = (blob.centroid[0] + x0, blob.centroid[1] + y0)
+        return Sighting(frame.index, frame.time, bbox, centre, blob.area, fit.position)
 
     def _on_floor(self, at: tuple[float, float], radius: float) -> bool:
         """Whether a ball of ``radius`` at ``at`` is over the floor (its extent, when the scenario

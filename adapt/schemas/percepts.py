@@ -198,7 +198,7 @@ class BackgroundPercept:
         its label.
     warped_labels : ndarray or None
         ``labels`` warped into the real frame by ``H_e`` (nearest neighbour),
-        when the frame is trusted and a ball is drawn.
+        when the frame is trusted and a ball or the robot is drawn.
     regions : tuple of RegionReport
         The tracked difference regions (empty while the provider is still
         perceiving: it publishes once its camera step is done, then again with
@@ -330,6 +330,25 @@ class BackgroundPercept:
         """Label ids of the moving balls drawn this frame, but ``name``'s."""
         return [lab for n, lab in self.drawn.items()
                 if n != name and LABEL_BALL <= lab < LABEL_ROBOT]
+
+    def robot_mask(self, margin: int = 0) -> NDArray[np.bool_] | None:
+        """Pixels of the real frame where the imagination shows the robot, grown by ``margin``
+        pixels, or None (no alignment, no robot drawn).
+
+        >>> cam = Camera(100, 100, 40, 30, 80, 60, np.eye(3), np.zeros(3))
+        >>> labels = np.pad(np.full((2, 2), LABEL_ROBOT, np.uint16), 3)
+        >>> p = BackgroundPercept(0, 0.0, cam, cam, drawn={"robot": LABEL_ROBOT},
+        ...                       warped_labels=labels)
+        >>> int(p.robot_mask().sum()), int(p.robot_mask(margin=1).sum())
+        (4, 16)
+        """
+        if self.warped_labels is None or LABEL_ROBOT not in self.drawn.values():
+            return None
+        mask = self.warped_labels == LABEL_ROBOT
+        if margin > 0:
+            size = 2 * margin + 1
+            mask = cv2.dilate(mask.view(np.uint8), np.ones((size, size), np.uint8)).astype(bool)
+        return mask
 
     def imagined_mask(self, label: int) -> NDArray[np.bool_] | None:
         """Pixels of the real frame where the imagination shows the object of ``label``,
