@@ -414,6 +414,12 @@ class SceneBackground(Schema):
             coarse = self._margin > STRUCTURE_OWN_COLOURS * scale
             hom = structure_homography(frame.image, labels, (cam.cx, cam.cy), margin=self._margin,
                                        reference=bg.image if coarse else None)
+            if hom is None and coarse:
+                # the scenario's colours can be unlike the surfaces' (bright wall tops where
+                # it says dark brick: the look is unknown) and turn the correlation negative;
+                # the small surfaces' own pixels then
+                hom = structure_homography(frame.image, labels, (cam.cx, cam.cy),
+                                           margin=self._margin)
             if hom is None:
                 self._margin = STRUCTURE_MARGIN[1] * scale
                 self.structure_error = math.nan
