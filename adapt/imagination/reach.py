@@ -37,6 +37,8 @@ __all__ = ["Meeting", "standing_point", "meet", "APPROACH"]
 #: inside it, so that a few centimetres of error in where it sees the object and in its
 #: own odometry still leave the bodies touching (0.9 left 5 cm gaps on PyBullet realities).
 APPROACH = 0.75
+#: Standing points this close (m) share one way round what is in the robot's way.
+ROUTE_CELL = 0.02
 #: Directions tried around the object for standing room.
 DIRECTIONS = 72
 
@@ -122,6 +124,9 @@ def meet(path: Trajectory, scene: SceneSpec, robot: RobotSpec, position: Sequenc
     dist = np.maximum(np.hypot(pts[:, 0] - rx, pts[:, 1] - ry) - reach, 0.0)
     need = np.array([time_to_reach(float(v), speed, robot.max_accel) for v in dist])
     fp = footprint if footprint is not None else Footprint(scene, robot.outer_radius)
+    # the ways round, by standing point to ROUTE_CELL: the path's samples are millimetres
+    # apart, and their standing points share a way (its last leg ends at each one's own)
+    ways: dict[tuple[int, int], list[Vec2] | None] = {}
     for k in np.flatnonzero(ok & (need <= times - start + 1e-9)):
         target = (float(pts[k, 0]), float(pts[k, 1]))
         stand = _standing_point(fp, target, reach, (rx, ry))
@@ -131,11 +136,22 @@ def meet(path: Trajectory, scene: SceneSpec, robot: RobotSpec, position: Sequenc
         drive = time_to_reach(travel, speed, robot.max_accel)
         if drive > float(times[k]) - start + 1e-9:
             continue
-        if (rx, ry) != stand and not fp.path_clear((rx, ry), stand):
-            # the straight line is blocked: the way round, slowing at each corner
-            way = fp.route((rx, ry), stand)
-            if way is None:
+        cell = (round(stand[0] / ROUTE_CELL), round(stand[1] / ROUTE_CELL))
+        if cell in ways:
+            known = ways[cell]
+            if known is None:
                 continue
+            way = known[:-1] + [stand]
+        elif (rx, ry) == stand or fp.path_clear((rx, ry), stand):
+            ways[cell] = [stand]
+            way = [stand]
+        else:
+            # the straight line is blocked: the way round, slowing at each corner
+            ways[cell] = found = fp.route((rx, ry), stand)
+            if found is None:
+                continue
+            way = found
+        if len(way) > 1:
             travel = path_length((rx, ry), way)
             drive = sum(time_to_reach(math.dist(a, b), speed, robot.max_accel)
                         for a, b in zip([(rx, ry)] + way[:-1], way))
