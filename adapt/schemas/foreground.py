@@ -12,7 +12,10 @@ imagination (paper section 4.4, Figure 6):
   ``regions`` port (:class:`~adapt.schemas.percepts.BackgroundPercept`); what
   this schema perceives is published as an
   :class:`~adapt.schemas.percepts.ObjectPercept` on its ``object`` port.  The imagination's label image (warped by ``H_e``) says which
-  pixels other imagined objects cover; they are left out.  (Comparing with
+  pixels other imagined objects cover; they are left out, and so is the
+  imagined robot, grown by :data:`ROBOT_MARGIN` pixels (the robot knows where
+  it is).  The blobs left are tried nearest and largest first, up to
+  :data:`MAX_BLOBS`, until one has the object's size and stands where it can.  (Comparing with
   the full render instead would hide the object wherever the imagined body
   already covers it, and mistake background of the object's colour for the
   object.)
