@@ -127,39 +127,49 @@ class Lens:
                 "projection": self.projection.tolist(), "size": list(self.size)}
 
 
-def _check(image: NDArray[np.uint8], size: tuple[int, int], what: str) -> None:
-    if image.ndim < 2 or (image.shape[1], image.shape[0]) != size:
-        raise ImageError(f"{what} an image of {size[0]}x{size[1]} pixels, got "
-                         f"{image.shape[1] if image.ndim > 1 else '?'}x{image.shape[0]}")
+class _LensMap:
+    """A pixel map of one lens, made once: one ``cv2.remap`` per image of the lens's size."""
 
+    #: What the map does, for the message about an image of the wrong size.
+    _doing = ""
 
-class Undistorter:
-    """Undistorts images of one lens: maps made once, one ``cv2.remap`` per image."""
-
-    def __init__(self, lens: Lens) -> None:
+    def __init__(self, lens: Lens, maps: tuple[Any, Any]) -> None:
         self.lens = lens
-        k = np.asarray(lens.matrix)
-        d = np.asarray(lens.distortion, np.float64)
-        self._map1, self._map2 = cv2.initUndistortRectifyMap(
-            k, d, np.asarray(lens.rectification), np.asarray(lens.projection), lens.size,
-            cv2.CV_16SC2)
+        self._maps = maps
 
     def __call__(self, image: NDArray[np.uint8]) -> NDArray[np.uint8]:
-        """The undistorted image (a new array)."""
-        _check(image, self.lens.size, "undistortion expects")
-        out = cv2.remap(image, self._map1, self._map2, cv2.INTER_LINEAR,
+        """The image through the map (a new array)."""
+        w, h = self.lens.size
+        if image.ndim < 2 or (image.shape[1], image.shape[0]) != (w, h):
+            raise ImageError(f"{self._doing} expects an image of {w}x{h} pixels, got "
+                             f"{image.shape[1] if image.ndim > 1 else '?'}x{image.shape[0]}")
+        out = cv2.remap(image, self._maps[0], self._maps[1], cv2.INTER_LINEAR,
                         borderMode=cv2.BORDER_REPLICATE)
         return np.asarray(out, np.uint8)
 
 
-class Distorter:
+class Undistorter(_LensMap):
+    """Undistorts images of one lens: maps made once, one ``cv2.remap`` per image."""
+
+    _doing = "undistortion"
+
+    def __init__(self, lens: Lens) -> None:
+        k = np.asarray(lens.matrix)
+        d = np.asarray(lens.distortion, np.float64)
+        super().__init__(lens, cv2.initUndistortRectifyMap(
+            k, d, np.asarray(lens.rectification), np.asarray(lens.projection), lens.size,
+            cv2.CV_16SC2))
+
+
+class Distorter(_LensMap):
     """Shows an ideal (undistorted) image through a lens: the inverse of :class:`Undistorter`.
 
     Each raw pixel's ideal position is found with ``cv2.undistortPoints`` (iterated to convergence) (once).
     """
 
+    _doing = "distortion"
+
     def __init__(self, lens: Lens) -> None:
-        self.lens = lens
         w, h = lens.size
         u, v = np.meshgrid(np.arange(w, dtype=np.float32), np.arange(h, dtype=np.float32))
         pts = np.stack([u.ravel(), v.ravel()], axis=1).reshape(-1, 1, 2)
@@ -169,16 +179,9 @@ class Distorter:
                                     R=np.asarray(lens.rectification),
                                     P=np.asarray(lens.projection), criteria=criteria)
         ideal = ideal.reshape(h, w, 2)
-        self._mapx, self._mapy = cv2.convertMaps(  # fixed point: as fast as the undistorter's
+        super().__init__(lens, cv2.convertMaps(  # fixed point: as fast as the undistorter's
             np.ascontiguousarray(ideal[..., 0], np.float32),
-            np.ascontiguousarray(ideal[..., 1], np.float32), cv2.CV_16SC2)
-
-    def __call__(self, image: NDArray[np.uint8]) -> NDArray[np.uint8]:
-        """The image as the lens would show it (a new array)."""
-        _check(image, self.lens.size, "distortion expects")
-        out = cv2.remap(image, self._mapx, self._mapy, cv2.INTER_LINEAR,
-                        borderMode=cv2.BORDER_REPLICATE)
-        return np.asarray(out, np.uint8)
+            np.ascontiguousarray(ideal[..., 1], np.float32), cv2.CV_16SC2))
 
 
 class LensSource:

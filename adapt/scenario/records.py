@@ -394,8 +394,21 @@ class RobotTruth:
     source: Source = UNKNOWN
 
 
+class _BuiltinKind:
+    """What the built-in reality records share: their ``name`` is the kind the scenario
+    writes (a plugin's reality has the name it registered instead)."""
+
+    __slots__ = ()
+    kind: RealityKind
+
+    @property
+    def name(self) -> str:
+        """``reality.kind`` as the scenario writes it."""
+        return self.kind.value
+
+
 @dataclass(frozen=True, slots=True, eq=False)
-class SyntheticReality:
+class SyntheticReality(_BuiltinKind):
     """A ground-truth world that differs from the imagination as reality does.
 
     ``dt`` is reality's own (finer) physics step; ``objects`` holds every
@@ -410,11 +423,6 @@ class SyntheticReality:
     source: Source = UNKNOWN
     kind: RealityKind = RealityKind.SYNTHETIC
 
-    @property
-    def name(self) -> str:
-        """``reality.kind`` as the scenario writes it."""
-        return self.kind.value
-
     def object(self, name: str) -> TrueObject:
         """The true object called ``name``."""
         for o in self.objects:
@@ -424,7 +432,7 @@ class SyntheticReality:
 
 
 @dataclass(frozen=True, slots=True)
-class VideoReality:
+class VideoReality(_BuiltinKind):
     """Frames from a video file or an image sequence.
 
     Attributes
@@ -448,11 +456,6 @@ class VideoReality:
     ground_truth: Path | None
     source: Source = UNKNOWN
     kind: RealityKind = RealityKind.VIDEO
-
-    @property
-    def name(self) -> str:
-        """``reality.kind`` as the scenario writes it."""
-        return self.kind.value
 
 
 class TextureSource(enum.Enum):
@@ -541,7 +544,7 @@ class BulletRobot:
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class BulletReality:
+class BulletReality(_BuiltinKind):
     """A reality made by another physics engine and renderer: PyBullet in 3D, its
     TinyRenderer with its own textures, light, blur and noise (``docs/reality.md``).
 
@@ -563,11 +566,6 @@ class BulletReality:
     source: Source = UNKNOWN
     kind: RealityKind = RealityKind.BULLET
 
-    @property
-    def name(self) -> str:
-        """``reality.kind`` as the scenario writes it."""
-        return self.kind.value
-
     def object(self, name: str) -> BulletObject:
         """The true object called ``name``."""
         for o in self.objects:
@@ -577,7 +575,7 @@ class BulletReality:
 
 
 @dataclass(frozen=True, slots=True)
-class CameraReality:
+class CameraReality(_BuiltinKind):
     """Frames from a camera: a device, a stream URL, or a video file played as a camera.
 
     Attributes
@@ -596,11 +594,6 @@ class CameraReality:
     stall_s: float
     source: Source = UNKNOWN
     kind: RealityKind = RealityKind.CAMERA
-
-    @property
-    def name(self) -> str:
-        """``reality.kind`` as the scenario writes it."""
-        return self.kind.value
 
 
 @dataclass(frozen=True, slots=True, eq=False)
