@@ -315,14 +315,18 @@ def _figures(summary: dict[str, Any], frames: list[dict[str, Any]], sc: Any) -> 
     r = sc.model("ball").ball.radius
     declared = {m.name for m in sc.objects}
     visible = [f for f in frames if f["visible"]]
-    tracked = [f for f in visible if f["observed"] is not None
-               and math.dist(f["observed"], f["truth"]) <= TRACKED_RADII * r]
+
+    def on_it(f: dict[str, Any]) -> bool:
+        """Observed within TRACKED_RADII of the truth."""
+        return f["observed"] is not None and math.dist(f["observed"], f["truth"]) <= TRACKED_RADII * r
+
     seen = [f for f in visible if f["observed"] is not None]
+    tracked = [f for f in seen if on_it(f)]
     robot = sc.scene.robot
     near = (robot.outer_radius + r + NEAR_ROBOT) if robot is not None else -1.0
     missed = {key: 0 for key in MISSED}
     for f in visible:
-        if f in tracked:
+        if on_it(f):
             continue
         if not f["learned"]:
             missed["no look"] += 1

@@ -440,15 +440,16 @@ class ForegroundObject(Schema):
         d = bg.object_difference(frame.image, (x0, y0, x1 - x0, y1 - y0))
         if d is None:
             return None
-        others = [m for m in (bg.imagined_mask(lab) for lab in bg.balls_except(self.body))
+        others = [m[y0:y1, x0:x1] for m in (bg.imagined_mask(lab)
+                                            for lab in bg.balls_except(self.body))
                   if m is not None]
-        robot = bg.robot_mask(margin=ROBOT_MARGIN)
+        robot = bg.robot_mask(margin=ROBOT_MARGIN, box=(x0, y0, x1 - x0, y1 - y0))
         if robot is not None:
             others.append(robot)
         if others:
             d = np.array(d)
             for imagined in others:
-                d[imagined[y0:y1, x0:x1]] = 0  # what another imagined object explains
+                d[imagined] = 0  # what another imagined object explains
         # large blobs near the prediction first; the first that is the object is it (the
         # nearest may be something else: a part of the robot's image, another object)
         blobs = sorted(find_regions(d, threshold=bg.threshold,

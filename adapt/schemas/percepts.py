@@ -331,9 +331,11 @@ class BackgroundPercept:
         return [lab for n, lab in self.drawn.items()
                 if n != name and LABEL_BALL <= lab < LABEL_ROBOT]
 
-    def robot_mask(self, margin: int = 0) -> NDArray[np.bool_] | None:
+    def robot_mask(self, margin: int = 0, box: tuple[int, int, int, int] | None = None
+                   ) -> NDArray[np.bool_] | None:
         """Pixels of the real frame where the imagination shows the robot, grown by ``margin``
-        pixels, or None (no alignment, no robot drawn).
+        pixels, or None (no alignment, no robot drawn); within ``box`` (``x, y, w, h``) only,
+        when given (the mask of that part of the frame).
 
         >>> cam = Camera(100, 100, 40, 30, 80, 60, np.eye(3), np.zeros(3))
         >>> labels = np.pad(np.full((2, 2), LABEL_ROBOT, np.uint16), 3)
@@ -341,14 +343,21 @@ class BackgroundPercept:
         ...                       warped_labels=labels)
         >>> int(p.robot_mask().sum()), int(p.robot_mask(margin=1).sum())
         (4, 16)
+        >>> p.robot_mask(margin=1, box=(0, 0, 4, 4)).astype(int).tolist()[2:]
+        [[0, 0, 1, 1], [0, 0, 1, 1]]
         """
         if self.warped_labels is None or LABEL_ROBOT not in self.drawn.values():
             return None
-        mask = self.warped_labels == LABEL_ROBOT
-        if margin > 0:
+        h, w = self.warped_labels.shape
+        x0, y0, bw, bh = (0, 0, w, h) if box is None else box
+        # the box grown by the margin: a robot pixel just outside it grows into it
+        gx0, gy0 = max(x0 - margin, 0), max(y0 - margin, 0)
+        gx1, gy1 = min(x0 + bw + margin, w), min(y0 + bh + margin, h)
+        mask = self.warped_labels[gy0:gy1, gx0:gx1] == LABEL_ROBOT
+        if margin > 0 and mask.any():
             size = 2 * margin + 1
             mask = cv2.dilate(mask.view(np.uint8), np.ones((size, size), np.uint8)).astype(bool)
-        return mask
+        return mask[y0 - gy0:y0 - gy0 + bh, x0 - gx0:x0 - gx0 + bw]
 
     def imagined_mask(self, label: int) -> NDArray[np.bool_] | None:
         """Pixels of the real frame where the imagination shows the object of ``label``,
