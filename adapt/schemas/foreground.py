@@ -23,8 +23,9 @@ imagination (paper section 4.4, Figure 6):
   camera, is fitted with a sphere resting on the floor (the ground-plane
   assumption; :func:`adapt.schemas.silhouette.fit_ball`, exact under
   perspective, from the upper outline so a contact shadow does not bias it;
-  the radius is measured first for an object the scenario does not know, and
-  a sighting of the wrong size is refused); a constant-velocity Kalman filter
+  the radius is measured for an object the scenario does not know; a blob is
+  a declared ball's only when its area and outline are those of the ball's
+  image where it is fitted); a constant-velocity Kalman filter
   (:mod:`adapt.kalman`) smooths position and estimates velocity, restarted
   from the fitted line after a recognised bounce.
 * **what it is like.**  :class:`~adapt.mirror.identify.Identifier` fits
@@ -68,7 +69,7 @@ from adapt.schemas.events import EventKind
 from adapt.schemas.links import Structure
 from adapt.schemas.percepts import BackgroundPercept, ObjectPercept, Sighting
 from adapt.schemas.predictor import Prediction, Predictor
-from adapt.schemas.silhouette import fit_ball
+from adapt.schemas.silhouette import BallFit, fit_ball, image_area
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 from adapt.vision.regions import Region, find_regions
 
@@ -88,8 +89,15 @@ ROBOT_MARGIN = 3
 MAX_BLOBS = 4
 #: Colour of an object the scenario does not declare until its own is measured (BGR).
 UNKNOWN_COLOR = (128, 128, 128)
-#: A sighting whose fitted radius is off the object's by more than this fraction is refused.
-RADIUS_TOLERANCE = 0.25
+#: A blob is a known ball's image when its area is within this range of the area the ball's
+#: image has where its outline is fitted (the contact shadow merged below it adds, a wall
+#: or an obstacle in front of its lower part takes away) ...
+AREA_RANGE = (0.3, 2.2)
+#: ... and that outline fits the ball's to this RMS (pixels), or this share of the image's
+#: radius when that is more.  (The radius fitted freely is no test: from the upper outline
+#: of a ball 4 px across, one pixel of blur makes it half as large again.)
+OUTLINE_RMS_PX = 0.6
+OUTLINE_RMS_SHARE = 0.1
 #: An object is created in the imagination only once its estimated speed is below this (m/s):
 #: faster is a filter started on bad sightings.
 MAX_SPEED = 20.0
@@ -480,26 +488,19 @@ class ForegroundObject(Schema):
         if bbox[0] == 0 or bbox[1] == 0 or bbox[0] + bw >= w:
             return False  # cut by the image's edge: its outline would mislead the fit
         cam = self.network.mirror.camera
-        free = fit_ball(mask, (bx + x0, by + y0), cam, radius=None,
-                        to_camera=bg.to_synthetic)
-        if free is None:
+        known = None if self.ball is None else self.ball.radius
+        fit = fit_ball(mask, (bx + x0, by + y0), cam, radius=known, to_camera=bg.to_synthetic)
+        if fit is None:
             return False
-        if self.ball is None:
-            if not free.radius <= MAX_UNKNOWN_RADIUS:
+        if known is None:
+            if not fit.radius <= MAX_UNKNOWN_RADIUS:
                 # a misfit (a blob near the horizon fits a sphere kilometres wide, and a
                 # radius that large would pass any test of where it stands)
                 return True
-            fit = free
-        else:
-            # a blob of the wrong size is not the ball (cut by the image's bottom, merged
-            # with something else, a fragment): do not let it move the estimate
-            if abs(free.radius - self.ball.radius) > RADIUS_TOLERANCE * self.ball.radius:
-                return False
-            known = fit_ball(mask, (bx + x0, by + y0), cam, radius=self.ball.radius,
-                             to_camera=bg.to_synthetic)
-            if known is None:
-                return False
-            fit = known
+        elif not self._ball_shaped(blob, fit):
+            # not the ball's image (a fragment, something else's, the ball merged with
+            # something else): do not let it move the estimate
+            return False
         if not self._on_floor(fit.position, fit.radius):
             # fitted off the floor (a blob near the horizon, fitted kilometres away): a ball
             # rests on the floor, so this is something else
@@ -514,6 +515,17 @@ class ForegroundObject(Schema):
             self._measure_unknown(frame, fit.radius, mask, bbox)
         centre = (blob.centroid[0] + x0, blob.centroid[1] + y0)
         return Sighting(frame.index, frame.time, bbox, centre, blob.area, fit.position)
+
+    def _ball_shaped(self, blob: Region, fit: BallFit) -> bool:
+        """Whether ``blob``, whose upper outline ``fit`` fitted with the known radius, is that
+        ball's image: of the area its image has there (:data:`AREA_RANGE`), and with an
+        outline that fits it (:data:`OUTLINE_RMS_PX`, :data:`OUTLINE_RMS_SHARE`)."""
+        cam = self.network.mirror.camera
+        area = image_area(cam, (fit.position[0], fit.position[1], fit.radius), fit.radius)
+        if not math.isfinite(area) or not AREA_RANGE[0] * area <= blob.area <= AREA_RANGE[1] * area:
+            return False
+        rms_px = math.radians(fit.rms_deg) * cam.fx
+        return rms_px <= max(OUTLINE_RMS_PX, OUTLINE_RMS_SHARE * math.sqrt(area / math.pi))
 
     def _on_floor(self, at: tuple[float, float], radius: float) -> bool:
         """Whether a ball of ``radius`` at ``at`` is over the floor (its extent, when the scenario

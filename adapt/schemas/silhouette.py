@@ -35,11 +35,11 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from adapt.geometry import Camera
 
-__all__ = ["BallFit", "fit_ball", "upper_outline", "silhouette_circle"]
+__all__ = ["BallFit", "fit_ball", "upper_outline", "silhouette_circle", "image_area"]
 
 FloatArray = NDArray[np.float64]
 
@@ -207,3 +207,33 @@ def fit_ball(mask: NDArray[np.bool_], offset: tuple[int, int], camera: Camera, *
     r = float(params[2]) if radius is None else float(radius)
     return BallFit((float(params[0]), float(params[1])), r,
                    float(np.degrees(np.sqrt(np.mean(f**2)))), int(use.sum()))
+
+
+def image_area(camera: Camera, centre: ArrayLike, radius: float) -> float:
+    """The area (pixels) of the image of a sphere of ``radius`` centred at ``centre`` (world).
+
+    A sphere seen from distance ``D`` subtends a cone of half-angle ``α = asin(r / D)``;
+    its image, with its centre ``θ`` off the optical axis, is the ellipse of area
+    ``π fx fy sin²α cos α / (cos²θ - sin²α)^(3/2)`` -- on the axis the disc of radius
+    ``f tan α``.  ``inf`` when the cone reaches the image plane's horizon (or the camera
+    is inside the sphere).
+
+    Examples
+    --------
+    >>> cam = Camera.look_at(fx=500, fy=500, cx=320, cy=240, width=640, height=480,
+    ...                      position=(0, 0, 1), look_at=(0, 4, 1))
+    >>> round(image_area(cam, (0, 4, 1), 0.1), 1)     # on the axis: a disc of f r / sqrt(D² - r²)
+    491.2
+    >>> round(image_area(cam, (1.5, 4, 1), 0.1), 1)   # off the axis: a larger ellipse
+    524.6
+    """
+    pc = camera.to_camera(np.asarray(centre, float).reshape(1, 3))[0]
+    d = float(np.linalg.norm(pc))
+    if d <= radius:
+        return math.inf
+    sin_a = radius / d
+    cos_t = float(pc[2]) / d
+    cone = cos_t * cos_t - sin_a * sin_a
+    if cos_t <= 0 or cone <= 0:
+        return math.inf
+    return math.pi * camera.fx * camera.fy * sin_a * sin_a * math.sqrt(1 - sin_a * sin_a) / cone ** 1.5

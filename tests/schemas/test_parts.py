@@ -11,7 +11,7 @@ from adapt.engine import Agent
 from adapt.engine.symbols import format_symbol
 from adapt.geometry import Camera
 from adapt.schemas.links import Structure
-from adapt.schemas.silhouette import fit_ball, silhouette_circle
+from adapt.schemas.silhouette import fit_ball, image_area, silhouette_circle
 from adapt.schemas.tracks import RegionTracker
 from adapt.vision.regions import Region
 
@@ -109,6 +109,23 @@ def test_a_ball_is_found_from_its_silhouette(x: float, y: float, r: float) -> No
     tol = 2.5 * np.hypot(x, y + 0.6) / 525 + 0.002
     assert abs(known.position[0] - x) < tol and abs(known.position[1] - y) < 3 * tol
     assert abs(free.radius - r) < 0.1 * r + 0.003
+
+
+@settings(max_examples=25, deadline=None)
+@given(x=st.floats(-1.2, 1.2), y=st.floats(0.4, 2.6), r=st.floats(0.03, 0.2))
+def test_the_image_area_of_a_ball_is_its_silhouettes(x: float, y: float, r: float) -> None:
+    mask = sphere_mask((x, y), r)
+    ys, xs = np.nonzero(mask)
+    assume(len(xs) > 0 and xs.min() > 0 and ys.min() > 0 and xs.max() < 639 and ys.max() < 479)
+    area = image_area(CAM, (x, y, r), r)
+    # pixel centres inside the ellipse: off by at most about its perimeter's half-pixels
+    perimeter = 2 * np.pi * np.sqrt(area / np.pi)
+    assert abs(int(mask.sum()) - area) <= 0.5 * perimeter + 2
+
+
+def test_a_ball_behind_the_camera_or_around_it_has_no_finite_image() -> None:
+    assert image_area(CAM, (0.0, -2.0, 0.1), 0.1) == np.inf       # behind
+    assert image_area(CAM, (0.0, -0.6, 0.6), 0.3) == np.inf       # the camera inside it
 
 
 def test_a_shadow_below_the_ball_does_not_move_it() -> None:
