@@ -100,7 +100,7 @@ from adapt.vision.regions import best_overlap, find_regions, to_input
 from adapt.vision.registration import structure_homography
 from adapt.vision.scale import MAX_WORK_PIXELS_LIMIT, image_scale
 from adapt.vision.stillness import FrameHistory
-from adapt.vision.sync import sync_step
+from adapt.vision.sync import SyncStep, sync_step
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Frame
@@ -162,6 +162,8 @@ class SceneBackground(Schema):
         self.corrections = 0
         #: Structure corrections refused because they moved the seams off the image's edges.
         self.refused_corrections = 0
+        #: Frames whose matches gave no H_e, compared through the structure's alignment.
+        self.structure_held = 0
         self.ms = 0.0
         self._prepared_for: tuple[int, ...] | None = None
         self._background: PreparedImage | None = None
@@ -253,12 +255,16 @@ class SceneBackground(Schema):
         camera = mirror.camera
         self.correction_deg = 0.0
         correct = bool(self.parameters["correct"])
-        step = sync_step(frame.image, self._prepared_synthetic(self.synthetic),  # type: ignore[arg-type]
-                         camera, gain=self.parameters["gain"],
-                         tolerance=self.parameters["tolerance"] if correct else math.inf,
-                         full_pose=bool(self.parameters["full_pose"]), on_plane=self._on_floor,
-                         trust=lambda error: not self._implausible(error, frame),
-                         max_pixels=int(self.parameters["mmd_pixels"]))
+        step = self._sync(frame, camera, correct)
+        if not step.result.aligned and correct and self.stage is AppearanceStage.LEARNED \
+                and self._align_structure(frame):
+            # no H_e from the matches (texture the renderer aliases differently as the camera
+            # turns, a plain face filling the view), but the structure aligned the camera:
+            # compare through it
+            self._rendered()
+            camera = mirror.camera
+            step = self._sync(frame, camera, correct, hold=np.eye(3))
+            self.structure_held += 1
         res = self.result = step.result
         self.trusted = step.trusted
         if not res.aligned:
@@ -278,7 +284,8 @@ class SceneBackground(Schema):
         else:
             self._glitches = 0
             self.status = Status.RUNNING
-            self.message = ""
+            self.message = (f"H_e from the structure's alignment: {res.alignment.reason}"
+                            if res.alignment.held else "")
             self.pixel_error = step.pixel_error
             self._settled = (step.pixel_error if self._settled >= 1e9
                              else 0.8 * self._settled + 0.2 * step.pixel_error)
@@ -289,7 +296,14 @@ class SceneBackground(Schema):
         # published once the camera step is done: the boxes the other schemas monitor are
         # asked for in this frame's alignment
         early = self._publish(frame.index, frame.time, camera, started)
-        self.regions = self._regions(frame, early)
+        if res.alignment.held:
+            # without matches the difference's own errors (a texture aliased differently, a
+            # view the look has not seen) cannot be told from objects: the schemas search for
+            # the objects they follow, but no region is reported to spawn one for
+            self.tracker.update([], frame.index)
+            self.regions = []
+        else:
+            self.regions = self._regions(frame, early)
         if self.stage is AppearanceStage.LEARNED:
             self._refine(frame, res)
         self._publish(frame.index, frame.time, camera, started)
@@ -336,6 +350,16 @@ class SceneBackground(Schema):
         self.percept = percept
         self.network.publish(self, percept)
         return percept
+
+    def _sync(self, frame: "Frame", camera: "Camera", correct: bool,
+              hold: NDArray[np.float64] | None = None) -> SyncStep:
+        """This frame's step of the camera loop (:func:`~adapt.vision.sync.sync_step`)."""
+        return sync_step(frame.image, self._prepared_synthetic(self.synthetic),  # type: ignore[arg-type]
+                         camera, gain=self.parameters["gain"],
+                         tolerance=self.parameters["tolerance"] if correct else math.inf,
+                         full_pose=bool(self.parameters["full_pose"]), on_plane=self._on_floor,
+                         trust=lambda error: not self._implausible(error, frame),
+                         max_pixels=int(self.parameters["mmd_pixels"]), hold=hold)
 
     def _implausible(self, error: float, frame: "Frame") -> bool:
         """A sudden large jump of a camera that was synchronised is a false alignment
@@ -653,7 +677,8 @@ class SceneBackground(Schema):
                     "regions": len(self.regions),
                     "unexpected": sum(not r.expected for r in self.regions),
                     "appearance": self.stage.value,
-                    "learned": len(self.network.mirror.appearance.learned)})
+                    "learned": len(self.network.mirror.appearance.learned),
+                    "structure_held": self.structure_held})
         return out
 
 

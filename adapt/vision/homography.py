@@ -73,15 +73,22 @@ class Alignment:
         there is no alignment.
     inliers : (N,) bool ndarray
         Which of the matches agree with ``homography`` (all False without one).
-    method : {"magsac", "ransac", "none"}
+    method : {"magsac", "ransac", "held", "none"}
+        How ``homography`` was found; ``"held"``: this frame's matches gave none and
+        the caller's was used (:func:`~adapt.vision.mmd.mmd`'s ``hold``).
     reason : str
-        Why there is no alignment ("" when aligned).
+        Why there is no alignment, or why it was held ("" when estimated).
     """
 
     homography: FloatArray | None
     inliers: NDArray[np.bool_] = field(repr=False)
-    method: Literal["magsac", "ransac", "none"]
+    method: Literal["magsac", "ransac", "held", "none"]
     reason: str = ""
+
+    @property
+    def held(self) -> bool:
+        """True when the homography was held, not estimated from this frame's matches."""
+        return self.method == "held"
 
     @property
     def aligned(self) -> bool:

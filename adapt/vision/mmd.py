@@ -208,6 +208,7 @@ def mmd(
     reacquire: bool = True,
     min_inliers: int = MIN_INLIERS,
     max_pixels: int | None = None,
+    hold: NDArray | None = None,
 ) -> MMDResult:
     """Match-mediated difference of ``real`` and ``synthetic``.
 
@@ -233,6 +234,12 @@ def mmd(
         Largest working image in pixels: larger inputs are reduced to it
         (:mod:`~adapt.vision.scale`); 640x480 by default, or what a prepared
         ``real`` was prepared for.
+    hold : (3, 3) ndarray, optional
+        ``H_e`` (input pixels) to use when this frame's matches give none: the
+        caller knows the images are aligned another way (the Scene Background's
+        structure alignment).  The result's alignment is then ``held`` (no
+        inliers; its ``reason`` says why none was found), and the difference is
+        not masked by matches.
 
     Raises
     ------
@@ -245,6 +252,9 @@ def mmd(
     hh, ww = frame.shape
     channels = real8.shape[2] if real8.ndim == 3 else 1
     matches, alignment = _align(r, s, min_inliers, reacquire)
+    if not alignment.aligned and hold is not None:
+        kept = frame.homography_to_work(hold) if frame.reduces else np.asarray(hold, np.float64)
+        alignment = replace(alignment, homography=kept, method="held")
     if not alignment.aligned:
         zero = np.zeros((hh, ww), np.float32)
         return MMDResult(

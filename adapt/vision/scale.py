@@ -147,6 +147,14 @@ class WorkingFrame:
         h = a @ np.asarray(homography, dtype=np.float64).reshape(3, 3) @ np.linalg.inv(a)
         return h / h[2, 2]
 
+    def homography_to_work(self, homography: ArrayLike) -> NDArray[np.float64]:
+        """A homography between two input images as one between the working images
+        (``A^-1 H A``, normalised so ``H[2, 2] = 1``): the inverse of
+        :meth:`homography_to_input`."""
+        a = self._to_input_matrix()
+        h = np.linalg.inv(a) @ np.asarray(homography, dtype=np.float64).reshape(3, 3) @ a
+        return h / h[2, 2]
+
     def reduce(self, image: NDArray) -> NDArray:
         """``image`` (of ``input_shape``) at the working size (``INTER_AREA``);
         the image itself when nothing is reduced."""

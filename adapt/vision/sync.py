@@ -284,6 +284,7 @@ def sync_step(
     max_pixels: int | None = None,
     iteration: int = 0,
     shape: tuple[int, ...] | None = None,
+    hold: NDArray | None = None,
 ) -> SyncStep:
     """One step of the camera loop: the MMD of ``real`` and ``synthetic`` (rendered from
     ``camera``), its pixel error, and the corrected camera.
@@ -293,11 +294,13 @@ def sync_step(
     The camera is corrected (:func:`correction`) when the images are aligned, the error
     is above ``tolerance``, and ``trust(error)`` allows it (a caller's filter of false
     alignments; ``SyncStep.trusted`` says what it said).  ``on_plane`` marks, among the
-    inlier matches' synthetic points, those on the floor (for ``full_pose``).
+    inlier matches' synthetic points, those on the floor (for ``full_pose``).  ``hold``
+    is the ``H_e`` to use when the matches give none (:func:`~adapt.vision.mmd.mmd`);
+    a held ``H_e`` corrects nothing.
 
     This is the step both :func:`synchronise` and the Scene Background schema take.
     """
-    res = mmd(real, synthetic, max_pixels=max_pixels)
+    res = mmd(real, synthetic, max_pixels=max_pixels, hold=hold)
     image = synthetic.image if isinstance(synthetic, PreparedImage) else synthetic
     if not res.aligned:
         return SyncStep(iteration, camera, math.nan, 0, 0.0, image, res, None, False)
@@ -309,7 +312,7 @@ def sync_step(
     if trust is not None and not trust(err):
         return SyncStep(iteration, camera, err, res.n_inliers, 0.0, image, res, None, False)
     new = None
-    if err > tolerance:
+    if err > tolerance and not res.alignment.held:  # a held H_e has no matches to correct by
         plane = None
         if full_pose and on_plane is not None:
             plane = on_plane(res.matches.synthetic_points[res.alignment.inliers])

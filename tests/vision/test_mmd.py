@@ -85,3 +85,22 @@ def test_exact_and_fast_masks_give_the_same_regions():
     b = find_regions(mmd(real, synthetic, exact=True).difference)
     assert len(a) == len(b) == 1
     assert abs(a[0].area - b[0].area) < 0.05 * a[0].area
+
+
+@pytest.mark.parametrize("max_pixels", [None, 320 * 240])
+def test_a_held_homography_is_used_when_the_matches_give_none(max_pixels):
+    # (the Scene Background holds H_e from its structure alignment for a frame whose
+    # matches give none: an aliased texture, a plain face filling the view)
+    real, synthetic, h_true, *_ = scenes.pair("room", 7)
+    real, silhouette = scenes.paste_object(real, np.random.default_rng(3))
+    none = mmd(real, synthetic, min_inliers=10**6, max_pixels=max_pixels)
+    assert not none.aligned and not none.alignment.held
+    r = mmd(real, synthetic, min_inliers=10**6, max_pixels=max_pixels, hold=h_true)
+    assert r.aligned and r.alignment.held and r.n_inliers == 0
+    assert r.alignment.reason == none.alignment.reason
+    np.testing.assert_allclose(r.homography, h_true / h_true[2, 2], rtol=1e-6, atol=1e-6)
+    # compared through the held H_e: the pasted object is the largest difference
+    largest = max(r.regions(), key=lambda x: x.area)
+    assert iou(largest.to_mask(real.shape), silhouette) >= 0.5
+    # matches that give an H_e win over the held one
+    assert not mmd(real, synthetic, max_pixels=max_pixels, hold=np.eye(3)).alignment.held

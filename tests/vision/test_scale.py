@@ -152,3 +152,5 @@ def test_working_frame_maps_are_inverse_and_consistent(h, w, x, y):
     q = q[:, :2] / q[:, 2:]
     pi = np.c_[f.to_input(p), 1.0] @ hi.T
     assert np.allclose(pi[:, :2] / pi[:, 2:], f.to_input(q), atol=1e-6 * max(h, w))
+    # and back: the working images' homography again
+    assert np.allclose(f.homography_to_work(hi), hw, rtol=1e-6, atol=1e-9)
