@@ -12,15 +12,17 @@ the velocity's gives the *spread* at each horizon.  A :class:`Residuals`
 record keeps how far recent predictions at each horizon landed from where
 the object was then seen.
 
-The confidence at horizon ``h`` is ``1 / (1 + (sigma_h / r)^2)`` with
-``sigma_h^2 = spread_h^2 + residual_h^2`` and ``r`` the catch radius: 0.5 when
-the expected error equals the catch radius.  A confidence needs evidence:
+The confidence at horizon ``h`` is ``1 - exp(-(r / sigma_h)^2)`` with
+``sigma_h^2 = spread_h^2 + residual_h^2`` and ``r`` the catch radius: the
+chance that the object comes within ``r`` of the prediction when its error is
+a 2D Gaussian of RMS ``sigma_h`` (0.63 when that equals the catch radius; the
+rules commit at 0.7, ``sigma_h`` at most 0.91 ``r``).  A confidence needs evidence:
 until :data:`EVIDENCE` predictions at a horizon have been scored against
 sightings, each missing one counts in ``residual_h`` as an error of one catch
 radius -- or, once a shorter horizon ``h'`` has its evidence, as that
 horizon's residual scaled by ``(h / h')^2`` (errors grow at least linearly
 with the horizon, and faster across a bounce) -- so the confidence starts at
-most 0.5 and rises only as predictions prove out.  Before a bounce has been seen,
+most 0.63, below the rules' 0.7, and rises only as predictions prove out.  Before a bounce has been seen,
 an unknown restitution spreads the ensemble wide wherever a bounce falls
 inside the horizon, so the confidence is low; it rises when the estimate
 narrows.
@@ -35,8 +37,8 @@ Examples
 >>> pred = p.predict(world, "b", (0.0, 0.0), (0.0, 1.5), est)
 >>> [h.bounce for h in pred.horizons], [c.surface for c in pred.contacts]
 ([False, True], ['north'])
->>> round(pred.horizons[1].position[1], 2), pred.horizons[0].confidence  # no evidence yet
-(0.43, 0.5)
+>>> round(pred.horizons[1].position[1], 2), round(pred.horizons[0].confidence, 3)  # no evidence yet
+(0.43, 0.632)
 """
 
 from __future__ import annotations
@@ -70,14 +72,17 @@ REST_PLAN = 60.0
 
 
 def confidence(sigma: float, catch_radius: float) -> float:
-    """``1 / (1 + (sigma / r)^2)``.
+    """``1 - exp(-(r / sigma)^2)``: the chance that the object comes within the catch
+    radius ``r`` of the prediction when its error is a 2D Gaussian of RMS ``sigma``.
 
     Examples
     --------
-    >>> confidence(0.0, 0.3), confidence(0.3, 0.3)
-    (1.0, 0.5)
+    >>> confidence(0.0, 0.3), round(confidence(0.3, 0.3), 3), round(confidence(0.6, 0.3), 3)
+    (1.0, 0.632, 0.221)
     """
-    return 1.0 / (1.0 + (sigma / catch_radius) ** 2)
+    if sigma <= 0.0:
+        return 1.0
+    return 1.0 - math.exp(-((catch_radius / sigma) ** 2))
 
 
 @dataclass(frozen=True, slots=True)
