@@ -55,8 +55,14 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    rules spawn no schema for it (nothing arrived there; it is the look's
    error, repaired as above).  A camera on the robot restarts its history
    whenever the robot moves.
-   After :data:`REACQUIRE_AFTER` frames without alignment the structure is
-   aligned again and the look learned afresh.
+   A frame whose matches give no ``H_e`` (a texture the renderer aliases
+   differently as a robot's camera turns, a plain face filling the view) is
+   aligned by the structure instead, keeping the look, and compared through
+   that (the MMD's ``H_e`` held at the identity): the object schemas search it,
+   but it reports no region, since without matches the difference's own
+   errors cannot be told from objects (``structure_held`` counts such frames).
+   After :data:`REACQUIRE_AFTER` frames that neither aligns the structure is
+   aligned again from a wide margin and the look learned afresh.
 
 Learning the look with a wrong pose would hide the pose error in the
 textures (a render of what was learned reproduces the frame whatever the
@@ -287,8 +293,9 @@ class SceneBackground(Schema):
             self.message = (f"H_e from the structure's alignment: {res.alignment.reason}"
                             if res.alignment.held else "")
             self.pixel_error = step.pixel_error
-            self._settled = (step.pixel_error if self._settled >= 1e9
-                             else 0.8 * self._settled + 0.2 * step.pixel_error)
+            if not res.alignment.held:  # a held H_e's error is no measurement of the camera's
+                self._settled = (step.pixel_error if self._settled >= 1e9
+                                 else 0.8 * self._settled + 0.2 * step.pixel_error)
             if step.corrected is not None:
                 self.correction_deg = step.correction_deg
                 self.corrections += 1

@@ -95,12 +95,19 @@ def sphere_mask(center: tuple[float, float], radius: float, cam: Camera = CAM) -
     return inside.reshape(cam.height, cam.width)
 
 
+def in_view(center: tuple[float, float], radius: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`sphere_mask` and its pixels' rows and columns, for a ball wholly in view
+    (Hypothesis assumes it)."""
+    mask = sphere_mask(center, radius)
+    ys, xs = np.nonzero(mask)
+    assume(len(xs) > 0 and xs.min() > 0 and ys.min() > 0 and xs.max() < 639 and ys.max() < 479)
+    return mask, ys, xs
+
+
 @settings(max_examples=25, deadline=None)
 @given(x=st.floats(-1.2, 1.2), y=st.floats(0.4, 2.6), r=st.floats(0.06, 0.2))
 def test_a_ball_is_found_from_its_silhouette(x: float, y: float, r: float) -> None:
-    mask = sphere_mask((x, y), r)
-    ys, xs = np.nonzero(mask)
-    assume(len(xs) > 0 and xs.min() > 0 and ys.min() > 0 and xs.max() < 639 and ys.max() < 479)
+    mask, ys, xs = in_view((x, y), r)
     crop = mask[ys.min():ys.max() + 1, xs.min():xs.max() + 1]
     known = fit_ball(crop, (int(xs.min()), int(ys.min())), CAM, radius=r)
     free = fit_ball(crop, (int(xs.min()), int(ys.min())), CAM, radius=None)
@@ -114,9 +121,7 @@ def test_a_ball_is_found_from_its_silhouette(x: float, y: float, r: float) -> No
 @settings(max_examples=25, deadline=None)
 @given(x=st.floats(-1.2, 1.2), y=st.floats(0.4, 2.6), r=st.floats(0.03, 0.2))
 def test_the_image_area_of_a_ball_is_its_silhouettes(x: float, y: float, r: float) -> None:
-    mask = sphere_mask((x, y), r)
-    ys, xs = np.nonzero(mask)
-    assume(len(xs) > 0 and xs.min() > 0 and ys.min() > 0 and xs.max() < 639 and ys.max() < 479)
+    mask, _, _ = in_view((x, y), r)
     area = image_area(CAM, (x, y, r), r)
     # pixel centres inside the ellipse: off by at most about its perimeter's half-pixels
     perimeter = 2 * np.pi * np.sqrt(area / np.pi)
