@@ -40,10 +40,12 @@ def test_the_examples_use_only_the_public_api(path: Path) -> None:
 
 def test_the_goalkeeper_commits_and_is_scored_beside_the_kalman_keeper(tmp_path: Path) -> None:
     run = script(EXAMPLES / "goalkeeper" / "run.py")
-    (result,) = run.throws(1, tmp_path, first_seed=1, max_frames=66)
+    # seed 6: a throw well inside the posts (seed 1's arrives within 3 mm of a post's reach,
+    # on target or not by where the keeper's body deflects it)
+    (result,) = run.throws(1, tmp_path, first_seed=6, max_frames=66)
     assert result["on_target"] is True
     assert {"kept_out", "mirror_in_reach", "kalman_in_reach"} <= set(result)
-    report = (tmp_path / "seed1" / "report.json").read_text()
+    report = (tmp_path / "seed6" / "report.json").read_text()
     assert '"keeper"' in report and "keeper commits" in report
     rates = run.rates([result, {"seed": 9, "on_target": False}])
     assert rates["throws"] == 2 and rates["on_target"] == 1
