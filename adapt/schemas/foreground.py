@@ -69,7 +69,7 @@ from adapt.schemas.events import EventKind
 from adapt.schemas.links import Structure
 from adapt.schemas.percepts import BackgroundPercept, ObjectPercept, Sighting
 from adapt.schemas.predictor import Prediction, Predictor
-from adapt.schemas.silhouette import BallFit, fit_ball, image_area
+from adapt.schemas.silhouette import BallFit, fit_ball, fit_small_ball, image_area
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 from adapt.vision.regions import Region, find_regions
 
@@ -98,6 +98,9 @@ AREA_RANGE = (0.3, 2.2)
 #: of a ball 4 px across, one pixel of blur makes it half as large again.)
 OUTLINE_RMS_PX = 0.6
 OUTLINE_RMS_SHARE = 0.1
+#: A blob at most this many pixels across whose outline is too short to fit is placed by
+#: its centroid (:func:`~adapt.schemas.silhouette.fit_small_ball`).
+SMALL_BLOB = 8
 #: An object is created in the imagination only once its estimated speed is below this (m/s):
 #: faster is a filter started on bad sightings.
 MAX_SPEED = 20.0
@@ -453,6 +456,12 @@ class ForegroundObject(Schema):
                   if m is not None]
         robot = bg.robot_mask(margin=ROBOT_MARGIN, box=(x0, y0, x1 - x0, y1 - y0))
         if robot is not None:
+            own = bg.drawn.get(self.body)
+            mine = None if own is None else bg.imagined_mask(own)
+            if mine is not None:
+                # where the imagination shows this object, the robot's margin is not the
+                # robot's: a ball just behind it or at its side keeps its pixels
+                robot = robot & ~mine[y0:y1, x0:x1]
             others.append(robot)
         if others:
             d = np.array(d)
@@ -490,6 +499,11 @@ class ForegroundObject(Schema):
         cam = self.network.mirror.camera
         known = None if self.ball is None else self.ball.radius
         fit = fit_ball(mask, (bx + x0, by + y0), cam, radius=known, to_camera=bg.to_synthetic)
+        if fit is None and known is not None and max(bw, bh) <= SMALL_BLOB:
+            # too few columns for an outline: a ball a few pixels across is where its
+            # centroid is (its area is still tested below)
+            fit = fit_small_ball((blob.centroid[0] + x0, blob.centroid[1] + y0), cam, known,
+                                 to_camera=bg.to_synthetic)
         if fit is None:
             return False
         if known is None:
@@ -519,11 +533,14 @@ class ForegroundObject(Schema):
     def _ball_shaped(self, blob: Region, fit: BallFit) -> bool:
         """Whether ``blob``, whose upper outline ``fit`` fitted with the known radius, is that
         ball's image: of the area its image has there (:data:`AREA_RANGE`), and with an
-        outline that fits it (:data:`OUTLINE_RMS_PX`, :data:`OUTLINE_RMS_SHARE`)."""
+        outline that fits it (:data:`OUTLINE_RMS_PX`, :data:`OUTLINE_RMS_SHARE`; a blob
+        placed by its centroid has none, and is tested by its area only)."""
         cam = self.network.mirror.camera
         area = image_area(cam, (fit.position[0], fit.position[1], fit.radius), fit.radius)
         if not math.isfinite(area) or not AREA_RANGE[0] * area <= blob.area <= AREA_RANGE[1] * area:
             return False
+        if fit.points == 0:
+            return True  # placed by its centroid: no outline to test
         rms_px = math.radians(fit.rms_deg) * cam.fx
         return rms_px <= max(OUTLINE_RMS_PX, OUTLINE_RMS_SHARE * math.sqrt(area / math.pi))
 

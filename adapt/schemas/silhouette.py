@@ -10,7 +10,9 @@ adds to the lower part of the silhouette, and points that disagree with the
 cone (shadow, occlusion) are dropped and the fit repeated.
 
 :func:`upper_outline` extracts the outline, :func:`silhouette_circle` a first
-guess (a circle fitted to it).
+guess (a circle fitted to it).  A ball too small in the image for an outline
+(a few pixels across) is placed by its silhouette's centroid instead
+(:func:`fit_small_ball`).
 
 Examples
 --------
@@ -39,7 +41,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from adapt.geometry import Camera
 
-__all__ = ["BallFit", "fit_ball", "upper_outline", "silhouette_circle", "image_area"]
+__all__ = ["BallFit", "fit_ball", "fit_small_ball", "upper_outline", "silhouette_circle",
+           "image_area"]
 
 FloatArray = NDArray[np.float64]
 
@@ -207,6 +210,40 @@ def fit_ball(mask: NDArray[np.bool_], offset: tuple[int, int], camera: Camera, *
     r = float(params[2]) if radius is None else float(radius)
     return BallFit((float(params[0]), float(params[1])), r,
                    float(np.degrees(np.sqrt(np.mean(f**2)))), int(use.sum()))
+
+
+def fit_small_ball(centroid: tuple[float, float], camera: Camera, radius: float, *,
+                   to_camera: Callable[[FloatArray], FloatArray] | None = None) -> BallFit | None:
+    """The floor position of a ball of known ``radius`` whose image is too small for an
+    outline (a few pixels across): its centre is on the ray through the silhouette's
+    ``centroid`` (image pixels), at the height of its radius.
+
+    The fit has no outline (``points`` 0, ``rms_deg`` 0); None when that ray does not come
+    down to the ball's height in front of the camera.
+
+    Examples
+    --------
+    >>> cam = Camera.look_at(fx=525, fy=525, cx=319.5, cy=239.5, width=640, height=480,
+    ...                      position=(0, -0.6, 0.6), look_at=(0, 3, 0.3))
+    >>> seen = cam.project(np.array([[0.8, 4.0, 0.1]]))[0]
+    >>> fit = fit_small_ball((float(seen[0]), float(seen[1])), cam, 0.1)
+    >>> [round(v, 3) for v in fit.position], fit.points
+    ([0.8, 4.0], 0)
+    >>> fit_small_ball((319.5, 0.0), cam, 0.1) is None     # above the horizon
+    True
+    """
+    pix = np.array([centroid], float)
+    if to_camera is not None:
+        pix = to_camera(pix)
+    ray = camera.pixel_ray(pix)[0]
+    origin = camera.position
+    if ray[2] >= -1e-9 or origin[2] <= radius:
+        return None
+    t = (radius - float(origin[2])) / float(ray[2])
+    at = origin + t * ray
+    if not np.isfinite(at).all():
+        return None
+    return BallFit((float(at[0]), float(at[1])), float(radius), 0.0, 0)
 
 
 def image_area(camera: Camera, centre: ArrayLike, radius: float) -> float:

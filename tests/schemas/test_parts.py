@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from hypothesis import assume, given, settings
@@ -11,7 +13,7 @@ from adapt.engine import Agent
 from adapt.engine.symbols import format_symbol
 from adapt.geometry import Camera
 from adapt.schemas.links import Structure
-from adapt.schemas.silhouette import fit_ball, image_area, silhouette_circle
+from adapt.schemas.silhouette import fit_ball, fit_small_ball, image_area, silhouette_circle
 from adapt.schemas.tracks import RegionTracker
 from adapt.vision.regions import Region
 
@@ -116,6 +118,25 @@ def test_a_ball_is_found_from_its_silhouette(x: float, y: float, r: float) -> No
     tol = 2.5 * np.hypot(x, y + 0.6) / 525 + 0.002
     assert abs(known.position[0] - x) < tol and abs(known.position[1] - y) < 3 * tol
     assert abs(free.radius - r) < 0.1 * r + 0.003
+
+
+@settings(max_examples=25, deadline=None)
+@given(x=st.floats(-1.2, 1.2), y=st.floats(1.5, 2.6), r=st.floats(0.01, 0.02))
+def test_a_ball_a_few_pixels_across_is_placed_by_its_centroid(x: float, y: float, r: float) -> None:
+    mask, ys, xs = in_view((x, y), r)
+    assume(xs.max() - xs.min() < 5)                     # too few columns for an outline
+    crop = mask[ys.min():ys.max() + 1, xs.min():xs.max() + 1]
+    assert fit_ball(crop, (int(xs.min()), int(ys.min())), CAM, radius=r) is None
+    fit = fit_small_ball((float(xs.mean()), float(ys.mean())), CAM, r)
+    assert fit is not None and fit.points == 0
+    # the centroid of pixel centres is within about half a pixel of the centre's image
+    tol = 0.7 * np.hypot(x, y + 0.6) * np.hypot(y + 0.6, 0.6) / (525 * 0.6)
+    assert math.dist(fit.position, (x, y)) < tol + 0.002
+
+
+def test_a_ray_that_never_comes_down_to_the_ball_is_no_fit() -> None:
+    assert fit_small_ball((319.5, 0.0), CAM, 0.1) is None          # above the horizon
+    assert fit_small_ball((319.5, 470.0), CAM, 0.7) is None        # the camera below the centre
 
 
 @settings(max_examples=25, deadline=None)
