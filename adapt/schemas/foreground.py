@@ -69,7 +69,7 @@ from adapt.schemas.events import EventKind
 from adapt.schemas.links import Structure
 from adapt.schemas.percepts import BackgroundPercept, ObjectPercept, Sighting
 from adapt.schemas.predictor import Prediction, Predictor
-from adapt.schemas.silhouette import BallFit, fit_ball, fit_small_ball, image_area
+from adapt.schemas.silhouette import BallFit, fit_ball, fit_small_ball, image_area, visible_area
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 from adapt.vision.regions import Region, find_regions
 
@@ -98,6 +98,9 @@ AREA_RANGE = (0.3, 2.2)
 #: of a ball 4 px across, one pixel of blur makes it half as large again.)
 OUTLINE_RMS_PX = 0.6
 OUTLINE_RMS_SHARE = 0.1
+#: A ball of which less than this share of its image can show (the imagined robot or
+#: another object in front of the rest) is not fitted: a sliver does not say where it is.
+MIN_SHOWN = 0.2
 #: A blob at most this many pixels across whose outline is too short to fit is placed by
 #: its centroid (:func:`~adapt.schemas.silhouette.fit_small_ball`).
 SMALL_BLOB = 8
@@ -463,10 +466,11 @@ class ForegroundObject(Schema):
                 # robot's: a ball just behind it or at its side keeps its pixels
                 robot = robot & ~mine[y0:y1, x0:x1]
             others.append(robot)
+        hidden = None
         if others:
             d = np.array(d)
-            for imagined in others:
-                d[imagined] = 0  # what another imagined object explains
+            hidden = np.logical_or.reduce(others)
+            d[hidden] = 0  # what another imagined object explains
         # large blobs near the prediction first; the first that is the object is it (the
         # nearest may be something else: a part of the robot's image, another object)
         blobs = sorted(find_regions(d, threshold=bg.threshold,
@@ -476,7 +480,7 @@ class ForegroundObject(Schema):
                                                (cx, cy)) / math.sqrt(r.area))
         refused = False
         for blob in blobs[:MAX_BLOBS]:
-            found = self._sighting(frame, bg, blob, (x0, y0))
+            found = self._sighting(frame, bg, blob, (x0, y0), hidden)
             if isinstance(found, Sighting):
                 return found
             refused = refused or found
@@ -485,8 +489,9 @@ class ForegroundObject(Schema):
         return None
 
     def _sighting(self, frame: "Frame", bg: BackgroundPercept, blob: Region,
-                  offset: tuple[int, int]) -> Sighting | bool:
-        """The sighting ``blob`` (found at ``offset`` in the frame) is, or whether it was
+                  offset: tuple[int, int], hidden: np.ndarray | None = None) -> Sighting | bool:
+        """The sighting ``blob`` (found at ``offset`` in the frame, where ``hidden`` masks
+        the pixels other imagined objects took from the search) is, or whether it was
         refused as something else (True: off the floor, behind a wall, a misfit) or is not
         the object (False: its size is not, or its outline cannot be fitted)."""
         x0, y0 = offset
@@ -511,7 +516,7 @@ class ForegroundObject(Schema):
                 # a misfit (a blob near the horizon fits a sphere kilometres wide, and a
                 # radius that large would pass any test of where it stands)
                 return True
-        elif not self._ball_shaped(blob, fit):
+        elif not self._ball_shaped(blob, fit, bg, hidden, offset):
             # not the ball's image (a fragment, something else's, the ball merged with
             # something else): do not let it move the estimate
             return False
@@ -530,19 +535,29 @@ class ForegroundObject(Schema):
         centre = (blob.centroid[0] + x0, blob.centroid[1] + y0)
         return Sighting(frame.index, frame.time, bbox, centre, blob.area, fit.position)
 
-    def _ball_shaped(self, blob: Region, fit: BallFit) -> bool:
+    def _ball_shaped(self, blob: Region, fit: BallFit, bg: BackgroundPercept,
+                     hidden: np.ndarray | None, offset: tuple[int, int]) -> bool:
         """Whether ``blob``, whose upper outline ``fit`` fitted with the known radius, is that
-        ball's image: of the area its image has there (:data:`AREA_RANGE`), and with an
-        outline that fits it (:data:`OUTLINE_RMS_PX`, :data:`OUTLINE_RMS_SHARE`; a blob
-        placed by its centroid has none, and is tested by its area only)."""
+        ball's image: of the area its image can show there (:data:`AREA_RANGE`; less what
+        the imagined robot and other objects hide, ``hidden`` at ``offset``, and at least
+        :data:`MIN_SHOWN` of it), and with an outline that fits it
+        (:data:`OUTLINE_RMS_PX`, :data:`OUTLINE_RMS_SHARE`; a blob placed by its centroid has
+        none, and is tested by its area only)."""
         cam = self.network.mirror.camera
-        area = image_area(cam, (fit.position[0], fit.position[1], fit.radius), fit.radius)
-        if not math.isfinite(area) or not AREA_RANGE[0] * area <= blob.area <= AREA_RANGE[1] * area:
+        centre = (fit.position[0], fit.position[1], fit.radius)
+        whole = image_area(cam, centre, fit.radius)
+        if not math.isfinite(whole):
+            return False
+        # the frame's edges are not counted: a fragment by the frame's bottom edge would fit
+        # a ball mostly below it (its side edges refuse a blob before: _sighting)
+        area = visible_area(cam, centre, fit.radius, hidden=hidden, hidden_at=offset,
+                            to_camera=bg.to_synthetic)
+        if area < MIN_SHOWN * whole or not AREA_RANGE[0] * area <= blob.area <= AREA_RANGE[1] * area:
             return False
         if fit.points == 0:
             return True  # placed by its centroid: no outline to test
         rms_px = math.radians(fit.rms_deg) * cam.fx
-        return rms_px <= max(OUTLINE_RMS_PX, OUTLINE_RMS_SHARE * math.sqrt(area / math.pi))
+        return rms_px <= max(OUTLINE_RMS_PX, OUTLINE_RMS_SHARE * math.sqrt(whole / math.pi))
 
     def _on_floor(self, at: tuple[float, float], radius: float) -> bool:
         """Whether a ball of ``radius`` at ``at`` is over the floor (its extent, when the scenario

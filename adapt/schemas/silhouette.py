@@ -42,7 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 from adapt.geometry import Camera
 
 __all__ = ["BallFit", "fit_ball", "fit_small_ball", "upper_outline", "silhouette_circle",
-           "image_area"]
+           "image_area", "visible_area"]
 
 FloatArray = NDArray[np.float64]
 
@@ -274,3 +274,79 @@ def image_area(camera: Camera, centre: ArrayLike, radius: float) -> float:
     if cos_t <= 0 or cone <= 0:
         return math.inf
     return math.pi * camera.fx * camera.fy * sin_a * sin_a * math.sqrt(1 - sin_a * sin_a) / cone ** 1.5
+
+
+def visible_area(camera: Camera, centre: ArrayLike, radius: float,
+                 size: tuple[int, int] | None = None, *,
+                 hidden: NDArray[np.bool_] | None = None, hidden_at: tuple[int, int] = (0, 0),
+                 to_camera: Callable[[FloatArray], FloatArray] | None = None) -> float:
+    """The area (pixels) of the image of a sphere that can show in an image of ``size``
+    ``(width, height)``: its pixels inside the image (anywhere, without ``size``) and not
+    ``hidden``.
+
+    :func:`image_area` when the image holds it whole and nothing hides it; else its pixels
+    counted.  ``hidden`` is a mask of pixels something else covers (in front of the
+    sphere, or a part of the image that is not searched), whose top-left pixel is at
+    ``hidden_at`` in the image.  ``to_camera`` maps the image's pixels into ``camera``'s (an
+    image that ``camera`` sees through a homography); the area is in the image's pixels.
+
+    Examples
+    --------
+    >>> cam = Camera.look_at(fx=500, fy=500, cx=319.5, cy=239.5, width=640, height=480,
+    ...                      position=(0, 0, 1), look_at=(0, 4, 1))
+    >>> whole = visible_area(cam, (0, 4, 1), 0.1, (640, 480))
+    >>> round(whole, 1)                                        # in view, nothing in front
+    491.2
+    >>> below = np.zeros((480, 640), bool)
+    >>> below[240:] = True                                     # its lower half hidden
+    >>> round(visible_area(cam, (0, 4, 1), 0.1, (640, 480), hidden=below) / whole, 1)
+    0.5
+    >>> round(visible_area(cam, (0, 4, 1), 0.1, (320, 480)) / whole, 1)   # cut by the side
+    0.5
+    """
+    area = image_area(camera, centre, radius)
+    if not math.isfinite(area):
+        return area
+    c = np.asarray(centre, float).reshape(3)
+    pc = camera.to_camera(c.reshape(1, 3))[0]
+    seen = np.array([[camera.fx * pc[0] / pc[2] + camera.cx, camera.fy * pc[1] / pc[2] + camera.cy]])
+    if to_camera is not None:
+        # the image pixel that shows the centre: one Newton step from the camera's pixel,
+        # plenty for a homography near the identity
+        seen = seen - (to_camera(seen) - seen)
+    # the ellipse's semi-major axis is at most 3 equivalent radii while its axes' ratio is
+    # at most 9 (beyond, near the horizon, it is no ball's image anyway)
+    reach = 3.0 * math.sqrt(area / math.pi) + 2.0
+    x, y = float(seen[0, 0]), float(seen[0, 1])
+    x0, x1 = int(math.floor(x - reach)), int(math.ceil(x + reach))
+    y0, y1 = int(math.floor(y - reach)), int(math.ceil(y + reach))
+    inside = True
+    if size is not None:
+        w, h = size
+        inside = x0 >= 0 and y0 >= 0 and x1 <= w - 1 and y1 <= h - 1
+        x0, x1, y0, y1 = max(x0, 0), min(x1, w - 1), max(y0, 0), min(y1, h - 1)
+        if x0 > x1 or y0 > y1:
+            return 0.0
+    cover = None
+    if hidden is not None:
+        hx, hy = hidden_at
+        ox0, oy0 = max(x0, hx), max(y0, hy)
+        ox1, oy1 = min(x1, hx + hidden.shape[1] - 1), min(y1, hy + hidden.shape[0] - 1)
+        if ox0 <= ox1 and oy0 <= oy1:
+            part = hidden[oy0 - hy:oy1 - hy + 1, ox0 - hx:ox1 - hx + 1]
+            if part.any():
+                cover = np.zeros((y1 - y0 + 1, x1 - x0 + 1), bool)
+                cover[oy0 - y0:oy1 - y0 + 1, ox0 - x0:ox1 - x0 + 1] = part
+    if inside and cover is None:
+        return area
+    yy, xx = np.mgrid[y0:y1 + 1, x0:x1 + 1]
+    pix = np.c_[xx.ravel(), yy.ravel()].astype(np.float64)
+    if to_camera is not None:
+        pix = to_camera(pix)
+    to_c = c - camera.position
+    dist = float(np.linalg.norm(to_c))
+    disc = (camera.pixel_ray(pix) @ (to_c / dist) >= math.cos(math.asin(radius / dist)))
+    disc = disc.reshape(yy.shape)
+    if cover is not None:
+        disc &= ~cover
+    return float(np.count_nonzero(disc))

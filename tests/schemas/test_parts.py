@@ -13,7 +13,7 @@ from adapt.engine import Agent
 from adapt.engine.symbols import format_symbol
 from adapt.geometry import Camera
 from adapt.schemas.links import Structure
-from adapt.schemas.silhouette import fit_ball, fit_small_ball, image_area, silhouette_circle
+from adapt.schemas.silhouette import fit_ball, fit_small_ball, image_area, silhouette_circle, visible_area
 from adapt.schemas.tracks import RegionTracker
 from adapt.vision.regions import Region
 
@@ -147,6 +147,27 @@ def test_the_image_area_of_a_ball_is_its_silhouettes(x: float, y: float, r: floa
     # pixel centres inside the ellipse: off by at most about its perimeter's half-pixels
     perimeter = 2 * np.pi * np.sqrt(area / np.pi)
     assert abs(int(mask.sum()) - area) <= 0.5 * perimeter + 2
+
+
+@settings(max_examples=25, deadline=None)
+@given(x=st.floats(-1.2, 1.2), y=st.floats(0.4, 2.6), r=st.floats(0.05, 0.2),
+       row=st.floats(0.0, 1.0), col=st.floats(0.0, 1.0))
+def test_the_area_a_ball_can_show_is_its_silhouettes_less_what_hides_it(
+        x: float, y: float, r: float, row: float, col: float) -> None:
+    mask, ys, xs = in_view((x, y), r)
+    # something in front of the ball from a row and a column through its image down and left
+    at = (int(xs.min() + col * (xs.max() - xs.min())), int(ys.min() + row * (ys.max() - ys.min())))
+    left = int(xs.min()) - min(5, int(xs.min()))
+    hidden = np.ones((ys.max() - at[1] + 5, at[0] - left + 1), bool)
+    corner = (left, at[1])
+    shows = mask.copy()
+    shows[corner[1]:corner[1] + hidden.shape[0], corner[0]:corner[0] + hidden.shape[1]] = False
+    area = visible_area(CAM, (x, y, r), r, (640, 480), hidden=hidden, hidden_at=corner)
+    assert area == int(shows.sum())
+    # nothing hiding it: its image's area (counted, when the ellipse's bounds cross the frame)
+    whole = image_area(CAM, (x, y, r), r)
+    perimeter = 2 * np.pi * np.sqrt(whole / np.pi)
+    assert abs(visible_area(CAM, (x, y, r), r, (640, 480)) - whole) <= 0.5 * perimeter + 2
 
 
 def test_a_ball_behind_the_camera_or_around_it_has_no_finite_image() -> None:
