@@ -327,7 +327,21 @@ def visible_area(camera: Camera, centre: ArrayLike, radius: float,
         x0, x1, y0, y1 = max(x0, 0), min(x1, w - 1), max(y0, 0), min(y1, h - 1)
         if x0 > x1 or y0 > y1:
             return 0.0
-    cover = None
+    to_c = c - camera.position
+    dist = float(np.linalg.norm(to_c))
+    cos_cone = math.cos(math.asin(radius / dist))
+
+    def disc(bx0: int, by0: int, bx1: int, by1: int) -> NDArray[np.bool_]:
+        """The sphere's pixels in the box (inclusive bounds), within an image's size."""
+        yy, xx = np.mgrid[by0:by1 + 1, bx0:bx1 + 1]
+        pix = np.c_[xx.ravel(), yy.ravel()].astype(np.float64)
+        if to_camera is not None:
+            pix = to_camera(pix)
+        return (camera.pixel_ray(pix) @ (to_c / dist) >= cos_cone).reshape(yy.shape)
+
+    # counted only within the frame (when the box crosses its edges) and within what is
+    # hidden: never more pixels than the images have, however large the ellipse
+    shows = area if inside else float(np.count_nonzero(disc(x0, y0, x1, y1)))
     if hidden is not None:
         hx, hy = hidden_at
         ox0, oy0 = max(x0, hx), max(y0, hy)
@@ -335,18 +349,5 @@ def visible_area(camera: Camera, centre: ArrayLike, radius: float,
         if ox0 <= ox1 and oy0 <= oy1:
             part = hidden[oy0 - hy:oy1 - hy + 1, ox0 - hx:ox1 - hx + 1]
             if part.any():
-                cover = np.zeros((y1 - y0 + 1, x1 - x0 + 1), bool)
-                cover[oy0 - y0:oy1 - y0 + 1, ox0 - x0:ox1 - x0 + 1] = part
-    if inside and cover is None:
-        return area
-    yy, xx = np.mgrid[y0:y1 + 1, x0:x1 + 1]
-    pix = np.c_[xx.ravel(), yy.ravel()].astype(np.float64)
-    if to_camera is not None:
-        pix = to_camera(pix)
-    to_c = c - camera.position
-    dist = float(np.linalg.norm(to_c))
-    disc = (camera.pixel_ray(pix) @ (to_c / dist) >= math.cos(math.asin(radius / dist)))
-    disc = disc.reshape(yy.shape)
-    if cover is not None:
-        disc &= ~cover
-    return float(np.count_nonzero(disc))
+                shows -= float(np.count_nonzero(disc(ox0, oy0, ox1, oy1) & part))
+    return max(shows, 0.0)

@@ -163,11 +163,25 @@ def test_the_area_a_ball_can_show_is_its_silhouettes_less_what_hides_it(
     shows = mask.copy()
     shows[corner[1]:corner[1] + hidden.shape[0], corner[0]:corner[0] + hidden.shape[1]] = False
     area = visible_area(CAM, (x, y, r), r, (640, 480), hidden=hidden, hidden_at=corner)
-    assert area == int(shows.sum())
-    # nothing hiding it: its image's area (counted, when the ellipse's bounds cross the frame)
+    # the image's area (pixel centres inside the ellipse: off by at most about its
+    # perimeter's half-pixels), less the pixels hidden, counted
     whole = image_area(CAM, (x, y, r), r)
     perimeter = 2 * np.pi * np.sqrt(whole / np.pi)
+    assert abs(area - int(shows.sum())) <= 0.5 * perimeter + 2
     assert abs(visible_area(CAM, (x, y, r), r, (640, 480)) - whole) <= 0.5 * perimeter + 2
+
+
+def test_the_area_a_ball_near_the_horizon_can_show_is_counted_within_the_images() -> None:
+    # a fragment fitted just beside the camera is a ball whose image is a huge ellipse: only
+    # the pixels of the frame and of the mask are counted (a grid over the whole ellipse ran
+    # a robot camera's throw out of memory)
+    cam = Camera.look_at(fx=230, fy=230, cx=159.5, cy=119.5, width=320, height=240,
+                         position=(0, 0, 0.5), look_at=(0, 3, 0.45))
+    centre = (0.2, 0.12, 0.45)
+    assert 1e6 < image_area(cam, centre, 0.1) < np.inf
+    hidden = np.ones((40, 40), bool)
+    assert 0 <= visible_area(cam, centre, 0.1, (320, 240)) <= 320 * 240
+    assert visible_area(cam, centre, 0.1, hidden=hidden, hidden_at=(140, 100)) >= 0
 
 
 def test_a_ball_behind_the_camera_or_around_it_has_no_finite_image() -> None:
