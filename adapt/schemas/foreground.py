@@ -99,7 +99,7 @@ AREA_RANGE = (0.3, 2.2)
 OUTLINE_RMS_PX = 0.6
 OUTLINE_RMS_SHARE = 0.1
 #: A ball of which less than this share of its image can show (the imagined robot or
-#: another object in front of the rest) is not fitted: a sliver does not say where it is.
+#: another object in front of the rest) is not taken: a sliver does not say where it is.
 MIN_SHOWN = 0.2
 #: A blob at most this many pixels across whose outline is too short to fit is placed by
 #: its centroid (:func:`~adapt.schemas.silhouette.fit_small_ball`).
