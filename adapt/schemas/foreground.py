@@ -123,7 +123,9 @@ FLOOR_REACH = 200.0
 #: Standard deviations of the track's position searched around its predicted path.
 SEARCH_SIGMAS = 3.0
 #: How fast an object never seen may have moved away from the region it was spawned for
-#: once that region is no longer tracked (m/s): the search widens at this speed.
+#: once that region is no longer tracked (m/s): the search widens at this speed.  It is
+#: also how much faster than its track an object seen before may have gone since (a push
+#: by the robot): a sighting farther from the last one is something else (see ``_reaches``).
 SEARCH_SPEED = 4.0
 
 
@@ -530,6 +532,10 @@ class ForegroundObject(Schema):
             # wall sees over it): the blob is something else (a fragment merged with the
             # wall's difference, a misfit near the horizon)
             return True
+        if not self._reaches(fit.position, frame.time):
+            # farther from the last sighting than the object can have gone: something
+            # else of its size (a ghost the look has not repaired, another ball)
+            return False
         if self.ball is None:
             self._measure_unknown(frame, fit.radius, mask, bbox)
         centre = (blob.centroid[0] + x0, blob.centroid[1] + y0)
@@ -558,6 +564,23 @@ class ForegroundObject(Schema):
             return True  # placed by its centroid: no outline to test
         rms_px = math.radians(fit.rms_deg) * cam.fx
         return rms_px <= max(OUTLINE_RMS_PX, OUTLINE_RMS_SHARE * math.sqrt(whole / math.pi))
+
+    def _reaches(self, at: tuple[float, float], time: float) -> bool:
+        """Whether the object, last seen at ``self.last``, can be at ``at`` by ``time``: no
+        farther than its track's speed and :data:`SEARCH_SPEED` (a bounce turns it, never
+        speeds it up; a push by the robot may) carry it in the time since, plus
+        :data:`SEARCH_SIGMAS` of the track's position uncertainty and its diameter (the
+        fits' errors).  Without a sighting before, anywhere."""
+        last = self.last
+        if last is None:
+            return True
+        since = max(time - last.time, 0.0)
+        speed, sigma = 0.0, 0.0
+        if self.kf.initialised:
+            speed = math.hypot(*self.kf.velocity)
+            sigma = self.kf.position_sigma + self.kf.velocity_sigma * since
+        reach = (speed + SEARCH_SPEED) * since + SEARCH_SIGMAS * sigma + 2.0 * self._radius()
+        return math.dist(at, last.position) <= reach
 
     def _on_floor(self, at: tuple[float, float], radius: float) -> bool:
         """Whether a ball of ``radius`` at ``at`` is over the floor (its extent, when the scenario

@@ -214,3 +214,27 @@ def test_circle_of_a_disc(r: float) -> None:
     disc = (xx - 60.3) ** 2 + (yy - 58.7) ** 2 <= r * r
     cx, cy, rr = silhouette_circle(disc)  # type: ignore[misc]
     assert abs(cx - 60.3) < 0.6 and abs(cy - 58.7) < 0.8 and abs(rr - r) < 0.8
+
+
+def test_a_sighting_farther_than_the_object_can_have_gone_is_not_it() -> None:
+    # bench/foreign.py's throw 33: the ball, rolling at 1 m/s, missed for a frame; a ghost
+    # of its size 47 cm away was taken for it, and held for the rest of the throw
+    from adapt.imagination import SceneSpec
+    from adapt.mirror import Mirror
+    from adapt.schemas import SchemaNetwork
+    from adapt.schemas.foreground import ForegroundObject
+    from adapt.schemas.percepts import Sighting
+
+    net = SchemaNetwork(Mirror(SceneSpec(), CAM))
+    fo = net.instantiate("foreground-object")
+    assert isinstance(fo, ForegroundObject)
+    assert fo._reaches((5.0, 5.0), 0.0)  # never seen: anywhere
+    for k in range(10):
+        fo.kf.step(k / 30, (0.02 + k / 30, 0.5))
+    fo.last = Sighting(9, 9 / 30, (0, 0, 1, 1), (0.0, 0.0), 1, (0.32, 0.5))
+    assert fo._reaches((0.353, 0.5), 10 / 30)  # where it rolls on
+    assert fo._reaches((0.3, 0.38), 10 / 30)  # a fit a radius off, or a turn at a wall
+    assert not fo._reaches((0.42, 0.04), 10 / 30)  # the ghost
+    assert fo._reaches((0.42, 0.04), 12 / 30)  # missed for two more frames: it may be
+    # a second later: as far as 4 m/s more than its speed and its track's uncertainty reach
+    assert fo._reaches((4.5, 0.5), 1.3) and not fo._reaches((8.0, 0.5), 1.3)
