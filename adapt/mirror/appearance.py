@@ -419,6 +419,64 @@ class AppearanceModel:
         """Every learned plane's texture (:attr:`learned` order)."""
         return {name: self._planes[name].texture() for name in self.learned}
 
+    def unseen(self, camera: Camera, labels: NDArray[np.integer],
+               box: tuple[int, int, int, int] | None = None) -> NDArray[np.bool_]:
+        """Which pixels of ``labels`` (the render's label image through ``camera``) show a
+        surface where its look was never learned -- the floor an object covered when the
+        look was first learned, a face no frame has shown -- so that the render there is
+        the scenario's guess, not the scene.  The sky and the moving objects are never
+        unseen.
+
+        Parameters
+        ----------
+        camera : Camera
+            The camera ``labels`` was rendered through.
+        labels : (H, W) int ndarray
+            The render's label image.
+        box : (x, y, w, h), optional
+            Only these pixels (the result has the box's shape); the whole image without.
+
+        Examples
+        --------
+        >>> from adapt.imagination import Renderer, SceneSpec
+        >>> cam = Camera.look_at(fx=100, fy=100, cx=39.5, cy=29.5, width=80, height=60,
+        ...                      position=(0, -2, 1.5), look_at=(0, 0, 0))
+        >>> frame = Renderer(SceneSpec(), cam).background
+        >>> model = AppearanceModel(Renderer(SceneSpec(), cam).surfaces)
+        >>> bool(model.unseen(cam, frame.labels)[frame.labels == LABEL_FLOOR].all())
+        True
+        >>> hidden = np.zeros(frame.labels.shape, bool)
+        >>> hidden[40:50, 30:50] = True                  # something stood there
+        >>> _ = model.learn(np.full((60, 80, 3), 90, np.uint8), cam, frame.labels, exclude=hidden)
+        >>> unseen = model.unseen(cam, frame.labels)
+        >>> bool(unseen[42:48, 32:48].all()), int(unseen[:30].sum())
+        (True, 0)
+        """
+        h, w = labels.shape[:2]
+        x0, y0, bw, bh = (0, 0, w, h) if box is None else box
+        x0, y0 = max(0, int(x0)), max(0, int(y0))
+        x1, y1 = min(w, x0 + int(bw)), min(h, y0 + int(bh))
+        sub = np.asarray(labels[y0:y1, x0:x1])
+        out = np.zeros(sub.shape, bool)
+        if not sub.size:
+            return out
+        to_box = np.array([[1.0, 0.0, -x0], [0.0, 1.0, -y0], [0.0, 0.0, 1.0]])
+        for label in np.unique(sub).tolist():
+            if not LABEL_FLOOR <= label < LABEL_BALL or label not in self._by_label:
+                continue
+            seen = np.zeros(sub.shape, np.uint8)
+            for surface in self._by_label[label]:
+                plane = self._planes.get(surface.name)
+                if plane is None or not surface.seen_from(camera.position):
+                    continue
+                known = cv2.compare(plane.count, 0, cv2.CMP_GT)  # type: ignore[call-overload]
+                seen |= np.asarray(cv2.warpPerspective(
+                    known, to_box @ plane.to_pixels(camera), (x1 - x0, y1 - y0),
+                    flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0),
+                    np.uint8)
+            out |= (sub == label) & (seen == 0)
+        return out
+
     def coverage(self) -> dict[str, float]:
         """The share of each learned plane's image that has been seen."""
         return {name: float(np.count_nonzero(self._planes[name].count))

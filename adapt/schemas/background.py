@@ -53,8 +53,17 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    An unexpected region whose pixels have not changed over its last
    :data:`STILL_REGION_FRAMES` frames is reported ``still``: the perception
    rules spawn no schema for it (nothing arrived there; it is the look's
-   error, repaired as above).  A camera on the robot restarts its history
-   whenever the robot moves.
+   error, repaired as above).  A fixed camera's first look cannot see what the
+   imagined bodies hid (the floor under the robot's starting place): once they
+   leave, that floor is a difference of the look's ignorance, not an object.  An
+   unexpected region at least :data:`UNSEEN_SHARE` of whose pixels are there, show
+   surfaces still unlearned
+   (:meth:`~adapt.mirror.appearance.AppearanceModel.unseen`) and held still over its
+   last :data:`STILL_REGION_FRAMES` frames is reported ``unseen``: the rules spawn no
+   schema for it either; and those texels are learned as soon as their pixels held
+   still for ``still_s``, whatever box or region covers them (what the imagination
+   draws there now, the robot come back, is never learned).
+   A camera on the robot restarts its history whenever the robot moves.
    A frame whose matches give no ``H_e`` (a texture the renderer aliases
    differently as a robot's camera turns, a plain face filling the view) is
    aligned by the structure instead, keeping the look, and compared through
@@ -84,6 +93,7 @@ from numpy.typing import NDArray
 
 from adapt.errors import VisionError
 from adapt.geometry import MAX_PIXELS
+from adapt.imagination import LABEL_BALL
 from adapt.mirror.structure import face_labels
 from adapt.scenario import RealityKind
 from adapt.schemas.base import BBox, Schema, Status
@@ -102,7 +112,7 @@ from adapt.vision.edges import edge_agreement
 from adapt.vision.homography import corner_error
 from adapt.vision.matching import PreparedImage, prepare
 from adapt.vision.mmd import MMDResult
-from adapt.vision.regions import best_overlap, find_regions, to_input
+from adapt.vision.regions import Region, best_overlap, find_regions, to_input
 from adapt.vision.registration import structure_homography
 from adapt.vision.scale import MAX_WORK_PIXELS_LIMIT, image_scale
 from adapt.vision.stillness import FrameHistory
@@ -135,6 +145,9 @@ FLOOR_LABEL = 1
 STILL_REGION_FRAMES = 3
 #: A region whose box changed in less than this share of its pixels over those frames is still.
 STILL_SHARE = 0.02
+#: An unexpected region at least this share of whose pixels show surfaces where the look
+#: was never learned, and held still, is reported ``unseen`` (see the module docstring).
+UNSEEN_SHARE = 0.5
 #: The first look waits for a full history while more than this share of pixels changed.
 MOVING_SHARE = 0.001
 #: A camera on the robot has moved (its frame history restarts) past these (m, degrees).
@@ -207,6 +220,8 @@ class SceneBackground(Schema):
                                                        / network.frame_interval))))
         self._mount_pose: tuple[tuple[float, float], float] | None = None
         self._held = 0  # frames the first look has waited, once aligned
+        #: A fixed camera's pixels that imagined bodies hid from the first look (None: none).
+        self._covered: NDArray[np.bool_] | None = None
 
     # -- perception ---------------------------------------------------------------------
 
@@ -522,10 +537,18 @@ class SceneBackground(Schema):
         if fresh:  # what the view showed most of the time: a passing object is gone from it
             image = self.history.median() if len(self.history) else frame.image
             exclude, relearn = self._exclusion(frame.image.shape, still=still)
+            self._covered = None
+            if not mirror.mounted and labels.shape == frame.image.shape[:2]:
+                # what the imagined bodies (the robot) hid from this look, with a margin
+                pad = int(math.ceil(EXCLUDE_PAD * image_scale(frame.image.shape)))
+                kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
+                self._covered = np.asarray(
+                    cv2.dilate((labels >= LABEL_BALL).astype(np.uint8), kernel), bool)
         else:
             image = frame.image
             full = len(self.history) >= self.history.depth
-            exclude, relearn = self._exclusion(frame.image.shape, still=still, repair=full)
+            exclude, relearn = self._exclusion(frame.image.shape, still=still, repair=full,
+                                               labels=labels)
         learned = mirror.learn_appearance(
             image, labels, exclude=exclude, rate=p["learn_rate"],
             gate=None if fresh else p["learn_gate"], relearn=relearn)
@@ -538,12 +561,15 @@ class SceneBackground(Schema):
         self._since_learn = 0
 
     def _exclusion(self, shape: tuple[int, ...], still: NDArray[np.bool_] | None,
-                   repair: bool = False) -> tuple[NDArray[np.bool_], NDArray[np.bool_] | None]:
+                   repair: bool = False, labels: NDArray[np.int32] | None = None
+                   ) -> tuple[NDArray[np.bool_], NDArray[np.bool_] | None]:
         """Frame pixels never to learn -- every monitored box, every region that is not
         still, every pixel that changed over the history (``still`` False) and every pixel
         the MMD finds different, each with a margin -- and, with ``repair``, the pixels to
         learn afresh: different from the look but still for the whole history, outside
-        every monitored box and moving region (see the module docstring)."""
+        every monitored box and moving region, or (given the render's ``labels``) showing
+        a surface where the look was never learned, wherever they are (see the module
+        docstring)."""
         h, w = int(shape[0]), int(shape[1])
         pad = int(math.ceil(EXCLUDE_PAD * image_scale(shape)))
         kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
@@ -565,8 +591,18 @@ class SceneBackground(Schema):
             differs = np.asarray(cv2.dilate(differs, kernel), np.uint8)
             if repair and moved is not None:
                 anew = (differs > 0) & (mask == 0)
+                covered = self._covered
+                if labels is not None and covered is not None and covered.shape == (h, w) \
+                        and labels.shape == (h, w) and covered.any():
+                    mirror = self.network.mirror
+                    bx, by, bw, bh = cv2.boundingRect(covered.view(np.uint8))
+                    fresh = np.zeros((h, w), bool)
+                    fresh[by:by + bh, bx:bx + bw] = mirror.appearance.unseen(
+                        mirror.camera, labels, (bx, by, bw, bh))
+                    anew |= (moved == 0) & fresh & covered
                 relearn = anew if anew.any() else None
                 differs[anew] = 0
+                mask[anew] = 0
             mask |= differs
         return mask.astype(bool), relearn
 
@@ -610,7 +646,8 @@ class SceneBackground(Schema):
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
                                     owner, floor, size, percept.imagined_in(r), edge,
                                     owner is None and self._still(r.bbox), color,
-                                    looks_like(color, size, self._looks)))
+                                    looks_like(color, size, self._looks),
+                                    owner is None and self._unseen(r)))
         return out
 
     def _still(self, bbox: BBox) -> bool:
@@ -621,6 +658,27 @@ class SceneBackground(Schema):
         changed = self.history.changed(bbox, float(self.parameters["threshold"]),
                                        frames=STILL_REGION_FRAMES)
         return changed < STILL_SHARE
+
+    def _unseen(self, region: Region) -> bool:
+        """Whether at least :data:`UNSEEN_SHARE` of ``region``'s pixels are where imagined
+        bodies hid the surfaces from the first look, show them still unlearned, and held
+        still over the last :data:`STILL_REGION_FRAMES` frames (see the module docstring)."""
+        covered = self._covered
+        if self.stage is not AppearanceStage.LEARNED or self.labels is None \
+                or covered is None or len(self.history) < STILL_REGION_FRAMES:
+            return False
+        x, y, w, h = region.bbox
+        if covered.shape != self.labels.shape or not covered[y:y + h, x:x + w].any():
+            return False
+        mirror = self.network.mirror
+        unseen = mirror.appearance.unseen(mirror.camera, self.labels, region.bbox)
+        still = self.history.still(float(self.parameters["threshold"]),
+                                   frames=STILL_REGION_FRAMES, box=region.bbox)
+        mask = region.silhouette
+        if not unseen.shape == still.shape == mask.shape:  # cut by the image's edge
+            return False
+        mine = unseen & still & mask & covered[y:y + h, x:x + w]
+        return int(np.count_nonzero(mine)) >= UNSEEN_SHARE * max(int(mask.sum()), 1)
 
     def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:
         """The robot's own body in the real frame: the robot knows where it is, so a
@@ -672,6 +730,7 @@ class SceneBackground(Schema):
             c.set("looks-like", r.looks_like)
             c.set("at-edge", r.at_edge)
             c.set("still", r.still)
+            c.set("unseen", r.unseen)
             c.set("age", r.age)
         node.keep_children("region", [r.id for r in self.regions])
 

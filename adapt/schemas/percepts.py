@@ -125,7 +125,9 @@ class RegionReport:
     ``looks_like`` the declared object whose colour and size it has (the
     nearest colour within :data:`LOOKS_LIKE_COLOR`, a size within
     :data:`LOOKS_LIKE_SIZE` of its diameter), so that rules can tell one
-    object from another before a schema claims it.
+    object from another before a schema claims it; ``unseen`` that most of its
+    pixels show surfaces where the look was never learned (the floor an object
+    covered at the first look): not an object arriving either.
     """
 
     id: int
@@ -142,6 +144,7 @@ class RegionReport:
     still: bool = False
     color: tuple[int, int, int] | None = None
     looks_like: str | None = None
+    unseen: bool = False
 
     def as_json(self) -> dict[str, Any]:
         """JSON form (trace and report)."""
@@ -153,7 +156,7 @@ class RegionReport:
                 "size": None if self.size is None else round(self.size, 4),
                 "imagined": self.imagined, "at_edge": self.at_edge, "still": self.still,
                 "color": None if self.color is None else list(self.color),
-                "looks_like": self.looks_like}
+                "looks_like": self.looks_like, "unseen": self.unseen}
 
 
 @dataclass(frozen=True, slots=True, eq=False)

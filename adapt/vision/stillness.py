@@ -85,10 +85,12 @@ class FrameHistory:
             cv2.max(high, f, dst=high)
         return low, high
 
-    def still(self, gate: float, frames: int | None = None) -> NDArray[np.bool_]:
-        """Pixels whose every channel stayed within ``gate`` grey levels over the newest
-        ``frames`` frames (all kept by default); all False with no frame."""
-        span = self._span(frames, None)
+    def still(self, gate: float, frames: int | None = None, box: BBox | None = None
+              ) -> NDArray[np.bool_]:
+        """Pixels (of ``box``, the part inside the image; the whole image without) whose
+        every channel stayed within ``gate`` grey levels over the newest ``frames`` frames
+        (all kept by default); an empty array with no frame."""
+        span = self._span(frames, box)
         if span is None:
             return np.zeros((0, 0), bool)
         low, high = span

@@ -13,7 +13,18 @@ import pytest
 
 from adapt.errors import AppearanceError
 from adapt.geometry import Camera, rotation_exp
-from adapt.imagination import LABEL_OBSTACLE, LABEL_SKY, LABEL_WALL, Floor, Obstacle, Renderer, SceneSpec, Wall
+from adapt.imagination import (
+    LABEL_BALL,
+    LABEL_FLOOR,
+    LABEL_OBSTACLE,
+    LABEL_SKY,
+    LABEL_WALL,
+    Floor,
+    Obstacle,
+    Renderer,
+    SceneSpec,
+    Wall,
+)
 from adapt.mirror import Mirror
 from adapt.mirror.appearance import SKY_FACES, AppearanceModel
 
@@ -333,3 +344,33 @@ def test_relearn_replaces_a_wrong_texel_past_the_gate_and_nothing_else() -> None
     far = seen.copy()
     far[:, far.shape[1] // 4:] = False
     assert far.any() and np.abs(after.astype(int) - before.astype(int))[far].max() <= 2
+
+
+def test_unseen_is_where_the_look_was_never_learned_and_only_there() -> None:
+    real = reality(pattern((100, 500), 4)).render()
+    model = AppearanceModel(Renderer(SCENE, CAMERA).surfaces)
+    frame = Renderer(SCENE, CAMERA).render()
+    labels = frame.labels
+    surfaces = (labels >= LABEL_FLOOR) & (labels < LABEL_BALL)  # floor, walls and obstacles
+    assert surfaces.sum() > 0.5 * labels.size
+    assert np.array_equal(model.unseen(CAMERA, labels), surfaces)  # nothing learned yet
+    # something stood on the floor when the look was learned (its box a margin inside it)
+    hidden = np.zeros(labels.shape, bool)
+    hidden[180:215, 120:200] = True
+    model.learn(real.image, CAMERA, labels, exclude=hidden)
+    unseen = model.unseen(CAMERA, labels)
+    inner = np.zeros_like(hidden)
+    inner[183:212, 123:197] = True  # a texel's width inside the box
+    assert unseen[inner].all()
+    outer = cv2.dilate(hidden.astype(np.uint8), np.ones((7, 7), np.uint8)) > 0
+    lab = labels.astype(np.float32)
+    seams = cv2.dilate(lab, np.ones((3, 3))) != cv2.erode(lab, np.ones((3, 3)))
+    # everything else the camera saw is learned (but at the pixel where two surfaces meet)
+    assert not unseen[~outer & ~seams & surfaces].any()
+    assert not unseen[labels == LABEL_SKY].any()
+    # a box gives the same pixels as the whole image, cut to it
+    box = (100, 150, 130, 80)
+    assert np.array_equal(model.unseen(CAMERA, labels, box), unseen[150:230, 100:230])
+    # once seen uncovered, it is learned
+    model.learn(real.image, CAMERA, labels)
+    assert not model.unseen(CAMERA, labels)[~seams].any()

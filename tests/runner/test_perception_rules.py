@@ -21,9 +21,9 @@ RULES = Path(__file__).resolve().parents[2] / "rules" / "mirror" / "perception.s
 
 #: A region's attributes as the Scene Background writes them (the ones the rules read).
 GHOST = {"id": 1, "expected": True, "monitored-by": "ball", "age": 20, "size": 0.4,
-         "still": False, "at-edge": False}
+         "still": False, "unseen": False, "at-edge": False}
 BALL = {"id": 2, "expected": True, "monitored-by": "foreground-object-1", "age": 8,
-        "size": 0.22, "still": False, "at-edge": False, "looks-like": "ball"}
+        "size": 0.22, "still": False, "unseen": False, "at-edge": False, "looks-like": "ball"}
 
 
 class Network:
@@ -161,3 +161,15 @@ def test_a_lost_goals_object_is_found_again_in_a_region_that_looks_like_it() -> 
     # a region that does not look like it is something else: an object of its own
     done = run(Network(lost(), [unlike]))
     assert [(v, "object" in a) for v, a in done] == [("instantiate", False)], done
+
+
+@pytest.mark.parametrize("lost_ball", [False, True])
+def test_a_region_on_surfaces_the_look_never_learned_is_never_spawned_for(lost_ball: bool) -> None:
+    # the floor the robot stood on while the look was first learned, uncovered since: the
+    # look's ignorance, not an object arriving (nor the lost ball found again), however
+    # much it looks like the ball
+    schemas = lost() if lost_ball else {}
+    region = dict(BALL, **{"expected": False, "monitored-by": "nil", "age": 4})
+    assert [v for v, _ in run(Network(dict(schemas), [region]))][-1:] == ["instantiate"]
+    region["unseen"] = True
+    assert run(Network(dict(schemas), [region])) == []

@@ -1,0 +1,70 @@
+"""The floor the robot stood on while the look was first learned is no object.
+
+Throw 13 of ``bench/foreign.py --small``: a camera inside the arena, the robot starting
+near the south wall.  The first look cannot see the floor under the robot; once the
+robot drives off to meet the ball, that floor differs from the look's guess.  The rules
+spawned a schema for it as an object the scenario does not know (9 of the 10 such
+spurious schemas on fixed cameras in 10 throws were this), and a ball schema that missed
+the ball for a frame near it could take it for the ball and hold it.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from adapt.runner import Runner
+from adapt.scenario import OutputSettings, loads_scenario
+
+pytest.importorskip("pybullet")
+
+ROOT = Path(__file__).resolve().parents[2]
+QUIET = OutputSettings(report=False, trace=False, video=False, figures=False)
+
+
+def _scenario_text(seed: int, duration: float) -> str:
+    spec = importlib.util.spec_from_file_location("_bench_foreign", ROOT / "bench" / "foreign.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return str(module.scenario_text(seed, True, duration)[0])
+
+
+class _Rows:
+    """Per frame: the object schemas, the ball's sighting and the truth (evaluation)."""
+
+    def __init__(self) -> None:
+        self.truth: Any = None
+        self.rows: list[dict[str, Any]] = []
+
+    def frame(self, record: Any) -> None:
+        t = self.truth.at(record.index)
+        ball = t.objects.get("ball")  # None before it is thrown
+        tracked = record.tracked_object("ball")
+        self.rows.append({"names": [x.name for x in record.tracked],
+                          "truth": None if ball is None else ball.position,
+                          "height": None if ball is None else ball.height,
+                          "robot": None if t.robot is None else t.robot.position,
+                          "observed": None if tracked is None else tracked.observed})
+
+
+def test_the_floor_under_the_robots_start_is_never_spawned_for() -> None:
+    sc = loads_scenario(_scenario_text(13, 3.0), file="foreign-13.yaml", base=ROOT / "scenarios")
+    assert sc.scene.robot is not None
+    start = sc.scene.robot.position
+    rows = _Rows()
+    runner = Runner(sc, out=None, seed=13, outputs=QUIET, listeners=(rows,))
+    rows.truth = runner.truth
+    runner.run()
+    assert max(math.dist(r["robot"], start) for r in rows.rows
+               if r["robot"] is not None) > 2 * sc.scene.robot.radius  # it drove off
+    assert {n for r in rows.rows for n in r["names"]} == {"ball"}
+    radius = sc.model("ball").ball.radius
+    # on the floor (it is thrown from 0.29 m up: the fit's ground plane does not hold in the air)
+    seen = [r for r in rows.rows if r["observed"] is not None and r["height"] < radius + 0.01]
+    assert len(seen) >= 30
+    assert all(math.dist(r["observed"], r["truth"]) < 2 * radius for r in seen)
