@@ -620,7 +620,11 @@ class SceneBackground(Schema):
                                                                * scale * scale)))),
                          res.frame)
         tracks = self.tracker.update(found, frame.index)
-        for region, claimant in self.network.claims().items():
+        claims = self.network.claims()
+        for t in tracks:
+            if t.owner is not None and claims.get(t.id) != t.owner:
+                t.owner = None  # its claimant let it go (it found its object) or is gone
+        for region, claimant in claims.items():
             track = self.tracker.get(region)
             if track is not None and (track.owner is None or track.owner not in self.network):
                 self.tracker.assign(region, claimant)  # one owner per region: the first holds

@@ -127,6 +127,10 @@ SEARCH_SIGMAS = 3.0
 #: also how much faster than its track an object seen before may have gone since (a push
 #: by the robot): a sighting farther from the last one is something else (see ``_reaches``).
 SEARCH_SPEED = 4.0
+#: A track holds its object (``_reaches``) once it has followed it this many radii without
+#: the filter restarting: before, it may be on a ghost, which stays put or jumps between
+#: fragments, and the object is taken wherever it shows.
+MOVED_RADII = 3.0
 
 
 class ForegroundObject(Schema):
@@ -160,6 +164,10 @@ class ForegroundObject(Schema):
         self._window_time = network.time  # when the region it waits for was last tracked
         self._hooked = False
         self._radii: list[float] = []
+        #: where the filter's current run (since it last restarted) began, its restarts then,
+        #: and whether the object has moved away from there since (see ``_reaches``)
+        self._run: tuple[tuple[float, float], int] | None = None
+        self._moved = False
         self.model = model
         self.estimator: ParameterEstimator | None = None
         self.identifier: Identifier | None = None
@@ -189,7 +197,11 @@ class ForegroundObject(Schema):
         return self.network.percept(self, "regions", BackgroundPercept)
 
     def claimed_regions(self) -> tuple[int, ...]:
-        return (self.region,) if self._window is not None and self.region > 0 else ()
+        """The region it was spawned for, until it finds its object: from then on what it
+        explains is its object's box (a region the object left, the learned look's error
+        where it was at the first look, is then nobody's, and repaired)."""
+        return (self.region,) if self._window is not None and self.region > 0 \
+            and self.sightings == 0 else ()
 
     def monitored_object(self) -> str | None:
         return self.object_name
@@ -336,11 +348,10 @@ class ForegroundObject(Schema):
             elif self.misses > int(self.parameters["lost_after"]):
                 self.status = Status.LOST
         else:
-            self.last = obs
             self.sightings += 1
             self.misses = 0
             self.status = Status.RUNNING
-            self.kf.step(frame.time, obs.position)
+            self._follow(obs)
             if self.ball is not None and self.estimator is None:
                 self._start_estimator()
             if self.estimator is not None:
@@ -565,14 +576,25 @@ class ForegroundObject(Schema):
         rms_px = math.radians(fit.rms_deg) * cam.fx
         return rms_px <= max(OUTLINE_RMS_PX, OUTLINE_RMS_SHARE * math.sqrt(whole / math.pi))
 
+    def _follow(self, seen: Sighting) -> None:
+        """Take ``seen`` into the track: the filter, and whether the object has moved
+        :data:`MOVED_RADII` radii since the filter's current run began."""
+        self.last = seen
+        self.kf.step(seen.time, seen.position)
+        if self._run is None or self._run[1] != self.kf.restarts:
+            self._run, self._moved = (seen.position, self.kf.restarts), False
+        elif math.dist(seen.position, self._run[0]) > MOVED_RADII * self._radius():
+            self._moved = True
+
     def _reaches(self, at: tuple[float, float], time: float) -> bool:
         """Whether the object, last seen at ``self.last``, can be at ``at`` by ``time``: no
         farther than its track's speed and :data:`SEARCH_SPEED` (a bounce turns it, never
         speeds it up; a push by the robot may) carry it in the time since, plus
         :data:`SEARCH_SIGMAS` of the track's position uncertainty and its diameter (the
-        fits' errors).  Without a sighting before, anywhere."""
+        fits' errors).  Anywhere before the track has followed it :data:`MOVED_RADII`
+        radii (it may be on a ghost: the object is taken where it shows)."""
         last = self.last
-        if last is None:
+        if last is None or not self._moved:
             return True
         since = max(time - last.time, 0.0)
         speed, sigma = 0.0, 0.0

@@ -229,12 +229,17 @@ def test_a_sighting_farther_than_the_object_can_have_gone_is_not_it() -> None:
     fo = net.instantiate("foreground-object")
     assert isinstance(fo, ForegroundObject)
     assert fo._reaches((5.0, 5.0), 0.0)  # never seen: anywhere
-    for k in range(10):
-        fo.kf.step(k / 30, (0.02 + k / 30, 0.5))
-    fo.last = Sighting(9, 9 / 30, (0, 0, 1, 1), (0.0, 0.0), 1, (0.32, 0.5))
-    assert fo._reaches((0.353, 0.5), 10 / 30)  # where it rolls on
-    assert fo._reaches((0.3, 0.38), 10 / 30)  # a fit a radius off, or a turn at a wall
-    assert not fo._reaches((0.42, 0.04), 10 / 30)  # the ghost
-    assert fo._reaches((0.42, 0.04), 12 / 30)  # missed for two more frames: it may be
+    # seen rolling east at 1 m/s from x = 0: until it has gone three radii (0.3 m), the
+    # track may be on a ghost, and the ball is taken wherever it shows
+    for k in range(11):
+        fo._follow(Sighting(k, k / 30, (0, 0, 1, 1), (0.0, 0.0), 1, (k / 30, 0.5)))
+        assert fo._reaches((0.43, 0.04), (k + 1) / 30) is (k < 10)
+    assert fo._reaches((0.366, 0.5), 11 / 30)  # where it rolls on
+    assert fo._reaches((0.333, 0.38), 11 / 30)  # a fit a radius off, or a turn at a wall
+    assert not fo._reaches((0.43, 0.04), 11 / 30)  # the ghost, 47 cm away
+    assert fo._reaches((0.43, 0.04), 13 / 30)  # missed for two more frames: it may be
     # a second later: as far as 4 m/s more than its speed and its track's uncertainty reach
     assert fo._reaches((4.5, 0.5), 1.3) and not fo._reaches((8.0, 0.5), 1.3)
+    # a jump the filter cannot follow (a bounce, or a ghost) starts its run again
+    fo._follow(Sighting(11, 11 / 30, (0, 0, 1, 1), (0.0, 0.0), 1, (0.7, 0.5)))
+    assert fo.kf.restarts == 1 and fo._reaches((1.5, 0.5), 12 / 30)
