@@ -45,7 +45,10 @@ imagination (paper section 4.4, Figure 6):
   observation with the paper's spring plus a damper,
   ``a = k (p_real - p_sim) + c (v_real - v_sim)`` with ``c = 2 ζ sqrt(k)``
   (``k = 0``: uncorrected, for comparison); ``p_real`` is the filtered
-  position extrapolated to the step's time.
+  position extrapolated to the step's time.  Against the imagined robot the
+  pull is no more than half what the robot's drive holds (:data:`ROBOT_PUSH`):
+  the imagined robot is where the robot believes it stands, and a target beyond
+  it must not shove it there.
 """
 
 from __future__ import annotations
@@ -85,6 +88,11 @@ MAX_UNKNOWN_RADIUS = 1.0
 #: The imagined robot's pixels, grown by this many (its odometry slips), are left out of
 #: the search: the robot knows where it is, and its image is no object's.
 ROBOT_MARGIN = 3
+#: An imagined ball closer than this (m) to the imagined robot's outer disc is pulled by its
+#: spring with at most this share of the force the robot's drive holds the robot with (and one
+#: whose target lies across the robot, not at all).
+ROBOT_TOUCH = 0.02
+ROBOT_PUSH = 0.5
 #: At most this many blobs of a search are tried, nearest and largest first.
 MAX_BLOBS = 4
 #: Colour of an object the scenario does not declare until its own is measured (BGR).
@@ -677,6 +685,19 @@ class ForegroundObject(Schema):
         # bounded: a target the body cannot reach (a wall between them) must not pump
         # energy into the contact solver without end
         limit = float(self.parameters["max_accel"])
+        mirror = self.network.mirror
+        robot, pose = mirror.scene.robot, mirror.robot_pose()
+        if robot is not None and pose is not None:
+            # the imagined robot is where the robot believes it stands, and the spring is a
+            # correction, not a force of the world: against the robot it pushes no harder than
+            # a part of what the robot's drive holds, and it does not pull the ball across the
+            # robot at all (a target beyond it would shove the robot away)
+            clear = robot.outer_radius + self._radius() + ROBOT_TOUCH
+            here = (float(body.position[0]), float(body.position[1]))
+            if math.dist(here, pose[0]) < clear:
+                limit = min(limit, ROBOT_PUSH * robot.mass * robot.max_accel / body.mass)
+            elif _to_segment(pose[0], here, (px, py)) < clear:
+                return
         a = math.hypot(ax, ay)
         if a > limit:
             ax, ay = ax * limit / a, ay * limit / a
@@ -852,3 +873,11 @@ FOREGROUND_OBJECT = SchemaSpec(
         Parameter("predict", bool, True, "predict at the scenario's horizons (predict section)"),
     ),
 )
+
+
+def _to_segment(p: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
+    """Distance from ``p`` to the segment from ``a`` to ``b``."""
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    n = dx * dx + dy * dy
+    t = 0.0 if n <= 0.0 else min(max(((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / n, 0.0), 1.0)
+    return math.dist(p, (a[0] + t * dx, a[1] + t * dy))

@@ -243,3 +243,44 @@ def test_a_sighting_farther_than_the_object_can_have_gone_is_not_it() -> None:
     # a jump the filter cannot follow (a bounce, or a ghost) starts its run again
     fo._follow(Sighting(11, 11 / 30, (0, 0, 1, 1), (0.0, 0.0), 1, (0.7, 0.5)))
     assert fo.kf.restarts == 1 and fo._reaches((1.5, 0.5), 12 / 30)
+
+
+def test_the_spring_does_not_shove_the_imagined_robot_off_its_odometry() -> None:
+    # bench/foreign.py's throw 25: a sighting beyond the robot pulled the imagined ball through
+    # the imagined robot (the spring's 400 m/s^2 on 0.4 kg against the robot's 15 N drive), and
+    # the imagined robot -- the robot's own belief of where it stands -- was shoved 0.5 m back
+    # while the real one stood still; its real pixels, no longer left out, became ghosts
+    from adapt.imagination import Ball, RobotSpec, SceneSpec
+    from adapt.mirror import Mirror
+    from adapt.schemas import SchemaNetwork
+    from adapt.schemas.foreground import ForegroundObject
+    from adapt.schemas.percepts import Sighting
+
+    robot = RobotSpec(position=(0.0, 0.0), radius=0.2, mass=10.0, max_speed=1.0, max_accel=1.5)
+    mirror = Mirror(SceneSpec(robot=robot), CAM)
+    net = SchemaNetwork(mirror)
+    fo = net.instantiate("foreground-object")
+    assert isinstance(fo, ForegroundObject)
+    fo.ball = Ball(fo.body, radius=0.1, mass=0.4)
+    mirror.add_ball(fo.ball, (-0.8, 0.0), (0.0, 0.0))  # half a metre from the robot
+    mirror.add_hook(fo.before_step)
+    for k in range(3):  # seen beyond the robot, still: the spring pulled the ball through it
+        fo._follow(Sighting(k, k / 30, (0, 0, 1, 1), (0.0, 0.0), 1, (0.6, 0.0)))
+        mirror.step_to(k / 30)
+    mirror.step_to(1.0)
+    (x, y), _ = mirror.robot_pose()
+    assert math.hypot(x, y) < 0.01, (x, y)
+    # seen beside the robot, in reach: pulled there, round it
+    for k in range(3, 40):
+        fo._follow(Sighting(k, 1.0 + k / 30, (0, 0, 1, 1), (0.0, 0.0), 1, (-0.6, 0.5)))
+        mirror.step_to(1.0 + k / 30)
+    assert math.dist(mirror.world.position(fo.body), (-0.6, 0.5)) < 0.02
+    # seen rolling at 0.5 m/s into the robot and on to where the robot stands (its odometry
+    # slipped): pulled against it, but the robot is not shoved
+    for k in range(40, 100):
+        u = min((k - 40) / 30 * 0.5 / 0.65, 1.0)  # (-0.6, 0.5) to (-0.2, 0.0), 0.64 m
+        fo._follow(Sighting(k, 1.0 + k / 30, (0, 0, 1, 1), (0.0, 0.0), 1,
+                            (-0.6 + 0.4 * u, 0.5 - 0.5 * u)))
+        mirror.step_to(1.0 + k / 30)
+    (x, y), _ = mirror.robot_pose()
+    assert math.hypot(x, y) < 0.02, (x, y)
