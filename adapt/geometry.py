@@ -26,6 +26,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import Sequence
 
@@ -46,6 +47,7 @@ __all__ = [
     "MAX_PIXELS",
     "MAX_FOCAL",
     "MAX_COORDINATE",
+    "point_segment_distance",
 ]
 
 #: World up direction.
@@ -86,6 +88,24 @@ def _vector3(name: str, value: ArrayLike) -> FloatArray:
             f"{name}: expected coordinates within +-{MAX_COORDINATE:g} metres, got {v.tolist()}"
         )
     return v
+
+
+def point_segment_distance(p: Sequence[float], a: Sequence[float], b: Sequence[float]) -> float:
+    """The distance from point ``p`` to the segment from ``a`` to ``b`` (2D; ``a`` when the
+    segment is a point).
+
+    Examples
+    --------
+    >>> point_segment_distance((0.0, 1.0), (-1.0, 0.0), (1.0, 0.0))
+    1.0
+    >>> point_segment_distance((3.0, 4.0), (0.0, 0.0), (-1.0, 0.0))
+    5.0
+    """
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    length2 = dx * dx + dy * dy
+    t = 0.0 if length2 == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy)
+                                               / length2))
+    return math.hypot(p[0] - (a[0] + t * dx), p[1] - (a[1] + t * dy))
 
 
 def look_at_rotation(

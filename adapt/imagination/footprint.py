@@ -31,19 +31,13 @@ import math
 from dataclasses import dataclass
 from typing import Sequence
 
+from adapt.geometry import point_segment_distance
 from adapt.imagination.scene import Obstacle, SceneSpec, Vec2, Wall
 
 __all__ = ["Footprint", "Collision", "path_length"]
 
 #: Corner points stand this much more than the radius off the obstacle (metres).
 CLEARANCE = 0.03
-
-
-def _point_segment(px: float, py: float, ax: float, ay: float, bx: float, by: float) -> float:
-    dx, dy = bx - ax, by - ay
-    length2 = dx * dx + dy * dy
-    t = 0.0 if length2 == 0 else max(0.0, min(1.0, ((px - ax) * dx + (py - ay) * dy) / length2))
-    return math.hypot(px - (ax + t * dx), py - (ay + t * dy))
 
 
 def _cross(ox: float, oy: float, ax: float, ay: float, bx: float, by: float) -> float:
@@ -58,10 +52,8 @@ def _segment_segment(p: Vec2, q: Vec2, a: Vec2, b: Vec2) -> float:
     d4 = _cross(p[0], p[1], q[0], q[1], b[0], b[1])
     if d1 * d2 < 0 and d3 * d4 < 0:
         return 0.0
-    return min(_point_segment(p[0], p[1], a[0], a[1], b[0], b[1]),
-               _point_segment(q[0], q[1], a[0], a[1], b[0], b[1]),
-               _point_segment(a[0], a[1], p[0], p[1], q[0], q[1]),
-               _point_segment(b[0], b[1], p[0], p[1], q[0], q[1]))
+    return min(point_segment_distance(p, a, b), point_segment_distance(q, a, b),
+               point_segment_distance(a, p, q), point_segment_distance(b, p, q))
 
 
 def _inside(p: Sequence[float], polygon: Sequence[Vec2]) -> bool:
@@ -144,13 +136,13 @@ class Footprint:
         limit = self.radius - touch
         for i, wall in enumerate(self.scene.walls):
             (ax, ay), (bx, by) = wall.start, wall.end
-            gap = _point_segment(x, y, ax, ay, bx, by)
+            gap = point_segment_distance((x, y), (ax, ay), (bx, by))
             if gap < limit:
                 return Collision(i, wall, None, gap)
         for i, ob in enumerate(self.scene.obstacles):
             poly = ob.polygon
             n = len(poly)
-            gap = min(_point_segment(x, y, *poly[k], *poly[(k + 1) % n]) for k in range(n))
+            gap = min(point_segment_distance((x, y), poly[k], poly[(k + 1) % n]) for k in range(n))
             inside = _inside((x, y), poly)
             if inside or gap < limit:
                 return Collision(i, None, ob, gap, inside)
@@ -275,7 +267,7 @@ class Footprint:
             return False
         r = self.radius
         for s, e in self.segments:
-            here = _point_segment(a[0], a[1], s[0], s[1], e[0], e[1])
+            here = point_segment_distance(a, s, e)
             if _segment_segment(a, b, s, e) < min(r, here) - 1e-9:
                 return False
         return True

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Sequence
 
-from adapt.geometry import MAX_COORDINATE
+from adapt.geometry import MAX_COORDINATE, point_segment_distance
 from adapt.imagination.predict import MAX_ENSEMBLE_STEPS
 from adapt.imagination.scene import MIN_SIZE, RobotShape, RobotSpec, SceneSpec, Vec2
 from adapt.imagination.world import MAX_SUBSTEPS, TRAVEL_FRACTION
@@ -71,14 +71,6 @@ def _edges(points: Sequence[Vec2]) -> list[tuple[Vec2, Vec2]]:
     return [(points[i], points[(i + 1) % n]) for i in range(n)]
 
 
-def _point_segment(p: Vec2, a: Vec2, b: Vec2) -> float:
-    dx, dy = b[0] - a[0], b[1] - a[1]
-    length2 = dx * dx + dy * dy
-    t = 0.0 if length2 == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy)
-                                               / length2))
-    return math.hypot(p[0] - (a[0] + t * dx), p[1] - (a[1] + t * dy))
-
-
 def _side(o: Vec2, a: Vec2, b: Vec2) -> float:
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 
@@ -86,8 +78,8 @@ def _side(o: Vec2, a: Vec2, b: Vec2) -> float:
 def _segments(p: Vec2, q: Vec2, a: Vec2, b: Vec2) -> float:
     if _side(a, b, p) * _side(a, b, q) < 0 and _side(p, q, a) * _side(p, q, b) < 0:
         return 0.0
-    return min(_point_segment(p, a, b), _point_segment(q, a, b), _point_segment(a, p, q),
-               _point_segment(b, p, q))
+    return min(point_segment_distance(p, a, b), point_segment_distance(q, a, b), point_segment_distance(a, p, q),
+               point_segment_distance(b, p, q))
 
 
 def _inside(p: Vec2, polygon: Sequence[Vec2]) -> bool:

@@ -567,9 +567,9 @@ class SceneBackground(Schema):
         still, every pixel that changed over the history (``still`` False) and every pixel
         the MMD finds different, each with a margin -- and, with ``repair``, the pixels to
         learn afresh: different from the look but still for the whole history, outside
-        every monitored box and moving region, or (given the render's ``labels``) showing
-        a surface where the look was never learned, wherever they are (see the module
-        docstring)."""
+        every monitored box and moving region, or (given the render's ``labels``) where the
+        imagined bodies hid the surfaces from a fixed camera's first look and the look there
+        is still unlearned, whatever box covers them (see the module docstring)."""
         h, w = int(shape[0]), int(shape[1])
         pad = int(math.ceil(EXCLUDE_PAD * image_scale(shape)))
         kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))

@@ -46,9 +46,9 @@ imagination (paper section 4.4, Figure 6):
   ``a = k (p_real - p_sim) + c (v_real - v_sim)`` with ``c = 2 ζ sqrt(k)``
   (``k = 0``: uncorrected, for comparison); ``p_real`` is the filtered
   position extrapolated to the step's time.  Against the imagined robot the
-  pull is no more than half what the robot's drive holds (:data:`ROBOT_PUSH`):
-  the imagined robot is where the robot believes it stands, and a target beyond
-  it must not shove it there.
+  pull is no more than half what the robot's drive holds (:data:`ROBOT_PUSH`),
+  and across the robot there is none: the imagined robot is where the robot
+  believes it stands, and a target beyond it must not shove it away.
 """
 
 from __future__ import annotations
@@ -59,7 +59,7 @@ from typing import TYPE_CHECKING, Any, Mapping
 import numpy as np
 
 from adapt.errors import SchemaError
-from adapt.geometry import MAX_PIXELS
+from adapt.geometry import MAX_PIXELS, point_segment_distance
 from adapt.imagination import Ball
 from adapt.imagination.scene import MAX_ACCEL
 from adapt.imagination.sight import hidden_by
@@ -696,7 +696,7 @@ class ForegroundObject(Schema):
             here = (float(body.position[0]), float(body.position[1]))
             if math.dist(here, pose[0]) < clear:
                 limit = min(limit, ROBOT_PUSH * robot.mass * robot.max_accel / body.mass)
-            elif _to_segment(pose[0], here, (px, py)) < clear:
+            elif point_segment_distance(pose[0], here, (px, py)) < clear:
                 return
         a = math.hypot(ax, ay)
         if a > limit:
@@ -874,10 +874,3 @@ FOREGROUND_OBJECT = SchemaSpec(
     ),
 )
 
-
-def _to_segment(p: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
-    """Distance from ``p`` to the segment from ``a`` to ``b``."""
-    dx, dy = b[0] - a[0], b[1] - a[1]
-    n = dx * dx + dy * dy
-    t = 0.0 if n <= 0.0 else min(max(((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / n, 0.0), 1.0)
-    return math.dist(p, (a[0] + t * dx, a[1] + t * dy))
