@@ -63,6 +63,7 @@ from adapt.engine.production import (
     Variable,
     simple_tests,
 )
+from adapt.engine.reorder import join_order
 from adapt.engine.symbols import format_symbol
 from adapt.engine.wme import WME
 
@@ -107,8 +108,11 @@ def condition_text(element: ConditionElement) -> str:
 def matches(elements: Sequence[ConditionElement], wmes: Sequence[WME],
             bindings: Bindings | None = None) -> Iterator[Bindings]:
     """The bindings of every consistent match of a conjunction of condition
-    elements (:func:`adapt.engine.conditions.conjunction_matches`)."""
-    for b, _ in conjunction_matches(elements, WmeIndex(wmes), bindings):
+    elements (:func:`adapt.engine.conditions.conjunction_matches`), joined in the
+    matchers' order (:func:`adapt.engine.reorder.join_order`: a relational test
+    between values of different types reads differently turned round)."""
+    order = join_order(elements, tuple(bindings or ()))
+    for b, _ in conjunction_matches(elements, WmeIndex(wmes), bindings, positives=order):
         yield b
 
 
@@ -168,10 +172,20 @@ def first_failure(production: Production, wmes: Sequence[WME],
     ``production`` survives, or ``None`` if the production matches."""
     index = WmeIndex(wmes)
     elements = production.conditions
-    order = evaluation_order(elements)
-    depth, partials = _deepest(elements, order, index, examples)
-    if depth == len(order):
+    # whether it matches, in the matchers' join order: a relational test waiting for a
+    # variable bound later is checked there turned round, which between values of
+    # different types reads differently; where, in source order (as the rule reads) unless
+    # that order matches where the matchers' does not
+    joined = evaluation_order(elements, positives=join_order(elements))
+    depth, partials = _deepest(elements, joined, index, examples)
+    if depth == len(joined):
         return None
+    order = evaluation_order(elements)
+    written_depth, written = _deepest(elements, order, index, examples)
+    if written_depth < len(order):
+        depth, partials = written_depth, written
+    else:
+        order = joined
     element = elements[order[depth]]
     alone: list[WME] = []
     if isinstance(element, Condition) and not element.negated:

@@ -79,3 +79,33 @@ def test_negation_before_its_binding_condition(tmp_path) -> None:
     failure = first_failure(p, base + [WME(s1, "x", 2, False, 3)])
     assert failure is not None and failure.index == 1 and failure.condition.negated
     assert [w.timetag for w in failure.alone] == [3]
+
+
+def test_a_relation_between_types_waiting_for_a_later_identifier() -> None:
+    """``(<s> ^{a < <x>}) (<x> ^{a <> x})`` on ``(S1 ^a S1)``: both matchers join the second
+    condition first (its identifier binds ``<x>``) and read ``a < S1``, which holds (a value
+    of another type is less); the trace tools joined in source order and read it turned
+    round, ``S1 > a``, which does not, and said the rule did not match (found by the
+    property above)."""
+    from adapt.engine.production import (
+        Condition,
+        ConjunctiveTest,
+        EqualityTest,
+        Production,
+        RelationalTest,
+        Variable,
+    )
+
+    s, x = Variable("<s>"), Variable("<x>")
+    production = Production("p", (
+        Condition(s, ConjunctiveTest((EqualityTest("a"), RelationalTest("<", x))), None),
+        Condition(x, ConjunctiveTest((EqualityTest("a"), RelationalTest("<>", "x"))), None)),
+        ())
+    s1 = Identifier("S", 1)
+    wmes = [WME(s1, "a", s1, False, 1)]
+    rete = Rete()
+    rete.add_production(production)
+    rete.add_wme(wmes[0])
+    assert len(list(rete.matches())) == 1
+    assert first_failure(production, wmes) is None
+    assert [dict(b) for b in matches(production.conditions, wmes)] == [{s: s1, x: s1}]
