@@ -873,4 +873,3 @@ FOREGROUND_OBJECT = SchemaSpec(
         Parameter("predict", bool, True, "predict at the scenario's horizons (predict section)"),
     ),
 )
-
