@@ -143,3 +143,18 @@ def test_the_runner_refuses_a_negative_seed() -> None:
 
     with pytest.raises(RunError, match="the seed must be an integer >= 0, got -1"):
         Runner(load_scenario(BOUNCING), seed=-1)
+
+
+def test_lines_to_both_streams_come_in_the_order_they_were_written(tmp_path: Path) -> None:
+    # ``adapt rules run zero.soar 2>&1`` (docs/cli.md) printed the error before the run's
+    # summary when Python buffered a piped standard output (PYTHONUNBUFFERED unset, as on a
+    # fresh machine)
+    rules = tmp_path / "zero.soar"
+    rules.write_text("sp {a (state <s> ^superstate nil) --> (<s> ^x (/ 1 0)) (halt)}\n")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}
+    env["PYTHONPATH"] = str(ROOT) + os.pathsep + env.get("PYTHONPATH", "")
+    proc = subprocess.run([sys.executable, "-m", "adapt", "rules", "run", str(rules)], cwd=tmp_path,
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env, timeout=120)
+    lines = proc.stdout.decode().splitlines()
+    assert proc.returncode == 6, lines
+    assert lines[-2].startswith("-- halt:") and lines[-1].startswith("Error: attempt to divide"), lines

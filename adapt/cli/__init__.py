@@ -121,13 +121,20 @@ def _quiet_stdout() -> None:
 def _safe_streams() -> None:
     """File names that are not UTF-8 reach Python as surrogates (U+DC80..U+DCFF):
     standard output writes them back as the bytes they were (as ``ls`` does),
-    standard error as ``\\udcff`` (Python's own choice for it)."""
+    standard error as ``\\udcff`` (Python's own choice for it).  Standard output is
+    line-buffered, so that lines written to both streams (``2>&1`` into a pipe or a
+    file) come in the order they were written, as on a terminal."""
     for stream, errors in ((sys.stdout, "surrogateescape"), (sys.stderr, "backslashreplace")):
         if getattr(stream, "errors", None) == "strict" and hasattr(stream, "reconfigure"):
             try:
                 stream.reconfigure(errors=errors)
             except (ValueError, OSError):
                 pass
+    if hasattr(sys.stdout, "reconfigure") and not getattr(sys.stdout, "line_buffering", True):
+        try:
+            sys.stdout.reconfigure(line_buffering=True)
+        except (ValueError, OSError):
+            pass
 
 
 def main(argv: Sequence[str] | None = None) -> int:
