@@ -63,7 +63,15 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    schema for it either; and those texels are learned as soon as their pixels held
    still for ``still_s``, whatever box or region covers them (what the imagination
    draws there now, the robot come back, is never learned).
-   A camera on the robot restarts its history whenever the robot moves.
+   A camera on the robot restarts its history whenever the robot's odometry moves
+   it (never for this schema's own corrections of where the robot stands), and is
+   ``camera-moving`` for ``still_s`` after: its difference then holds its own
+   motion's errors (the perception rules spawn only for a region that looks like a
+   declared object).  A camera that held still that long and has been far from
+   synchronised (more than :data:`STRUCTURE_ACCEPT` pixels) for
+   :data:`UNSYNCHRONISED_RELEARN` frames learns afresh what held still: its
+   corrections do not settle, so its look is what is wrong (a texture the renderer
+   aliases anew since the camera turned, a change of light).
    A frame whose matches give no ``H_e`` (a texture the renderer aliases
    differently as a robot's camera turns, a plain face filling the view) is
    aligned by the structure instead, keeping the look, and compared through
@@ -137,6 +145,10 @@ STRUCTURE_OWN_COLOURS = 6.0
 STRUCTURE_ACCEPT = 1.5
 #: Frames without alignment, once learned, before the structure is aligned again.
 REACQUIRE_AFTER = 10
+#: Frames in a row aligned but farther than :data:`STRUCTURE_ACCEPT` from synchronised, by a
+#: camera that held still, before what held still is learned afresh (the look is wrong, not
+#: the pose).
+UNSYNCHRONISED_RELEARN = 10
 #: Pixels (at 640x480) around monitored boxes, regions and differences that are never learned.
 EXCLUDE_PAD = 6
 #: Label of the floor in a render (the full pose is corrected from matches on it).
@@ -150,7 +162,8 @@ STILL_SHARE = 0.02
 UNSEEN_SHARE = 0.5
 #: The first look waits for a full history while more than this share of pixels changed.
 MOVING_SHARE = 0.001
-#: A camera on the robot has moved (its frame history restarts) past these (m, degrees).
+#: A camera on the robot has moved (its frame history restarts) once the robot's odometry
+#: carried it past these (m, degrees) since it last did.
 MOUNT_MOVED = (0.005, 0.3)
 
 
@@ -210,6 +223,7 @@ class SceneBackground(Schema):
         self._structure_errors: list[float] = []
         self._since_learn = 0
         self._unaligned = 0
+        self._unsynchronised = 0  # frames in a row aligned but far from synchronised
         #: The frame the look was first learned from (for the figures); None before.
         self.first_look: FirstLook | None = None
         #: The percept last published.
@@ -218,7 +232,15 @@ class SceneBackground(Schema):
         #: The camera's recent frames while it did not move (what held still).
         self.history = FrameHistory(max(3, int(round(float(self.parameters["still_s"])
                                                        / network.frame_interval))))
-        self._mount_pose: tuple[tuple[float, float], float] | None = None
+        #: A camera on the robot: the imagined robot's pose at the end of the last frame (after
+        #: this schema's own corrections, which are no motion of the camera)
+        self._last_pose: tuple[tuple[float, float], float] | None = None
+        #: ... how far its odometry carried it since it last moved past MOUNT_MOVED (m, radians)
+        self._moved = (0.0, 0.0)
+        self._moved_at = -math.inf  # ... and when it last did (s)
+        #: A camera on the robot that its odometry moved in the last ``still_s`` seconds (its
+        #: difference holds its own motion's errors: parallax, blur, texture aliased anew).
+        self.camera_moving = False
         self._held = 0  # frames the first look has waited, once aligned
         #: A fixed camera's pixels that imagined bodies hid from the first look (None: none).
         self._covered: NDArray[np.bool_] | None = None
@@ -255,6 +277,35 @@ class SceneBackground(Schema):
         self._robot_box = None if robot is None else rendered.boxes.get(robot.name)
 
     def perceive(self, frame: "Frame") -> None:
+        mirror = self.network.mirror
+        if self._odometry_moved():
+            self.history.clear()  # what the camera saw before is another view
+            self._moved_at = frame.time
+        self.camera_moving = mirror.mounted and frame.time - self._moved_at \
+            < float(self.parameters["still_s"])
+        self._perceive(frame)
+        if mirror.mounted:
+            self._last_pose = mirror.robot_pose()
+
+    def _odometry_moved(self) -> bool:
+        """A camera on the robot: whether the robot's odometry has carried it past
+        :data:`MOUNT_MOVED` since it last did (this schema's own corrections of where the
+        robot stands move no camera, and are not counted)."""
+        mirror = self.network.mirror
+        pose = mirror.robot_pose() if mirror.mounted else None
+        if pose is None or self._last_pose is None:
+            return False
+        (x0, y0), h0 = self._last_pose
+        (x1, y1), h1 = pose
+        turn = abs((h1 - h0 + math.pi) % (2 * math.pi) - math.pi)
+        moved = (self._moved[0] + math.dist((x0, y0), (x1, y1)), self._moved[1] + turn)
+        if moved[0] > MOUNT_MOVED[0] or math.degrees(moved[1]) > MOUNT_MOVED[1]:
+            self._moved = (0.0, 0.0)
+            return True
+        self._moved = moved
+        return False
+
+    def _perceive(self, frame: "Frame") -> None:
         started = time.perf_counter()
         mirror = self.network.mirror
         self.learning = None
@@ -396,19 +447,7 @@ class SceneBackground(Schema):
 
     def _remember(self, frame: "Frame") -> None:
         """Keep the frame in the history of a camera that has not moved (a camera on the
-        robot starts it again whenever the robot moves)."""
-        mirror = self.network.mirror
-        if mirror.mounted:
-            pose = mirror.robot_pose()
-            if pose is not None and self._mount_pose is not None:
-                (x0, y0), h0 = self._mount_pose
-                (x1, y1), h1 = pose
-                turn = abs((h1 - h0 + math.pi) % (2 * math.pi) - math.pi)
-                if math.dist((x0, y0), (x1, y1)) > MOUNT_MOVED[0] \
-                        or math.degrees(turn) > MOUNT_MOVED[1]:
-                    self.history.clear()
-            if not len(self.history):
-                self._mount_pose = pose
+        robot starts it again whenever the robot's odometry moves it: :meth:`perceive`)."""
         self.history.push(frame.image)
 
     def _moving(self) -> bool:
@@ -524,7 +563,16 @@ class SceneBackground(Schema):
         self._since_learn += 1
         synchronised = self.trusted and (self.pixel_error <= self.parameters["tolerance"]
                                          or not self.parameters["correct"])
-        if synchronised and self._since_learn >= self.parameters["learn_every"] \
+        far = self.trusted and self.pixel_error > STRUCTURE_ACCEPT * image_scale(frame.image.shape)
+        self._unsynchronised = self._unsynchronised + 1 if far else 0
+        # a camera that stood still for still_s (a camera on the robot: by its odometry)
+        # and has been far from synchronised for UNSYNCHRONISED_RELEARN frames: its
+        # corrections do not converge, so the look is wrong, not the pose (a texture the
+        # renderer aliases differently since the camera turned, the light changed): what
+        # held still over those frames is learned afresh
+        stuck = (self._unsynchronised >= UNSYNCHRONISED_RELEARN
+                 and len(self.history) >= self.history.depth)
+        if (synchronised or stuck) and self._since_learn >= self.parameters["learn_every"] \
                 and self.labels is not None:
             self._learn(frame, self.labels, fresh=False)
 
@@ -707,6 +755,7 @@ class SceneBackground(Schema):
         node.set("pixel-error", round(self.pixel_error, 2) if aligned else None)
         node.set("inliers", 0 if self.result is None else self.result.n_inliers)
         node.set("synchronised", aligned and self.pixel_error <= self.parameters["tolerance"])
+        node.set("camera-moving", self.camera_moving)
         unexpected = [r for r in self.regions if not r.expected]
         node.set("unexpected", len(unexpected))
         node.set("appearance", self.stage.value)
