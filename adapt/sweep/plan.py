@@ -15,8 +15,8 @@ early still has about as many runs in every cell.
 A run's key is its seed and a hash of its cell's overrides
 (``seed7-3f9a0c21b4e8``): it stays the same when the grid around it changes,
 which is how a resumed sweep recognises the runs it already has.  The
-scenario's **fingerprint** (a hash of the YAML text, its rule files and
-``--max-frames``) goes into every record, so a sweep never mixes runs of two
+scenario's **fingerprint** (a hash of the YAML text, its rule files, its plugins'
+files and ``--max-frames``) goes into every record, so a sweep never mixes runs of two
 versions of its scenario.
 
 Examples
@@ -116,13 +116,16 @@ def cell_hash(cell: Cell) -> str:
 
 
 def fingerprint(scenario: Scenario, text: bytes, max_frames: int | None) -> str:
-    """A hash of the scenario's YAML text, its rule files' text and ``max_frames``."""
+    """A hash of the scenario's YAML text, its rule files' and plugins' text (each plugin's
+    own file: a package's other modules are not read) and ``max_frames``."""
     h = hashlib.sha256()
     h.update(text)
-    for rf in sorted({str(r.path) for r in scenario.rules}):
-        h.update(b"\0" + rf.encode("utf-8") + b"\0")
+    files = [("rules", str(r.path)) for r in scenario.rules]
+    files += [("plugin", str(p.file)) for p in scenario.plugins if p.file is not None]
+    for kind, name in sorted(set(files)):
+        h.update(b"\0" + kind.encode("utf-8") + b"\0" + name.encode("utf-8") + b"\0")
         try:
-            h.update(Path(rf).read_bytes())
+            h.update(Path(name).read_bytes())
         except OSError:
             h.update(b"<unreadable>")
     h.update(f"\0max_frames={max_frames}".encode())

@@ -7,8 +7,8 @@
 1. open ``DIR/runs.jsonl`` (:class:`~adapt.sweep.store.RunLog`: the folder
    locked, the temporary files a killed sweep left removed, a cut-short last
    line dropped) and refuse it if it holds runs of another
-   version of the scenario (another fingerprint: the YAML, its rule files or
-   ``--max-frames`` changed), since their results would be mixed;
+   version of the scenario (another fingerprint: the YAML, its rule files, its
+   plugins' files or ``--max-frames`` changed), since their results would be mixed;
 2. skip every run of the plan that is already there (``ok``, or ``failed``
    unless ``retry_failed``; a ``lost`` run is run again);
 3. connect (:mod:`adapt.sweep.cluster`), check that the workers see the
@@ -359,9 +359,9 @@ def _check_fingerprints(log: RunLog, plan: Plan, folder: Path) -> None:
         raise SweepError(
             f"{folder / 'runs.jsonl'} holds {len(other)} run(s) of another version of the "
             f"scenario (fingerprint {other[0].get('fingerprint')}, now {plan.fingerprint}: the "
-            "scenario file, one of its rule files or --max-frames changed since); their results "
-            "would be mixed with new ones. Choose another --out folder, or move runs.jsonl away "
-            "to start this folder over")
+            "scenario file, one of its rule files or plugins or --max-frames changed since); "
+            "their results would be mixed with new ones. Choose another --out folder, or move "
+            "runs.jsonl away to start this folder over")
 
 
 def _finish(plan: Plan, folder: Path, log: RunLog, state: _State, interrupted: bool,

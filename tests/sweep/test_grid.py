@@ -136,3 +136,16 @@ def test_seeds_are_swept_with_seeds_and_an_axis_once(room: Path) -> None:
         make_plan(room, sets=["run.fps=10", "run.fps=20"])
     with pytest.raises(SweepSpecError, match="--max-frames must be at least 1"):
         make_plan(room, max_frames=0)
+
+
+def test_a_plugin_file_is_part_of_the_scenarios_fingerprint(tmp_path: Path) -> None:
+    # a sweep never mixes runs of two versions of its scenario: a changed plugin is one
+    (tmp_path / "extra.py").write_text("VALUE = 1\n")
+    scenario = tmp_path / "s.yaml"
+    root = Path(__file__).resolve().parents[2]
+    base = (root / "scenarios" / "background-sync.yaml").read_text()
+    scenario.write_text("plugins: [extra.py]\n" + base.replace("../rules", str(root / "rules")))
+    before = make_plan(scenario).fingerprint
+    assert make_plan(scenario).fingerprint == before
+    (tmp_path / "extra.py").write_text("VALUE = 2\n")
+    assert make_plan(scenario).fingerprint != before
