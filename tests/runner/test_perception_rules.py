@@ -102,10 +102,10 @@ def run(net: Network, decisions: int = 12) -> list[tuple[str, dict[str, Any]]]:
 
 def stale_and_other() -> dict[str, dict[str, Any]]:
     return {"ball": {"type": "foreground-object", "kind": "perceptual", "object": "ball",
-                     "declared": True, "seen": False, "frames-seen": 0},
+                     "declared": True, "seen": False, "frames-seen": 0, "moved": False},
             "foreground-object-1": {"type": "foreground-object", "kind": "perceptual",
                                     "object": "foreground-object-1", "declared": False,
-                                    "seen": True, "frames-seen": 9}}
+                                    "seen": True, "frames-seen": 9, "moved": True}}
 
 
 @pytest.mark.parametrize("ghost_first", [True, False])
@@ -126,7 +126,7 @@ def test_the_goals_object_on_a_ghost_is_recognised_in_the_unknown_object_that_lo
 def test_nothing_is_recognised_once_the_goals_object_was_seen_or_the_other_looks_unlike_it(
 ) -> None:
     seen = stale_and_other()
-    seen["ball"]["frames-seen"] = 3
+    seen["ball"].update({"frames-seen": 3, "moved": True})  # it followed its object
     assert not [v for v, _ in run(Network(seen, [dict(GHOST), dict(BALL)]))
                 if v == "remove"]
     unlike = dict(BALL)
@@ -198,3 +198,22 @@ def test_a_camera_the_robot_drives_spawns_only_for_what_looks_like_a_declared_ob
     # ... or its schema lost it and a region that looks like it moves elsewhere
     done = run(Network(lost(), [dict(like)], camera_moving=moving))
     assert [v for v, _ in done][:2] == ["remove", "instantiate"], done
+
+
+def test_the_goals_object_on_a_ghost_of_its_own_shape_is_recognised_once_the_other_moves() -> None:
+    # held-out throw 124 of bench/foreign.py: the first look, learned from two frames, took
+    # in the ball where it stood (green on grass: too few pixels changed to say something
+    # moved); the ball's schema was spawned on that ghost, which shows a ball and is "seen"
+    # every frame, while the real ball, rolling, was taken for an object the scenario does
+    # not know
+    ghost = stale_and_other()
+    ghost["ball"].update({"seen": True, "frames-seen": 40})
+    done = run(Network(ghost, [dict(GHOST), dict(BALL)]))
+    assert sorted(a["name"] for v, a in done if v == "remove") == ["ball", "foreground-object-1"]
+    assert [a for v, a in done if v == "instantiate"][0]["region"] == 2, done
+    # not while the other has not moved either, nor once the goal's object has moved
+    for schema, moved in (("foreground-object-1", False), ("ball", True)):
+        held = stale_and_other()
+        held["ball"].update({"seen": True, "frames-seen": 40})
+        held[schema]["moved"] = moved
+        assert not [v for v, _ in run(Network(held, [dict(GHOST), dict(BALL)])) if v == "remove"]
