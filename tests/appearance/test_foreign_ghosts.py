@@ -10,29 +10,18 @@ the ball for a frame near it could take it for the ball and hold it.
 
 from __future__ import annotations
 
-import importlib.util
 import math
-from pathlib import Path
 from typing import Any
 
 import pytest
 
 from adapt.runner import Runner
-from adapt.scenario import OutputSettings, loads_scenario
 from adapt.schemas.foreground import ForegroundObject
+
+from .bench_throws import QUIET, throw
 
 pytest.importorskip("pybullet")
 
-ROOT = Path(__file__).resolve().parents[2]
-QUIET = OutputSettings(report=False, trace=False, video=False, figures=False)
-
-
-def _scenario_text(seed: int, duration: float) -> str:
-    spec = importlib.util.spec_from_file_location("_bench_foreign", ROOT / "bench" / "foreign.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return str(module.scenario_text(seed, True, duration)[0])
 
 
 class _Rows:
@@ -54,7 +43,7 @@ class _Rows:
 
 
 def test_the_floor_under_the_robots_start_is_never_spawned_for() -> None:
-    sc = loads_scenario(_scenario_text(13, 3.0), file="foreign-13.yaml", base=ROOT / "scenarios")
+    sc = throw(13, 3.0)
     assert sc.scene.robot is not None
     start = sc.scene.robot.position
     rows = _Rows()
@@ -78,7 +67,7 @@ def test_a_region_the_ball_left_is_no_longer_its() -> None:
     # never repaired, and at 2.4 s, after the ball was missed for a few frames, the schema
     # took fragments of it for the ball, 1.5 m away.  Once the schema has found its object,
     # a region is its only where its object's box is.
-    sc = loads_scenario(_scenario_text(34, 1.6), file="foreign-34.yaml", base=ROOT / "scenarios")
+    sc = throw(34, 1.6)
     stale: list[tuple[int, tuple[int, int, int, int]]] = []
     seen = []
 

@@ -14,30 +14,19 @@ never was again.
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import statistics
-from pathlib import Path
 from typing import Any
 
 import pytest
 
 from adapt.runner import Runner
-from adapt.scenario import OutputSettings, loads_scenario
 from adapt.schemas.background import SceneBackground
+
+from .bench_throws import QUIET, throw
 
 pytest.importorskip("pybullet")
 
-ROOT = Path(__file__).resolve().parents[2]
-QUIET = OutputSettings(report=False, trace=False, video=False, figures=False)
-
-
-def _scenario_text(seed: int, duration: float) -> str:
-    spec = importlib.util.spec_from_file_location("_bench_foreign", ROOT / "bench" / "foreign.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return str(module.scenario_text(seed, True, duration)[0])
 
 
 class _Rows:
@@ -57,7 +46,7 @@ class _Rows:
 
 
 def test_a_robot_camera_that_stands_still_learns_afresh_what_its_corrections_cannot_settle() -> None:
-    sc = loads_scenario(_scenario_text(8, 1.9), file="foreign-8.yaml", base=ROOT / "scenarios")
+    sc = throw(8, 1.9)
     rows = _Rows()
     runner = Runner(sc, out=None, seed=8, outputs=QUIET, listeners=(rows,))
     rows.runner = runner
