@@ -48,6 +48,7 @@ __all__ = [
     "MAX_FOCAL",
     "MAX_COORDINATE",
     "point_segment_distance",
+    "segment_distance",
 ]
 
 #: World up direction.
@@ -106,6 +107,29 @@ def point_segment_distance(p: Sequence[float], a: Sequence[float], b: Sequence[f
     t = 0.0 if length2 == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy)
                                                / length2))
     return math.hypot(p[0] - (a[0] + t * dx), p[1] - (a[1] + t * dy))
+
+
+def _side(o: Sequence[float], u: Sequence[float], v: Sequence[float]) -> float:
+    """Which side of the line ``o-u`` point ``v`` is on (the cross product's sign)."""
+    return (u[0] - o[0]) * (v[1] - o[1]) - (u[1] - o[1]) * (v[0] - o[0])
+
+
+def segment_distance(p: Sequence[float], q: Sequence[float], a: Sequence[float],
+                     b: Sequence[float]) -> float:
+    """The shortest distance between the segments ``p-q`` and ``a-b`` (2D; 0 when they
+    cross).
+
+    Examples
+    --------
+    >>> segment_distance((0.0, -1.0), (0.0, 1.0), (-1.0, 0.0), (1.0, 0.0))
+    0.0
+    >>> segment_distance((0.0, 1.0), (0.0, 2.0), (-1.0, 0.0), (1.0, 0.0))
+    1.0
+    """
+    if _side(a, b, p) * _side(a, b, q) < 0 and _side(p, q, a) * _side(p, q, b) < 0:
+        return 0.0
+    return min(point_segment_distance(p, a, b), point_segment_distance(q, a, b),
+               point_segment_distance(a, p, q), point_segment_distance(b, p, q))
 
 
 def look_at_rotation(

@@ -31,29 +31,13 @@ import math
 from dataclasses import dataclass
 from typing import Sequence
 
-from adapt.geometry import point_segment_distance
+from adapt.geometry import point_segment_distance, segment_distance
 from adapt.imagination.scene import Obstacle, SceneSpec, Vec2, Wall
 
 __all__ = ["Footprint", "Collision", "path_length"]
 
 #: Corner points stand this much more than the radius off the obstacle (metres).
 CLEARANCE = 0.03
-
-
-def _cross(ox: float, oy: float, ax: float, ay: float, bx: float, by: float) -> float:
-    return (ax - ox) * (by - oy) - (ay - oy) * (bx - ox)
-
-
-def _segment_segment(p: Vec2, q: Vec2, a: Vec2, b: Vec2) -> float:
-    """The shortest distance between segments ``p-q`` and ``a-b``."""
-    d1 = _cross(a[0], a[1], b[0], b[1], p[0], p[1])
-    d2 = _cross(a[0], a[1], b[0], b[1], q[0], q[1])
-    d3 = _cross(p[0], p[1], q[0], q[1], a[0], a[1])
-    d4 = _cross(p[0], p[1], q[0], q[1], b[0], b[1])
-    if d1 * d2 < 0 and d3 * d4 < 0:
-        return 0.0
-    return min(point_segment_distance(p, a, b), point_segment_distance(q, a, b),
-               point_segment_distance(a, p, q), point_segment_distance(b, p, q))
 
 
 def _inside(p: Sequence[float], polygon: Sequence[Vec2]) -> bool:
@@ -161,7 +145,7 @@ class Footprint:
         if not (self.clear(pa) and self.clear(pb)):
             return False
         r = self.radius
-        return all(_segment_segment(pa, pb, s, e) >= r for s, e in self.segments)
+        return all(segment_distance(pa, pb, s, e) >= r for s, e in self.segments)
 
     # -- a way round ---------------------------------------------------------------------------
 
@@ -268,6 +252,6 @@ class Footprint:
         r = self.radius
         for s, e in self.segments:
             here = point_segment_distance(a, s, e)
-            if _segment_segment(a, b, s, e) < min(r, here) - 1e-9:
+            if segment_distance(a, b, s, e) < min(r, here) - 1e-9:
                 return False
         return True

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Sequence
 
-from adapt.geometry import MAX_COORDINATE, point_segment_distance
+from adapt.geometry import MAX_COORDINATE, segment_distance
 from adapt.imagination.predict import MAX_ENSEMBLE_STEPS
 from adapt.imagination.scene import MIN_SIZE, RobotShape, RobotSpec, SceneSpec, Vec2
 from adapt.imagination.world import MAX_SUBSTEPS, TRAVEL_FRACTION
@@ -75,13 +75,6 @@ def _side(o: Vec2, a: Vec2, b: Vec2) -> float:
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 
 
-def _segments(p: Vec2, q: Vec2, a: Vec2, b: Vec2) -> float:
-    if _side(a, b, p) * _side(a, b, q) < 0 and _side(p, q, a) * _side(p, q, b) < 0:
-        return 0.0
-    return min(point_segment_distance(p, a, b), point_segment_distance(q, a, b), point_segment_distance(a, p, q),
-               point_segment_distance(b, p, q))
-
-
 def _inside(p: Vec2, polygon: Sequence[Vec2]) -> bool:
     """Inside (or on) a convex polygon of either winding."""
     if len(polygon) < 3:
@@ -104,7 +97,7 @@ def shape_distance(a: Sequence[Vec2], b: Sequence[Vec2]) -> float:
     """
     if any(_inside(p, b) for p in a) or any(_inside(p, a) for p in b):
         return 0.0
-    return min(_segments(p, q, c, d) for p, q in _edges(a) for c, d in _edges(b))
+    return min(segment_distance(p, q, c, d) for p, q in _edges(a) for c, d in _edges(b))
 
 
 def _robot_shape(robot: RobotSpec) -> tuple[list[Vec2], float]:
