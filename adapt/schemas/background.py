@@ -236,7 +236,7 @@ class SceneBackground(Schema):
         #: this schema's own corrections, which are no motion of the camera)
         self._last_pose: tuple[tuple[float, float], float] | None = None
         #: ... how far its odometry carried it since it last moved past MOUNT_MOVED (m, radians)
-        self._moved = (0.0, 0.0)
+        self._travelled = (0.0, 0.0)
         self._moved_at = -math.inf  # ... and when it last did (s)
         #: A camera on the robot that its odometry moved in the last ``still_s`` seconds (its
         #: difference holds its own motion's errors: parallax, blur, texture aliased anew).
@@ -298,11 +298,11 @@ class SceneBackground(Schema):
         (x0, y0), h0 = self._last_pose
         (x1, y1), h1 = pose
         turn = abs((h1 - h0 + math.pi) % (2 * math.pi) - math.pi)
-        moved = (self._moved[0] + math.dist((x0, y0), (x1, y1)), self._moved[1] + turn)
-        if moved[0] > MOUNT_MOVED[0] or math.degrees(moved[1]) > MOUNT_MOVED[1]:
-            self._moved = (0.0, 0.0)
+        total = (self._travelled[0] + math.dist((x0, y0), (x1, y1)), self._travelled[1] + turn)
+        if total[0] > MOUNT_MOVED[0] or math.degrees(total[1]) > MOUNT_MOVED[1]:
+            self._travelled = (0.0, 0.0)
             return True
-        self._moved = moved
+        self._travelled = total
         return False
 
     def _perceive(self, frame: "Frame") -> None:
