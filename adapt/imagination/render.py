@@ -239,6 +239,12 @@ class Renderer:
         return RenderResult(image, labels, _EMPTY_BOXES,
                             MappingProxyType(label_names(self.scene, ())))
 
+    @property
+    def background_depth(self) -> NDArray[np.float32]:
+        """The static background's depth (camera ``z`` of each pixel, ``inf`` where
+        nothing is; read-only), of the same render as :attr:`background`."""
+        return self._background()[2]
+
     def _background(self) -> tuple[NDArray[np.uint8], NDArray[np.int32], NDArray[np.float32]]:
         if self._bg is None or self._bg_version != self.backdrop.version:
             version = self.backdrop.version

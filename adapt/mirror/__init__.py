@@ -91,6 +91,7 @@ class Mirror:
         self._mount = camera_follows_robot
         self._correction = (np.eye(3), np.zeros(3))  # camera pose relative to the mount
         self.camera = camera
+        self._declared = camera
         self._renderer = Renderer(scene, camera)
         self.appearance = AppearanceModel(self._renderer.surfaces)
         self._background: tuple[tuple[Any, ...], RenderResult] | None = None
@@ -153,6 +154,13 @@ class Mirror:
                                angle=float(heading)) if b.name == robot.name else b
                        for b in state.bodies)
         self.world.set_state(replace(state, bodies=bodies))
+
+    def declared_camera(self) -> Camera:
+        """The camera where the scenario puts it, before any correction: a fixed camera's
+        nominal pose, or the mount's at the imagined robot's pose."""
+        if self._mount is not None:
+            return self._mount(*self._robot_pose())
+        return self._declared
 
     def _use_camera(self, camera: Camera) -> None:
         if camera is self.camera:

@@ -33,7 +33,11 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    colour, registering it to the frame and correcting the camera, with a fit
    margin that shrinks with the error.  No MMD and no regions meanwhile
    (status ``waiting``).  Once the error is within ``tolerance`` (or stops
-   falling below :data:`STRUCTURE_ACCEPT` pixels), the
+   falling below :data:`STRUCTURE_ACCEPT` pixels), the camera's whole pose is
+   fitted to the frame's edges at the structure's seams, from where the
+   scenario puts it (``edge_fit``, :mod:`adapt.vision.edge_pose`: the
+   registration is a turn of the image, and trades a wall's parallel seams
+   for each other); then the
    per-pixel median of the frames kept since the start (up to ``still_s``
    seconds of them, :class:`~adapt.vision.stillness.FrameHistory`: an object
    that moved through the view is gone from it) is back-projected onto every
@@ -100,7 +104,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import VisionError
-from adapt.geometry import MAX_PIXELS
+from adapt.geometry import MAX_PIXELS, rotation_log
 from adapt.imagination import LABEL_BALL
 from adapt.mirror.structure import face_labels
 from adapt.scenario import RealityKind
@@ -116,6 +120,7 @@ from adapt.schemas.percepts import (
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 from adapt.schemas.tracks import RegionTracker
 from adapt.vision.camera_correction import correct_rotation
+from adapt.vision.edge_pose import EdgePose, apply_pose, fit_edges, seam_points
 from adapt.vision.edges import edge_agreement
 from adapt.vision.homography import corner_error
 from adapt.vision.matching import PreparedImage, prepare
@@ -192,6 +197,8 @@ class SceneBackground(Schema):
         self.pixel_error = math.nan
         self.correction_deg = 0.0
         self.corrections = 0
+        #: The last fit of the camera's pose to the frame's edges (``edge_fit``), if any.
+        self.edge_fit: EdgePose | None = None
         #: Structure corrections refused because they moved the seams off the image's edges.
         self.refused_corrections = 0
         #: Frames whose matches gave no H_e, compared through the structure's alignment.
@@ -321,6 +328,8 @@ class SceneBackground(Schema):
                 self._waiting(frame, started, gathering=True)
                 return
             self._held = 0
+            if self.parameters["edge_fit"] and self.parameters["correct"]:
+                self._fit_edges(frame)
             self._learn(frame, mirror.render().labels, fresh=True)
             self.stage = AppearanceStage.LEARNED
         self._rendered()
@@ -535,6 +544,31 @@ class SceneBackground(Schema):
             self.corrections += 1
             mirror.set_camera(new)
         return False
+
+    def _fit_edges(self, frame: "Frame") -> None:
+        """Fit the camera's pose to the frame's edges at the structure's seams
+        (:func:`~adapt.vision.edge_pose.fit_edges`), once the structure is aligned and
+        before the look is learned through it (a look learned through a wrong pose hides
+        the error: see the module docstring)."""
+        mirror = self.network.mirror
+        current = mirror.camera
+        # from where the scenario puts the camera (the fit's prior on the turn is centred
+        # there: the structure's alignment can trade one seam for its parallel neighbour),
+        # and from where the structure aligned it
+        cam = mirror.declared_camera()
+        renderer = mirror.renderer.with_camera(cam)
+        labels = face_labels(renderer.background.labels, renderer.surfaces, cam)
+        turn = current.rotation @ cam.rotation.T
+        aligned = np.r_[rotation_log(turn), current.rotation @ (cam.position - current.position)]
+        fit = fit_edges(frame.image, seam_points(labels, renderer.background_depth, cam.K), cam.K,
+                        starts=(aligned,))
+        self.edge_fit = fit
+        if fit is None:
+            return
+        new = apply_pose(cam, fit)
+        self.correction_deg += current.angle_to(new)
+        self.corrections += 1
+        mirror.set_camera(new)
 
     def _seams_agree(self, image: NDArray[np.uint8], labels: NDArray[np.integer],
                      new: "Camera") -> bool:
@@ -871,6 +905,8 @@ SCENE_BACKGROUND = SchemaSpec(
         Parameter("learn_gate", float, 40.0, "a learned pixel that differs from the frame by more "
                   "than this is not refined", unit="grey levels", low=0.0, high=255.0,
                   low_open=True),
+        Parameter("edge_fit", bool, True, "before the first look is learned, fit the camera's "
+                  "pose (turn and shift) to the frame's edges at the structure's seams"),
         Parameter("still_s", float, 0.4, "a pixel is learned only once it held still this long "
                   "(the first look: the median of this many seconds of frames)", unit="s",
                   low=0.0, high=2.0, low_open=True),

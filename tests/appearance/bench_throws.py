@@ -21,7 +21,8 @@ def scenario_text(seed: int, duration: float) -> str:
     return str(module.scenario_text(seed, True, duration)[0])
 
 
-def throw(seed: int, duration: float) -> Scenario:
-    """Throw ``seed``'s scenario, read as ``bench/foreign.py`` reads it."""
+def throw(seed: int, duration: float, *overrides: str) -> Scenario:
+    """Throw ``seed``'s scenario, read as ``bench/foreign.py`` reads it (with ``--set``
+    style ``overrides``, ``KEY=VALUE``)."""
     return loads_scenario(scenario_text(seed, duration), file=f"foreign-{seed}.yaml",
-                          base=ROOT / "scenarios")
+                          base=ROOT / "scenarios", overrides=list(overrides))

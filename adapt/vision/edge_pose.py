@@ -1,0 +1,388 @@
+"""The camera's pose from the image's edges at the seams of the known structure.
+
+Where two surfaces of the model meet, or one ends against what lies beyond it (the
+floor-wall line, a wall's top, an obstacle's outline), the real image has an edge
+wherever its textures and light, if the camera is where the model says.  The
+structure alignment (:func:`~adapt.vision.registration.structure_homography`)
+registers a flat look by an image motion, a turn of the camera; it cannot tell a
+turned camera from a moved one, and a wall seen from above shows three parallel
+seams (its foot, its inner and its outer top edge) that a motion of the image can
+trade for each other.  A camera a degree off maps the floor 3-10 cm off.
+
+:func:`fit_edges` fits the whole pose instead.  :func:`seam_points` takes the seams
+of a render with their depth (the nearer of the two sides: the edge in front), so
+each is a point in the camera's frame.  A pose change -- a small turn ``w`` and a
+shift ``t`` of the camera, in its own frame -- moves the points to ``R(w) X + t``.
+The score of a pose is the mean over the projected seams of the square root of the
+contrast across each, ``|C(q + d e) - C(q - d e)|`` of the blurred colour image
+``C``, with ``e`` the axis along which the render crossed the seam and ``d`` about
+the blur.  A texture's edges point every way and fall away in the blur; a seam's
+contrast is there along its whole length; the square root makes many seams on their
+edges outweigh a few on very strong ones.
+
+The search:
+
+1. a grid over the turn (the large part of any offset: :data:`SEARCH_DEG` each way)
+   at a coarse blur, on at most 1,500 of the seams;
+2. from the start, from any ``starts`` given (where another alignment put the
+   camera) and from the grid's five best peaks, a compass search over the turn alone
+   at two finer blurs;
+3. from the five that score best, weighed by a prior on the turn (a Gaussian of
+   :data:`PRIOR_DEG` about the start: a far turn that puts a seam on its parallel
+   neighbour must fit much better), a compass search over all six at the finest blur;
+   the shift (at most :data:`SEARCH_M` each way) is kept only if it scores
+   :data:`SHIFT_GAIN` better than the turn alone -- a shift is told from a turn only by
+   a few pixels of parallax between near and far seams.
+
+Measured on the first frames of the 33 fixed-camera throws of ``bench/foreign.py``
+(the camera 2 cm and 1 degree off the scenario's pose): the floor (at the ball's
+height) from 4.4 cm off (median; mean 4.8 cm, worst 15 cm) to 1.3 cm (mean 1.6 cm,
+worst 5.2 cm); about 0.2-0.3 s at 320x240 on this machine, once before the look
+is learned.
+
+Examples
+--------
+Two boxes' seams seen by a camera turned by about 1.4 degrees; the fit finds the turn:
+
+>>> import cv2
+>>> import numpy as np
+>>> from adapt.geometry import rotation_exp, rotation_log
+>>> K = np.array([[160.0, 0, 79.5], [0, 160.0, 59.5], [0, 0, 1]])
+>>> labels = np.zeros((120, 160), np.int32); depth = np.full((120, 160), 3.0, np.float32)
+>>> labels[40:90, 50:120] = 1; depth[40:90, 50:120] = 2.5
+>>> labels[60:75, 20:45] = 2; depth[60:75, 20:45] = 2.8
+>>> look = np.choose(labels, [60, 200, 120]).astype(np.uint8)
+>>> turn = rotation_exp(np.radians([0.8, -0.9, 0.7]))
+>>> image = cv2.warpPerspective(look, K @ turn @ np.linalg.inv(K), (160, 120),
+...                             borderValue=60)
+>>> fit = fit_edges(image, seam_points(labels, depth, K), K)
+>>> bool(np.degrees(np.linalg.norm(rotation_log(fit.rotation @ turn.T))) < 0.3)
+True
+>>> fit.score > 2 * fit.start_score
+True
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import cv2
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from adapt.geometry import Camera, rotation_exp
+from adapt.vision.scale import image_scale
+
+__all__ = ["SeamPoints", "EdgePose", "seam_points", "fit_edges", "edge_score", "apply_pose",
+           "SEARCH_DEG", "SEARCH_M", "SHIFT_GAIN", "PRIOR_DEG", "MAX_SEAM_POINTS"]
+
+FloatArray = NDArray[np.float64]
+
+#: The turn the grid searches, each way about each axis (degrees).
+SEARCH_DEG = 3.0
+#: The largest shift of the camera the fit may make, each way along each axis (metres).
+SEARCH_M = 0.05
+#: The turn (degrees) at which a fit's score is weighed down by exp(-1/2) against the start.
+PRIOR_DEG = 2.0
+#: How much better (a share of the score) a fit with the shift must be than the turn alone.
+SHIFT_GAIN = 0.03
+#: At most this many seam points are scored (an even stride through them): enough for
+#: a pose, bounded in time at any resolution.
+MAX_SEAM_POINTS = 6000
+#: The grid's step over the turn about the two axes across the view, and about the
+#: view's axis (degrees; a turn about the view's axis moves the image least).
+_GRID_STEP = (0.5, 1.0)
+#: The peaks of the grid refined (and the start, always).
+_PEAKS = 5
+#: The compass search's levels: blur (pixels at 640x480), first turn step (degrees),
+#: first shift step (metres); each halves its steps twice.
+_LEVELS = ((2.0, 0.25, 0.01), (1.4, 0.05, 0.005))
+#: At most this many seam points are scored on the grid.
+_COARSE_POINTS = 1500
+#: The grid's blur (pixels at 640x480).
+_COARSE_BLUR = 4.0
+
+
+@dataclass(frozen=True)
+class SeamPoints:
+    """Seams of a render as points in its camera's frame.
+
+    Attributes
+    ----------
+    points : (N, 3) float array
+        Camera coordinates (metres) of the seam points.
+    axes : (N, 2) float array
+        The image axis the render crossed each seam along (``(1, 0)`` or ``(0, 1)``).
+    """
+
+    points: FloatArray
+    axes: FloatArray
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+
+@dataclass(frozen=True)
+class EdgePose:
+    """A fitted pose change of the camera, in its own frame (see the module docstring).
+
+    Attributes
+    ----------
+    rotation : (3, 3) float array
+        ``dR``: the fitted camera's world-to-camera rotation is ``dR @ R``.
+    translation : (3,) float array
+        ``dt`` (metres): camera points move to ``dR X + dt``, so the fitted camera's
+        centre is ``C - (dR R)^T dt``.
+    score, start_score : float
+        The contrast across the seams (grey levels) at the fit and at the start.
+    points : int
+        Seam points scored.
+    """
+
+    rotation: FloatArray
+    translation: FloatArray
+    score: float
+    start_score: float
+    points: int
+
+    @property
+    def angle_deg(self) -> float:
+        """The fitted turn (degrees)."""
+        c = (float(np.trace(self.rotation)) - 1.0) / 2.0
+        return math.degrees(math.acos(max(-1.0, min(1.0, c))))
+
+
+def seam_points(labels: ArrayLike, depth: ArrayLike, intrinsics: ArrayLike) -> SeamPoints:
+    """The seams of a render (where neighbouring labels differ) as camera-frame points.
+
+    A seam between pixels ``(x, y)`` and ``(x + 1, y)`` lies at ``(x + 0.5, y)``; its
+    depth is the nearer of the two (the edge in front of what it occludes).  Seams
+    with no finite depth on either side are left out.
+
+    Parameters
+    ----------
+    labels : (H, W) integer array
+    depth : (H, W) float array
+        Camera ``z`` of each pixel (``inf`` where nothing is).
+    intrinsics : (3, 3) array_like
+
+    Examples
+    --------
+    >>> labels = np.zeros((4, 4), np.int32); labels[:, 2:] = 1
+    >>> s = seam_points(labels, np.full((4, 4), 2.0), np.diag([100.0, 100.0, 1.0]))
+    >>> len(s), s.points[0].round(3).tolist(), s.axes[0].tolist()
+    (4, [0.03, 0.0, 2.0], [1.0, 0.0])
+    """
+    lab = np.asarray(labels)
+    z = np.asarray(depth, np.float64)
+    if lab.shape != z.shape:
+        raise ValueError(f"labels {lab.shape} and depth {z.shape} differ in size")
+    pts, axes, zs = [], [], []
+    for axis, (a, b, za, zb) in enumerate((
+            (lab[:, :-1], lab[:, 1:], z[:, :-1], z[:, 1:]),
+            (lab[:-1], lab[1:], z[:-1], z[1:]))):
+        ys, xs = np.nonzero(a != b)
+        pts.append(np.c_[xs + 0.5, ys] if axis == 0 else np.c_[xs, ys + 0.5])
+        axes.append(np.tile([1.0, 0.0] if axis == 0 else [0.0, 1.0], (len(ys), 1)))
+        zs.append(np.minimum(za[ys, xs], zb[ys, xs]))
+    p = np.concatenate(pts).astype(np.float64)
+    e = np.concatenate(axes)
+    d = np.concatenate(zs)
+    ok = np.isfinite(d) & (d > 0)
+    rays = np.c_[p[ok], np.ones(int(ok.sum()))] @ np.linalg.inv(np.asarray(intrinsics, float)).T
+    return SeamPoints(rays * d[ok, None], e[ok].reshape(-1, 2))
+
+
+def _blurred(image: NDArray[np.uint8], sigma: float) -> NDArray[np.float32]:
+    return np.asarray(cv2.GaussianBlur(np.asarray(image, np.float32), (0, 0), max(0.3, sigma)),
+                      np.float32)
+
+
+def _rotations(turns: FloatArray) -> FloatArray:
+    """Rodrigues' formula for each row of ``turns`` (rotation vectors): ``(M, 3, 3)``."""
+    angle = np.linalg.norm(turns, axis=1)
+    k = turns / np.where(angle > 1e-12, angle, 1.0)[:, None]
+    cross = np.zeros((len(turns), 3, 3))
+    cross[:, 0, 1], cross[:, 0, 2], cross[:, 1, 2] = -k[:, 2], k[:, 1], -k[:, 0]
+    cross -= cross.transpose(0, 2, 1)
+    s, c = np.sin(angle)[:, None, None], np.cos(angle)[:, None, None]
+    return np.eye(3) + s * cross + (1.0 - c) * (cross @ cross)
+
+
+def _scores(colour: NDArray[np.float32], seams: SeamPoints, K: FloatArray,
+            poses: FloatArray, step: float) -> FloatArray:
+    """The mean contrast across the seams for each pose ``(wx, wy, wz, tx, ty, tz)``."""
+    x = seams.points.astype(np.float32)
+    off = (step * seams.axes).astype(np.float32)
+    out = np.empty(len(poses))
+    chunk = max(1, 60000 // max(1, len(x)))
+    for start in range(0, len(poses), chunk):
+        block = poses[start:start + chunk]
+        # world-free: the camera's own points, turned and shifted, projected by K
+        m = (K @ _rotations(block[:, :3])).astype(np.float32)
+        q = np.matmul(x[None], m.transpose(0, 2, 1)) + (K @ block[:, 3:].T).T[:, None, :].astype(
+            np.float32)
+        z = q[..., 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            z = np.where(z > 1e-6, z, np.nan).astype(np.float32)
+            u, v = q[..., 0] / z, q[..., 1] / z
+        a = cv2.remap(colour, u + off[:, 0], v + off[:, 1], cv2.INTER_LINEAR,
+                      borderMode=cv2.BORDER_CONSTANT, borderValue=(np.nan,) * 4)
+        b = cv2.remap(colour, u - off[:, 0], v - off[:, 1], cv2.INTER_LINEAR,
+                      borderMode=cv2.BORDER_CONSTANT, borderValue=(np.nan,) * 4)
+        diff = np.asarray(a, np.float32) - np.asarray(b, np.float32)
+        contrast = np.sqrt((diff * diff).sum(axis=-1)) if diff.ndim == 3 else np.abs(diff)
+        # the square root: many seams on edges outweigh a few on very strong ones (a
+        # bright wall top against a dark ground beyond can otherwise pull the fit off the
+        # rest)
+        contrast = np.sqrt(contrast)
+        seen = np.isfinite(contrast)
+        n = seen.sum(axis=1)
+        total = np.where(seen, contrast, 0.0).sum(axis=1, dtype=np.float64)
+        out[start:start + len(block)] = np.where(n > len(x) // 4, total / np.maximum(n, 1), 0.0)
+    return out
+
+
+def edge_score(image: NDArray[np.uint8], seams: SeamPoints, intrinsics: ArrayLike, *,
+               blur: float = _LEVELS[-1][0]) -> float:
+    """The score of ``seams`` as they are (no pose change), ``blur`` pixels at 640x480: the
+    mean square root of the contrast across them (grey levels).
+
+    Examples
+    --------
+    >>> labels = np.zeros((40, 40), np.int32); labels[:, 20:] = 1
+    >>> s = seam_points(labels, np.full((40, 40), 2.0), np.diag([50.0, 50.0, 1.0]))
+    >>> image = np.zeros((40, 40, 3), np.uint8); image[:, 20:] = 100
+    >>> round(edge_score(image, s, np.diag([50.0, 50.0, 1.0])), 1)
+    5.9
+    >>> edge_score(np.full((40, 40, 3), 50, np.uint8), s, np.diag([50.0, 50.0, 1.0]))
+    0.0
+    """
+    scale = image_scale(np.shape(image))
+    colour = _blurred(image, blur * scale)
+    return float(_scores(colour, seams, np.asarray(intrinsics, float), np.zeros((1, 6)),
+                         blur * scale)[0])
+
+
+def _peaks(values: FloatArray, shape: tuple[int, int, int], count: int) -> list[int]:
+    """Indices of the ``count`` best local maxima of ``values`` on a 3-D grid."""
+    grid = values.reshape(shape)
+    padded = np.pad(grid, 1, constant_values=-np.inf)
+    best = np.ones(shape, bool)
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            for dz in (-1, 0, 1):
+                if dx or dy or dz:
+                    best &= grid >= padded[1 + dx:1 + dx + shape[0], 1 + dy:1 + dy + shape[1],
+                                           1 + dz:1 + dz + shape[2]]
+    idx = np.flatnonzero(best.ravel())
+    return [int(i) for i in idx[np.argsort(-values[idx], kind="stable")][:count]]
+
+
+def _compass(colour: NDArray[np.float32], seams: SeamPoints, K: FloatArray, start: FloatArray,
+             step: float, turn: float, shift: float, bound: float) -> tuple[FloatArray, float]:
+    best = start.copy()
+    score = float(_scores(colour, seams, K, best[None], step)[0])
+    steps = np.diag(np.r_[[turn] * 3, [shift] * 3])[: 6 if shift > 0 else 3]
+    factor = 1.0
+    while factor >= 1.0 / 4:
+        moves = np.concatenate([best + factor * steps, best - factor * steps])
+        moves = moves[(np.abs(moves[:, 3:]) <= bound).all(axis=1)]
+        values = _scores(colour, seams, K, moves, step) if len(moves) else np.empty(0)
+        i = int(np.argmax(values)) if len(values) else -1
+        if i >= 0 and values[i] > score:
+            best, score = moves[i], float(values[i])
+        else:
+            factor /= 2
+    return best, score
+
+
+def _prior(score: float, pose: FloatArray) -> float:
+    """``score`` weighed by how far the turn goes from the start: a far turn that puts one
+    seam on its parallel neighbour (a wall's foot on its top) must fit much better."""
+    turn = float(np.degrees(np.linalg.norm(pose[:3])))
+    return score * math.exp(-0.5 * (turn / PRIOR_DEG) ** 2)
+
+
+def fit_edges(image: NDArray[np.uint8], seams: SeamPoints, intrinsics: ArrayLike, *,
+              search_deg: float = SEARCH_DEG, search_m: float = SEARCH_M,
+              starts: Sequence[ArrayLike] = ()) -> EdgePose | None:
+    """The pose change that puts ``seams`` on ``image``'s edges (the module docstring).
+
+    Parameters
+    ----------
+    image : (H, W, 3) or (H, W) uint8
+        The real image.
+    seams : SeamPoints
+        The render's seams (:func:`seam_points`) through the camera to correct.
+    intrinsics : (3, 3) array_like
+        The camera's ``K`` (the same for the render and the image).
+    search_deg, search_m : float
+        The turn the grid searches and the largest shift, each way.
+    starts : sequence of (6,) array_like
+        More poses ``(wx, wy, wz, tx, ty, tz)`` to search from (where another
+        alignment put the camera); the prior on the turn stays centred on ``seams``'
+        own camera.
+
+    Returns
+    -------
+    EdgePose or None
+        None when there are no seams to fit.
+    """
+    if len(seams) == 0:
+        return None
+    if len(seams) > MAX_SEAM_POINTS:
+        stride = math.ceil(len(seams) / MAX_SEAM_POINTS)
+        seams = SeamPoints(seams.points[::stride], seams.axes[::stride])
+    K = np.asarray(intrinsics, float)
+    scale = image_scale(np.shape(image))
+    across = np.radians(np.arange(-search_deg, search_deg + 1e-9, _GRID_STEP[0]))
+    about = np.radians(np.arange(-search_deg, search_deg + 1e-9, _GRID_STEP[1]))
+    grid = np.array([[a, b, c, 0.0, 0.0, 0.0] for a in across for b in across for c in about])
+    stride = max(1, math.ceil(len(seams) / _COARSE_POINTS))  # a coarse blur needs fewer
+    coarse = _scores(_blurred(image, _COARSE_BLUR * scale),
+                     SeamPoints(seams.points[::stride], seams.axes[::stride]), K, grid,
+                     _COARSE_BLUR * scale)
+    given = [np.clip(np.asarray(p, float).reshape(6), [-np.inf] * 3 + [-search_m] * 3,
+                     [np.inf] * 3 + [search_m] * 3) for p in starts]
+    origins = [np.zeros(6), *given] + [grid[i] for i in _peaks(
+        coarse, (len(across), len(across), len(about)), _PEAKS)]
+    colours = [(_blurred(image, blur * scale), blur * scale, math.radians(turn), shift)
+               for blur, turn, shift in _LEVELS]
+    start_score = float(_scores(colours[-1][0], seams, K, np.zeros((1, 6)), colours[-1][1])[0])
+    turned: list[tuple[float, FloatArray]] = []
+    for pose in origins:  # the turn alone
+        score = 0.0
+        for colour, step, turn, _ in colours:
+            pose, score = _compass(colour, seams, K, pose, step, turn, 0.0, search_m)
+        turned.append((score, pose))
+    turned.sort(key=lambda t: -_prior(t[0], t[1]))
+    best = turned[0]
+    moved: tuple[float, FloatArray] | None = None
+    for score, pose in turned[:_PEAKS]:  # and the shift, from the turns that fit best
+        for colour, step, turn, shift in colours[1:]:
+            pose, score = _compass(colour, seams, K, pose, step, turn, shift, search_m)
+        if moved is None or _prior(score, pose) > _prior(*moved):
+            moved = (score, pose)
+    # The shift is weakly told from a turn (a few pixels of parallax between near and far
+    # seams): it is taken only when it fits clearly better than the turn alone.
+    if moved is not None and _prior(*moved) > (1.0 + SHIFT_GAIN) * _prior(*best):
+        best = moved
+    score, pose = best
+    return EdgePose(rotation_exp(pose[:3]), pose[3:].copy(), score, start_score, len(seams))
+
+
+def apply_pose(camera: Camera, fit: EdgePose) -> Camera:
+    """``camera`` moved by ``fit``: rotation ``dR R``, centre ``C - (dR R)^T dt``.
+
+    Examples
+    --------
+    >>> cam = Camera(100, 100, 50, 50, 100, 100, np.eye(3), np.zeros(3))
+    >>> fit = EdgePose(np.eye(3), np.array([0.0, 0.0, 0.1]), 1.0, 0.0, 10)
+    >>> apply_pose(cam, fit).position.tolist()
+    [0.0, 0.0, -0.1]
+    """
+    rotation = fit.rotation @ camera.rotation
+    return camera.with_pose(rotation, camera.position - rotation.T @ fit.translation)

@@ -1,0 +1,99 @@
+"""The camera's pose from the seams of the known structure: round trips with known offsets.
+
+The real image is the imagination's render through a camera turned and moved by a known
+offset, then given another look (colour gain and shift, grain, blur, sensor noise); the
+fit starts from the nominal camera's seams.  (The imagination renders here only to make
+test images: the library package ``adapt.vision`` must not import it; tests may.)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from adapt.geometry import Camera, rotation_exp
+from adapt.imagination import Renderer
+from adapt.scenario import load_scenario
+from adapt.vision.edge_pose import (SEARCH_M, SeamPoints, apply_pose, edge_score, fit_edges,
+                                    seam_points)
+
+SCENARIO = Path(__file__).resolve().parents[2] / "scenarios" / "foreign-fixed.yaml"
+
+
+@pytest.fixture(scope="module")
+def nominal() -> Renderer:
+    scenario = load_scenario(SCENARIO)
+    return Renderer(scenario.scene, scenario.camera)
+
+
+def floor_error_m(cam: Camera, true_cam: Camera, z: float = 0.1) -> float:
+    """Median distance on the plane ``z`` between where ``cam`` and ``true_cam`` put the
+    pixels of the lower two thirds of ``true_cam``'s image."""
+    us, vs = np.meshgrid(np.linspace(10, true_cam.width - 10, 10),
+                         np.linspace(true_cam.height / 3, true_cam.height - 10, 8))
+    px = np.c_[us.ravel(), vs.ravel()]
+    return float(np.median(np.linalg.norm(cam.pixel_to_plane(px, z) - true_cam.pixel_to_plane(px, z),
+                                          axis=1)))
+
+
+def other_look(image: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Another renderer's look: per-channel gain and shift, grain, blur, noise."""
+    out = image.astype(np.float32) * rng.uniform(0.7, 1.3, 3) + rng.uniform(-25, 25, 3)
+    out += rng.normal(0.0, 10.0, image.shape[:2])[..., None]
+    out = cv2.GaussianBlur(out, (0, 0), 0.8) + rng.normal(0.0, 3.0, out.shape)
+    return np.clip(out, 0, 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3, 4])
+def test_the_fit_puts_the_floor_back_where_the_true_camera_sees_it(nominal: Renderer,
+                                                                    seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    cam = nominal.camera
+    axis = rng.normal(size=3)
+    turn = rotation_exp(np.radians(1.0) * axis / np.linalg.norm(axis))
+    shift = rng.normal(size=3)
+    true_cam = cam.with_pose(turn @ cam.rotation, cam.position + 0.02 * shift / np.linalg.norm(shift))
+    image = other_look(nominal.with_camera(true_cam).background.image, rng)
+    seams = seam_points(nominal.background.labels, nominal.background_depth, cam.K)
+    fit = fit_edges(image, seams, cam.K)
+    assert fit is not None
+    fitted = apply_pose(cam, fit)
+    before, after = floor_error_m(cam, true_cam), floor_error_m(fitted, true_cam)
+    assert before > 0.02
+    assert after < 0.4 * before and after < 0.015
+    assert fit.score > fit.start_score
+    assert np.all(np.abs(fit.translation) <= SEARCH_M + 1e-12)
+    assert edge_score(image, seam_points(nominal.with_camera(fitted).background.labels,
+                                         nominal.with_camera(fitted).background_depth, cam.K),
+                      cam.K) > fit.start_score
+
+
+def test_a_camera_already_right_stays_right(nominal: Renderer) -> None:
+    rng = np.random.default_rng(7)
+    cam = nominal.camera
+    image = other_look(nominal.background.image, rng)
+    fit = fit_edges(image, seam_points(nominal.background.labels, nominal.background_depth,
+                                       cam.K), cam.K)
+    assert fit is not None
+    assert floor_error_m(apply_pose(cam, fit), cam) < 0.01
+    assert fit.angle_deg < 0.3
+
+
+def test_seams_lie_at_the_nearer_side_and_nothing_to_fit_is_none() -> None:
+    K = np.diag([100.0, 100.0, 1.0])
+    labels = np.zeros((6, 6), np.int32)
+    labels[:, 3:] = 1
+    depth = np.full((6, 6), 4.0)
+    depth[:, 3:] = 2.0  # the right side is in front: its edge is the seam
+    s = seam_points(labels, depth, K)
+    assert len(s) == 6 and np.allclose(s.points[:, 2], 2.0)
+    assert np.allclose(s.axes, [[1.0, 0.0]] * 6)
+    depth[:] = np.inf  # nothing on either side
+    assert len(seam_points(labels, depth, K)) == 0
+    empty = SeamPoints(np.zeros((0, 3)), np.zeros((0, 2)))
+    assert fit_edges(np.zeros((6, 6, 3), np.uint8), empty, K) is None
+    with pytest.raises(ValueError, match="differ in size"):
+        seam_points(labels, np.zeros((5, 6)), K)
