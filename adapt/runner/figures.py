@@ -534,8 +534,13 @@ def _camera_plot(data: FigureData, path: Path) -> Path:
                              squeeze=False)
     ax = axes[0][0]
     ax.plot(p.time, p.pixel_error, lw=1.2, color="tab:blue")
-    ax.set_yscale("symlog", linthresh=1.0)
-    ax.set_ylim(bottom=0.0)
+    finite = [v for v in p.pixel_error if math.isfinite(v)]
+    top = max(finite, default=0.0)
+    if top > 5.0:  # a few jumps of tens of pixels beside a settled error of a fraction of one
+        ax.set_yscale("symlog", linthresh=1.0)
+        ax.set_ylim(bottom=0.0)
+    else:  # all small: linear, with the tolerance in view
+        ax.set_ylim(0.0, max(1.0, 1.15 * top))
     ax.axhline(0.5, color="gray", lw=0.8, ls="--", label="tolerance 0.5 px")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("pixel error of H_e (px)")

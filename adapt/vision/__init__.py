@@ -14,6 +14,10 @@ mask               the MMD mask I_m (exact and fast sum of Gaussians)
 mmd                the MMD image I_d and MMDResult
 regions            difference regions, expected / unexpected
 camera_correction  eq. 3 as a fractional rotation; full pose from the floor's homography
+registration       the structure's registration (a flat look, ECC) and the flat look itself
+edges              edge agreement: the image's gradient on a label image's seams
+edge_pose          the camera's pose (turn and shift) fitted to the image's edges at 3D seams
+stillness          the frame history: which pixels held still, their median
 sync               the iterative camera loop against a render callback
 threads            OpenCV's thread count
 
