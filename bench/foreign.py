@@ -11,7 +11,8 @@ Each throw is its own arena, drawn from its seed here (never tuned to one realit
 * the camera, a third of the throws each: **outside** the arena 2-2.5 m high behind a low
   (8-15 cm) south wall, looking down over it; **inside**, fixed 1.2-2 m high at a side or
   corner; **on the robot**, 0.45-0.7 m up; its focal length fitted to the arena;
-* a ball of radius 8-13 cm and a saturated colour, known only by wide ranges, either
+* a ball of radius 8-13 cm and a saturated colour, known only by wide ranges (restitution,
+  friction, rolling resistance, and the floor's friction: a real ball spins), either
   **rolling from frame 0** or **thrown** after 0.3-1 s (from up to 30 cm above the floor),
   at 1.2-3 m/s across the arena, where the camera sees it;
 * the reality's own ranges at their (wide) defaults: PyBullet's restitution, friction,
@@ -221,7 +222,7 @@ def scenario_text(seed: int, small: bool = False, duration: float = 6.0) -> tupl
               f"    - {{name: ball, radius: {radius:.3f}, mass: 0.4, color: {list(color)}, "
               "create: when_seen,",
               "       ranges: {restitution: [0.5, 0.95], friction: [0.1, 0.6], "
-              "rolling_resistance: [0.005, 0.06]}}",
+              "rolling_resistance: [0.005, 0.06], floor_friction: [0.1, 1.2]}}",
               f"  robot: {{shape: disc, radius: {robot_r:.3f}, position: "
               f"{[round(robot[0], 3), round(robot[1], 3)]}, heading_deg: {heading:.1f}, "
               f"max_speed: {float(rng.uniform(0.6, 1.0)):.2f}, "
