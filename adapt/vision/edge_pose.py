@@ -28,8 +28,9 @@ The search:
    camera) and from the grid's five best peaks, a compass search over the turn alone
    at two finer blurs;
 3. from the five that score best, weighed by a prior on the turn (a Gaussian of
-   :data:`PRIOR_DEG` about the start: a far turn that puts a seam on its parallel
-   neighbour must fit much better), a compass search over all six at the finest blur;
+   :data:`PRIOR_DEG` about the start, floored at :data:`PRIOR_FLOOR`: a far turn that
+   puts a seam on its parallel neighbour must fit much better, and one that fits 18 %
+   better wins however far), a compass search over all six at the finest blur;
    the shift (at most :data:`SEARCH_M` each way) is kept only if it scores
    :data:`SHIFT_GAIN` better than the turn alone -- a shift is told from a turn only by
    a few pixels of parallax between near and far seams.
@@ -76,7 +77,7 @@ from adapt.geometry import Camera, rotation_exp
 from adapt.vision.scale import image_scale
 
 __all__ = ["SeamPoints", "EdgePose", "seam_points", "fit_edges", "edge_score", "apply_pose",
-           "SEARCH_DEG", "SEARCH_M", "SHIFT_GAIN", "PRIOR_DEG", "MAX_SEAM_POINTS"]
+           "SEARCH_DEG", "SEARCH_M", "SHIFT_GAIN", "PRIOR_DEG", "PRIOR_FLOOR", "MAX_SEAM_POINTS"]
 
 FloatArray = NDArray[np.float64]
 
@@ -86,6 +87,9 @@ SEARCH_DEG = 3.0
 SEARCH_M = 0.05
 #: The turn (degrees) at which a fit's score is weighed down by exp(-1/2) against the start.
 PRIOR_DEG = 2.0
+#: The least weight of the prior: a turn however far from the start wins if it fits this
+#: many times better than one near it (1 / 0.85: 18 % better).
+PRIOR_FLOOR = 0.85
 #: How much better (a share of the score) a fit with the shift must be than the turn alone.
 SHIFT_GAIN = 0.03
 #: At most this many seam points are scored (an even stride through them): enough for
@@ -301,9 +305,11 @@ def _compass(colour: NDArray[np.float32], seams: SeamPoints, K: FloatArray, star
 
 def _prior(score: float, pose: FloatArray) -> float:
     """``score`` weighed by how far the turn goes from the start: a far turn that puts one
-    seam on its parallel neighbour (a wall's foot on its top) must fit much better."""
+    seam on its parallel neighbour (a wall's foot on its top) must fit much better -- but
+    never impossibly (:data:`PRIOR_FLOOR`: a camera far off the scenario's pose, which
+    another alignment found, still wins by fitting clearly better)."""
     turn = float(np.degrees(np.linalg.norm(pose[:3])))
-    return score * math.exp(-0.5 * (turn / PRIOR_DEG) ** 2)
+    return score * max(PRIOR_FLOOR, math.exp(-0.5 * (turn / PRIOR_DEG) ** 2))
 
 
 def fit_edges(image: NDArray[np.uint8], seams: SeamPoints, intrinsics: ArrayLike, *,

@@ -97,3 +97,21 @@ def test_seams_lie_at_the_nearer_side_and_nothing_to_fit_is_none() -> None:
     assert fit_edges(np.zeros((6, 6, 3), np.uint8), empty, K) is None
     with pytest.raises(ValueError, match="differ in size"):
         seam_points(labels, np.zeros((5, 6)), K)
+
+
+def test_a_camera_far_off_the_scenario_is_found_by_fitting_clearly_better(
+        nominal: Renderer) -> None:
+    """6 degrees off: beyond the grid's 3, and far out on the prior on the turn, whose
+    weight there is floored (PRIOR_FLOOR) -- a turn that fits clearly better wins, whether
+    the compass walks there from the grid's edge or another alignment gives it as a start."""
+    rng = np.random.default_rng(11)
+    cam = nominal.camera
+    w = np.radians(6.0) * np.array([0.6, -0.64, 0.48])
+    true_cam = cam.with_pose(rotation_exp(w) @ cam.rotation, cam.position)
+    image = other_look(nominal.with_camera(true_cam).background.image, rng)
+    seams = seam_points(nominal.background.labels, nominal.background_depth, cam.K)
+    found = np.r_[w + np.radians(0.3) * np.array([1.0, 0.0, 0.0]), 0.0, 0.0, 0.0]
+    for starts in ((), (found,)):
+        fit = fit_edges(image, seams, cam.K, starts=starts)
+        assert fit is not None
+        assert floor_error_m(apply_pose(cam, fit), true_cam) < 0.015
