@@ -17,8 +17,7 @@ import pytest
 from adapt.geometry import Camera, rotation_exp
 from adapt.imagination import Renderer
 from adapt.scenario import load_scenario
-from adapt.vision.edge_pose import (SEARCH_M, SeamPoints, apply_pose, edge_score, fit_edges,
-                                    seam_points)
+from adapt.vision.edge_pose import SEARCH_M, SeamPoints, apply_pose, edge_score, fit_edges, seam_points
 
 SCENARIO = Path(__file__).resolve().parents[2] / "scenarios" / "foreign-fixed.yaml"
 
