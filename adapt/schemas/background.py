@@ -104,7 +104,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from adapt.errors import VisionError
-from adapt.geometry import MAX_PIXELS, rotation_log
+from adapt.geometry import MAX_PIXELS
 from adapt.imagination import LABEL_BALL
 from adapt.mirror.structure import face_labels
 from adapt.scenario import RealityKind
@@ -120,7 +120,7 @@ from adapt.schemas.percepts import (
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 from adapt.schemas.tracks import RegionTracker
 from adapt.vision.camera_correction import correct_rotation
-from adapt.vision.edge_pose import EdgePose, apply_pose, fit_edges, seam_points
+from adapt.vision.edge_pose import EdgePose, apply_pose, fit_edges, relative_pose, seam_points
 from adapt.vision.edges import edge_agreement
 from adapt.vision.homography import corner_error
 from adapt.vision.matching import PreparedImage, prepare
@@ -558,10 +558,8 @@ class SceneBackground(Schema):
         cam = mirror.declared_camera()
         renderer = mirror.renderer.with_camera(cam)
         labels = face_labels(renderer.background.labels, renderer.surfaces, cam)
-        turn = current.rotation @ cam.rotation.T
-        aligned = np.r_[rotation_log(turn), current.rotation @ (cam.position - current.position)]
         fit = fit_edges(frame.image, seam_points(labels, renderer.background_depth, cam.K), cam.K,
-                        starts=(aligned,))
+                        starts=(relative_pose(cam, current),))
         self.edge_fit = fit
         if fit is None:
             return
