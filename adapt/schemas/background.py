@@ -127,7 +127,7 @@ from adapt.vision.matching import PreparedImage, prepare
 from adapt.vision.mmd import MMDResult
 from adapt.vision.regions import Region, best_overlap, find_regions, to_input
 from adapt.vision.registration import structure_homography
-from adapt.vision.scale import MAX_WORK_PIXELS_LIMIT, image_scale
+from adapt.vision.scale import MAX_WORK_PIXELS_LIMIT, image_scale, working_frame
 from adapt.vision.stillness import FrameHistory
 from adapt.vision.sync import SyncStep, sync_step
 
@@ -344,6 +344,7 @@ class SceneBackground(Schema):
             # compare through it
             self._rendered()
             camera = mirror.camera
+            # (its matches again, but no SIFT: SIFT found nothing in this frame a moment ago)
             step = self._sync(frame, camera, correct, hold=np.eye(3))
             self.structure_held += 1
         res = self.result = step.result
@@ -438,10 +439,19 @@ class SceneBackground(Schema):
         """This frame's step of the camera loop (:func:`~adapt.vision.sync.sync_step`)."""
         return sync_step(frame.image, self._prepared_synthetic(self.synthetic),  # type: ignore[arg-type]
                          camera, gain=self.parameters["gain"],
-                         tolerance=self.parameters["tolerance"] if correct else math.inf,
+                         tolerance=self._tolerance(frame.image.shape) if correct else math.inf,
                          full_pose=bool(self.parameters["full_pose"]), on_plane=self._on_floor,
                          trust=lambda error: not self._implausible(error, frame),
-                         max_pixels=int(self.parameters["mmd_pixels"]), hold=hold)
+                         max_pixels=int(self.parameters["mmd_pixels"]), hold=hold,
+                         reacquire=hold is None)
+
+    def _tolerance(self, shape: tuple[int, ...]) -> float:
+        """``tolerance`` in pixels of a frame of ``shape``: the parameter counts pixels
+        of the image the MMD works on (a frame reduced to ``mmd_pixels`` measures its
+        error no finer than that image's pixels, so a finer tolerance would correct
+        the camera by the matches' noise, and render the background anew for it)."""
+        factor = working_frame(shape, int(self.parameters["mmd_pixels"])).factor
+        return float(self.parameters["tolerance"]) * max(factor)
 
     def _implausible(self, error: float, frame: "Frame") -> bool:
         """A sudden large jump of a camera that was synchronised is a false alignment
@@ -593,7 +603,7 @@ class SceneBackground(Schema):
         if self.learning is not None:
             return  # learned this frame already (the structure's first look)
         self._since_learn += 1
-        synchronised = self.trusted and (self.pixel_error <= self.parameters["tolerance"]
+        synchronised = self.trusted and (self.pixel_error <= self._tolerance(frame.image.shape)
                                          or not self.parameters["correct"])
         far = self.trusted and self.pixel_error > STRUCTURE_ACCEPT * image_scale(frame.image.shape)
         self._unsynchronised = self._unsynchronised + 1 if far else 0
@@ -786,7 +796,9 @@ class SceneBackground(Schema):
         node.set("aligned", aligned)
         node.set("pixel-error", round(self.pixel_error, 2) if aligned else None)
         node.set("inliers", 0 if self.result is None else self.result.n_inliers)
-        node.set("synchronised", aligned and self.pixel_error <= self.parameters["tolerance"])
+        cam = self.network.mirror.camera
+        node.set("synchronised", aligned and self.pixel_error
+                 <= self._tolerance((cam.height, cam.width)))
         node.set("camera-moving", self.camera_moving)
         unexpected = [r for r in self.regions if not r.expected]
         node.set("unexpected", len(unexpected))
@@ -875,7 +887,8 @@ SCENE_BACKGROUND = SchemaSpec(
     parameters=(
         Parameter("gain", float, 0.5, "fraction g of the camera correction applied per frame",
                   low=0.0, high=1.0, low_open=True),
-        Parameter("tolerance", float, 0.5, "no correction below this pixel error", unit="px",
+        Parameter("tolerance", float, 0.5, "no correction below this pixel error (pixels of "
+                  "the image the MMD works on: see mmd_pixels)", unit="px",
                   low=0.0, high=1000.0),
         Parameter("correct", bool, True, "correct the synthetic camera (off: only compare)"),
         Parameter("full_pose", bool, False,

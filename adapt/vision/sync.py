@@ -285,6 +285,7 @@ def sync_step(
     iteration: int = 0,
     shape: tuple[int, ...] | None = None,
     hold: NDArray | None = None,
+    reacquire: bool = True,
 ) -> SyncStep:
     """One step of the camera loop: the MMD of ``real`` and ``synthetic`` (rendered from
     ``camera``), its pixel error, and the corrected camera.
@@ -296,11 +297,12 @@ def sync_step(
     alignments; ``SyncStep.trusted`` says what it said).  ``on_plane`` marks, among the
     inlier matches' synthetic points, those on the floor (for ``full_pose``).  ``hold``
     is the ``H_e`` to use when the matches give none (:func:`~adapt.vision.mmd.mmd`);
-    a held ``H_e`` corrects nothing.
+    a held ``H_e`` corrects nothing.  ``reacquire`` allows the MMD's SIFT re-acquisition
+    (:func:`~adapt.vision.mmd.mmd`).
 
     This is the step both :func:`synchronise` and the Scene Background schema take.
     """
-    res = mmd(real, synthetic, max_pixels=max_pixels, hold=hold)
+    res = mmd(real, synthetic, max_pixels=max_pixels, hold=hold, reacquire=reacquire)
     image = synthetic.image if isinstance(synthetic, PreparedImage) else synthetic
     if not res.aligned:
         return SyncStep(iteration, camera, math.nan, 0, 0.0, image, res, None, False)
