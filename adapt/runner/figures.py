@@ -157,6 +157,8 @@ class Paths:
     count: int = 0
     time: list[float] = field(default_factory=list)
     pixel_error: list[float] = field(default_factory=list)
+    #: The camera loop's tolerance in the frame's pixels (the last frame's; NaN: none seen).
+    tolerance: float = math.nan
     camera_position: list[float] = field(default_factory=list)
     camera_rotation: list[float] = field(default_factory=list)
     observed: dict[str, list[Vec2 | None]] = field(default_factory=dict)
@@ -181,6 +183,8 @@ class Paths:
         self.time.append(record.time)
         bg = record.background
         self.pixel_error.append(math.nan if bg is None else bg.pixel_error)
+        if bg is not None:
+            self.tolerance = bg.tolerance
         cam = None if score is None else score.camera_error
         self.camera_position.append(math.nan if cam is None else cam[0])
         self.camera_rotation.append(math.nan if cam is None else cam[1])
@@ -415,7 +419,8 @@ def write_figures(data: FigureData, folder: Path) -> dict[str, Path]:
     kept = [s for s in kept if s.synthetic is not None and s.difference is not None]
     if kept:
         first = kept[0]
-        synced = next((s for s in kept if s.pixel_error <= 0.5), kept[-1])
+        tolerance = data.series.tolerance if math.isfinite(data.series.tolerance) else 0.5
+        synced = next((s for s in kept if s.pixel_error <= tolerance), kept[-1])
         chosen = [first] if synced is first else [first, synced]
         out["sync"] = write_strip(folder / "sync.png", _sync_rows(chosen),
                                   title="Scene Background synchronisation (paper Fig. 4)")
@@ -536,12 +541,14 @@ def _camera_plot(data: FigureData, path: Path) -> Path:
     ax.plot(p.time, p.pixel_error, lw=1.2, color="tab:blue")
     finite = [v for v in p.pixel_error if math.isfinite(v)]
     top = max(finite, default=0.0)
+    tolerance = p.tolerance  # the schema's, in the frame's pixels
     if top > 5.0:  # a few jumps of tens of pixels beside a settled error of a fraction of one
         ax.set_yscale("symlog", linthresh=1.0)
         ax.set_ylim(bottom=0.0)
     else:  # all small: linear, with the tolerance in view
-        ax.set_ylim(0.0, max(1.0, 1.15 * top))
-    ax.axhline(0.5, color="gray", lw=0.8, ls="--", label="tolerance 0.5 px")
+        ax.set_ylim(0.0, max(1.0, 1.15 * top, 1.15 * tolerance if math.isfinite(tolerance) else 0.0))
+    if math.isfinite(tolerance):
+        ax.axhline(tolerance, color="gray", lw=0.8, ls="--", label=f"tolerance {tolerance:g} px")
     ax.set_xlabel("time (s)")
     ax.set_ylabel("pixel error of H_e (px)")
     ax.set_title("camera synchronisation (MMD)")

@@ -424,6 +424,7 @@ class SceneBackground(Schema):
             frame=index, time=time_s, camera_before=camera,
             camera_after=self.network.mirror.camera, mmd=res, trusted=self.trusted,
             pixel_error=self.pixel_error, threshold=float(self.parameters["threshold"]),
+            tolerance=self._tolerance((camera.height, camera.width)),
             synthetic=self.synthetic, background=self.background_image, labels=self.labels,
             drawn=MappingProxyType(dict(self._label_of)),
             warped_labels=None if self._warped is None else self._warped[1],

@@ -193,6 +193,10 @@ class BackgroundPercept:
         alignment).
     threshold : float
         The difference (grey levels) that counts as a difference.
+    tolerance : float
+        The pixel error (real pixels) up to which the camera is not corrected: the
+        schema's ``tolerance`` in the frame's pixels (it counts pixels of the image the
+        MMD works on).
     synthetic, background : ndarray or None
         The render of the imagination through ``camera_before``, and its static
         background (no moving objects).
@@ -224,6 +228,7 @@ class BackgroundPercept:
     trusted: bool = False
     pixel_error: float = math.nan
     threshold: float = 30.0
+    tolerance: float = 0.5
     synthetic: NDArray[np.uint8] | None = None
     background: NDArray[np.uint8] | None = None
     labels: NDArray[np.int32] | None = None

@@ -37,6 +37,9 @@ def test_the_camera_is_corrected_only_above_the_tolerance_of_the_working_image(
     steps = [(bg.pixel_error, bg.camera_before.angle_to(bg.camera_after) > 0)
              for bg in (r.background for r in frames.records)
              if bg is not None and bg.mmd is not None and bg.mmd.aligned and bg.trusted]
+    # what the frame records say (and camera.png draws)
+    assert {r.background.tolerance for r in frames.records if r.background is not None} \
+        == {tolerance_px}
     assert len(steps) > 30
     assert any(moved for _, moved in steps)  # the scenario's camera starts 2 degrees off
     for error, moved in steps:
