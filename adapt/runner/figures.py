@@ -419,8 +419,8 @@ def write_figures(data: FigureData, folder: Path) -> dict[str, Path]:
     kept = [s for s in kept if s.synthetic is not None and s.difference is not None]
     if kept:
         first = kept[0]
-        tolerance = data.series.tolerance if math.isfinite(data.series.tolerance) else 0.5
-        synced = next((s for s in kept if s.pixel_error <= tolerance), kept[-1])
+        # (kept frames come from the Scene Background, whose percepts set the tolerance)
+        synced = next((s for s in kept if s.pixel_error <= data.series.tolerance), kept[-1])
         chosen = [first] if synced is first else [first, synced]
         out["sync"] = write_strip(folder / "sync.png", _sync_rows(chosen),
                                   title="Scene Background synchronisation (paper Fig. 4)")

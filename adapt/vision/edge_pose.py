@@ -92,8 +92,8 @@ PRIOR_DEG = 2.0
 PRIOR_FLOOR = 0.85
 #: How much better (a share of the score) a fit with the shift must be than the turn alone.
 SHIFT_GAIN = 0.03
-#: At most this many seam points are scored (an even stride through them): enough for
-#: a pose, bounded in time at any resolution.
+#: At most this many seam points are scored (spread evenly: :meth:`SeamPoints.thinned`):
+#: enough for a pose, bounded in time at any resolution.
 MAX_SEAM_POINTS = 6000
 #: The grid's step over the turn about the two axes across the view, and about the
 #: view's axis (degrees; a turn about the view's axis moves the image least).
