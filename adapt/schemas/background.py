@@ -59,12 +59,15 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    rules spawn no schema for it (nothing arrived there; it is the look's
    error, repaired as above).  A fixed camera's first look cannot see what the
    imagined bodies hid (the floor under the robot's starting place): once they
-   leave, that floor is a difference of the look's ignorance, not an object.  An
-   unexpected region at least :data:`UNSEEN_SHARE` of whose pixels are there, show
-   surfaces still unlearned
-   (:meth:`~adapt.mirror.appearance.AppearanceModel.unseen`) and held still over its
-   last :data:`STILL_REGION_FRAMES` frames is reported ``unseen``: the rules spawn no
-   schema for it either; and those texels are learned as soon as their pixels held
+   leave, that floor is a difference of the look's ignorance, not an object.  The
+   pixels kept are the bodies' with a margin, which the first look does not learn
+   (:meth:`~adapt.mirror.appearance.AppearanceModel.unseen`), but the refinements
+   can, from the real body where it shows past the imagined outline while it
+   stands (a pose a little off, another shape): once it leaves, a dark rim.  An
+   unexpected region at least :data:`UNSEEN_SHARE` of whose pixels are there and
+   held still over its last :data:`STILL_REGION_FRAMES` frames is reported
+   ``unseen``: the rules spawn no schema for it either; and those texels that are
+   still unlearned are learned as soon as their pixels held
    still for ``still_s``, whatever box or region covers them (what the imagination
    draws there now, the robot come back, is never learned).
    A camera on the robot restarts its history whenever the robot's odometry moves
@@ -756,8 +759,10 @@ class SceneBackground(Schema):
 
     def _unseen(self, region: Region) -> bool:
         """Whether at least :data:`UNSEEN_SHARE` of ``region``'s pixels are where imagined
-        bodies hid the surfaces from the first look, show them still unlearned, and held
-        still over the last :data:`STILL_REGION_FRAMES` frames (see the module docstring)."""
+        bodies hid the surfaces from the first look (with a margin) and held still over the
+        last :data:`STILL_REGION_FRAMES` frames: the look's ignorance there, whether its
+        texels are still unlearned or were learned from the real body's rim past the
+        imagined outline (see the module docstring)."""
         covered = self._covered
         if self.stage is not AppearanceStage.LEARNED or self.labels is None \
                 or covered is None or len(self.history) < STILL_REGION_FRAMES:
@@ -765,14 +770,15 @@ class SceneBackground(Schema):
         x, y, w, h = region.bbox
         if covered.shape != self.labels.shape or not covered[y:y + h, x:x + w].any():
             return False
-        mirror = self.network.mirror
-        unseen = mirror.appearance.unseen(mirror.camera, self.labels, region.bbox)
         still = self.history.still(float(self.parameters["threshold"]),
                                    frames=STILL_REGION_FRAMES, box=region.bbox)
         mask = region.silhouette
-        if not unseen.shape == still.shape == mask.shape:  # cut by the image's edge
+        if not still.shape == mask.shape == covered[y:y + h, x:x + w].shape:  # cut by the edge
             return False
-        mine = unseen & still & mask & covered[y:y + h, x:x + w]
+        # the texels there were never learned, or learned past the imagined body's outline
+        # from the real one (a pose a little off, another shape: a dark rim of it once it
+        # has driven off)
+        mine = still & mask & covered[y:y + h, x:x + w]
         return int(np.count_nonzero(mine)) >= UNSEEN_SHARE * max(int(mask.sum()), 1)
 
     def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:

@@ -126,8 +126,9 @@ class RegionReport:
     nearest colour within :data:`LOOKS_LIKE_COLOR`, a size within
     :data:`LOOKS_LIKE_SIZE` of its diameter), so that rules can tell one
     object from another before a schema claims it; ``unseen`` that most of its
-    pixels show surfaces where the look was never learned (the floor an object
-    covered at the first look): not an object arriving either.
+    pixels are where imagined bodies covered the surfaces at the first look (the
+    floor under the robot's start, with a margin), and held still: the look's
+    ignorance there, not an object arriving either.
     """
 
     id: int
