@@ -119,6 +119,7 @@ from adapt.schemas.percepts import (
     FirstLook,
     RegionReport,
     looks_like,
+    mean_color,
 )
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 from adapt.schemas.tracks import RegionTracker
@@ -740,7 +741,7 @@ class SceneBackground(Schema):
             r = t.region
             x, y, w, h = r.bbox
             edge = x <= 0 or y <= 0 or x + w >= frame.image.shape[1] or y + h >= frame.image.shape[0]
-            color = _mean_color(frame.image, r.bbox, r.silhouette)
+            color = mean_color(frame.image, r.bbox, r.silhouette)
             out.append(RegionReport(t.id, r.bbox, r.centroid, r.area, t.age, owner is not None,
                                     owner, floor, size, percept.imagined_in(r), edge,
                                     owner is None and self._still(r.bbox), color,
@@ -850,20 +851,6 @@ class SceneBackground(Schema):
                     "learned": len(self.network.mirror.appearance.learned),
                     "structure_held": self.structure_held})
         return out
-
-
-def _mean_color(image: NDArray[np.uint8], bbox: BBox, silhouette: NDArray[np.bool_]
-                ) -> tuple[int, int, int] | None:
-    """The mean ``(r, g, b)`` of a BGR image's pixels in a region (its silhouette when it fits
-    the box, else the whole box)."""
-    x, y, w, h = bbox
-    patch = image[max(y, 0):y + h, max(x, 0):x + w]
-    if patch.size == 0:
-        return None
-    pixels = patch[silhouette] if silhouette.shape == patch.shape[:2] and silhouette.any() \
-        else patch.reshape(-1, 3)
-    b, g, r = (int(round(float(v))) for v in pixels.mean(axis=0))
-    return (r, g, b)
 
 
 def _floor_of(bbox: BBox, h_inv: NDArray[np.float64], camera: "Camera"

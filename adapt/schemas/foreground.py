@@ -70,7 +70,13 @@ from adapt.schemas.base import BBox, Schema, Status
 from adapt.schemas.estimator import PARAMETERS, Estimate, ParameterEstimator, surprise
 from adapt.schemas.events import EventKind
 from adapt.schemas.links import Structure
-from adapt.schemas.percepts import BackgroundPercept, ObjectPercept, Sighting
+from adapt.schemas.percepts import (
+    BackgroundPercept,
+    ObjectPercept,
+    Sighting,
+    looks_like,
+    mean_color,
+)
 from adapt.schemas.predictor import Prediction, Predictor
 from adapt.schemas.silhouette import BallFit, fit_ball, fit_small_ball, image_area, visible_area
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
@@ -500,14 +506,33 @@ class ForegroundObject(Schema):
                        key=lambda r: math.dist((r.centroid[0] + x0, r.centroid[1] + y0),
                                                (cx, cy)) / math.sqrt(r.area))
         refused = False
+        unlike: Sighting | None = None
         for blob in blobs[:MAX_BLOBS]:
             found = self._sighting(frame, bg, blob, (x0, y0), hidden)
             if isinstance(found, Sighting):
+                if self._looks_unlike(frame, blob, (x0, y0)):
+                    # the object's size and outline but not its colour (the look's error
+                    # where it rolled while the look was first learned): one of its colour
+                    # further on is taken first
+                    unlike = unlike or found
+                    continue
                 return found
             refused = refused or found
+        if unlike is not None:
+            return unlike
         if refused:
             self.refused += 1
         return None
+
+    def _looks_unlike(self, frame: "Frame", blob: Region, offset: tuple[int, int]) -> bool:
+        """Whether ``blob`` (found at ``offset``) does not look like the declared object's
+        colour (:func:`~adapt.schemas.percepts.looks_like`); False for an object the
+        scenario does not know."""
+        if self.ball is None:
+            return False
+        x, y, w, h = blob.bbox
+        color = mean_color(frame.image, (x + offset[0], y + offset[1], w, h), blob.silhouette)
+        return looks_like(color, None, {self.name: (self.ball.color, self.ball.radius)}) is None
 
     def _sighting(self, frame: "Frame", bg: BackgroundPercept, blob: Region,
                   offset: tuple[int, int], hidden: np.ndarray | None = None) -> Sighting | bool:

@@ -58,10 +58,29 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["BackgroundPercept", "ObjectPercept", "RegionReport", "Sighting", "FirstLook",
            "AppearanceStage", "BBox", "Vec2", "LOOKS_LIKE_COLOR", "LOOKS_LIKE_SIZE", "LOOKS_LIKE_MARGIN",
-           "looks_like"]
+           "looks_like", "mean_color"]
 
 BBox = tuple[int, int, int, int]
 Vec2 = tuple[float, float]
+
+
+def mean_color(image: NDArray[np.uint8], bbox: BBox, silhouette: NDArray[np.bool_]
+               ) -> tuple[int, int, int] | None:
+    """The mean ``(r, g, b)`` of a BGR image's pixels in a region at ``bbox`` (its
+    ``silhouette`` when it fits the box, else the whole box); None for an empty box.
+
+    >>> image = np.zeros((4, 4, 3), np.uint8); image[1:3, 1:3] = (40, 220, 235)  # BGR
+    >>> mean_color(image, (1, 1, 2, 2), np.ones((2, 2), bool))
+    (235, 220, 40)
+    """
+    x, y, w, h = bbox
+    patch = image[max(y, 0):y + h, max(x, 0):x + w]
+    if patch.size == 0:
+        return None
+    pixels = patch[silhouette] if silhouette.shape == patch.shape[:2] and silhouette.any() \
+        else patch.reshape(-1, 3)
+    b, g, r = (int(round(float(v))) for v in pixels.mean(axis=0))
+    return (r, g, b)
 
 
 def looks_like(color: tuple[int, int, int] | None, size: float | None,
