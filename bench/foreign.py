@@ -1,8 +1,8 @@
 """The mirror on realities it did not write: randomized PyBullet realities (issue 20).
 
-Run ``python bench/foreign.py`` (50 throws at 640x480, 6 s each; about an hour on 2
-shared cores, most of it PyBullet's CPU renderer) or quicker with ``--throws 10
---small --duration 4``.  Needs ``pip install 'adapt[bullet]'``.
+Run ``python bench/foreign.py`` (50 throws at 640x480, 6 s each; about 13 minutes with
+``--jobs 2`` on 2 quiet cores, most of it PyBullet's CPU renderer; ``--small``, 320x240:
+about 6 minutes) or quicker with ``--throws 10 --small --duration 4``.  Needs ``pip install 'adapt[bullet]'``.
 
 Each throw is its own arena, drawn from its seed here (never tuned to one reality):
 
