@@ -42,20 +42,30 @@ class _Rows:
                           "observed": None if tracked is None else tracked.observed})
 
 
-def test_the_floor_under_the_robots_start_is_never_spawned_for() -> None:
-    sc = throw(13, 3.0)
-    assert sc.scene.robot is not None
-    start = sc.scene.robot.position
+def _replay(seed: int, duration: float) -> tuple[Any, list[dict[str, Any]]]:
+    """Throw ``seed`` run for ``duration`` seconds: its scenario, and its frames' rows."""
+    sc = throw(seed, duration)
     rows = _Rows()
-    runner = Runner(sc, out=None, seed=13, outputs=QUIET, listeners=(rows,))
+    runner = Runner(sc, out=None, seed=seed, outputs=QUIET, listeners=(rows,))
     rows.truth = runner.truth
     runner.run()
-    assert max(math.dist(r["robot"], start) for r in rows.rows
-               if r["robot"] is not None) > 2 * sc.scene.robot.radius  # it drove off
-    assert {n for r in rows.rows for n in r["names"]} == {"ball"}
+    return sc, rows.rows
+
+
+def _robot_drove_off(sc: Any, rows: list[dict[str, Any]]) -> bool:
+    """Whether the true robot went farther than its diameter from where it started."""
+    start = sc.scene.robot.position
+    return max(math.dist(r["robot"], start) for r in rows
+               if r["robot"] is not None) > 2 * sc.scene.robot.radius
+
+
+def test_the_floor_under_the_robots_start_is_never_spawned_for() -> None:
+    sc, rows = _replay(13, 3.0)
+    assert _robot_drove_off(sc, rows)
+    assert {n for r in rows for n in r["names"]} == {"ball"}
     radius = sc.model("ball").ball.radius
     # on the floor (it is thrown from 0.29 m up: the fit's ground plane does not hold in the air)
-    seen = [r for r in rows.rows if r["observed"] is not None and r["height"] < radius + 0.01]
+    seen = [r for r in rows if r["observed"] is not None and r["height"] < radius + 0.01]
     assert len(seen) >= 30
     assert all(math.dist(r["observed"], r["truth"]) < 2 * radius for r in seen)
 
@@ -70,16 +80,9 @@ def test_the_robots_rim_left_in_the_look_is_never_spawned_for() -> None:
     # was spawned for as an object the scenario does not know (at 1.5 s, at 320x240 and
     # at 640x480).  A region mostly on the pixels the imagined bodies covered at the first
     # look, held still, is the look's ignorance there, learned or not.
-    sc = throw(6, 2.2)
-    assert sc.scene.robot is not None
-    start = sc.scene.robot.position
-    rows = _Rows()
-    runner = Runner(sc, out=None, seed=6, outputs=QUIET, listeners=(rows,))
-    rows.truth = runner.truth
-    runner.run()
-    assert max(math.dist(r["robot"], start) for r in rows.rows
-               if r["robot"] is not None) > 2 * sc.scene.robot.radius  # it drove off
-    assert {n for r in rows.rows for n in r["names"]} == {"ball"}
+    sc, rows = _replay(6, 2.2)
+    assert _robot_drove_off(sc, rows)
+    assert {n for r in rows for n in r["names"]} == {"ball"}
 
 
 def test_the_ball_is_told_from_the_looks_error_on_its_path_by_its_colour() -> None:
@@ -90,14 +93,10 @@ def test_the_ball_is_told_from_the_looks_error_on_its_path_by_its_colour() -> No
     # it while the ball rolled on, to be spawned for as an object the scenario does not
     # know at 0.77 s.  Of the blobs of the ball's size and outline, one of its colour is taken
     # first.
-    sc = throw(45, 1.2)
-    rows = _Rows()
-    runner = Runner(sc, out=None, seed=45, outputs=QUIET, listeners=(rows,))
-    rows.truth = runner.truth
-    runner.run()
-    assert {n for r in rows.rows for n in r["names"]} == {"ball"}
+    sc, rows = _replay(45, 1.2)
+    assert {n for r in rows for n in r["names"]} == {"ball"}
     radius = sc.model("ball").ball.radius
-    seen = [r for r in rows.rows if r["observed"] is not None]
+    seen = [r for r in rows if r["observed"] is not None]
     assert len(seen) >= 15
     assert all(math.dist(r["observed"], r["truth"]) < 2 * radius for r in seen)
 
