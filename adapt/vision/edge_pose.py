@@ -13,12 +13,19 @@ trade for each other.  A camera a degree off maps the floor 3-10 cm off.
 of a render with their depth (the nearer of the two sides: the edge in front), so
 each is a point in the camera's frame.  A pose change -- a small turn ``w`` and a
 shift ``t`` of the camera, in its own frame -- moves the points to ``R(w) X + t``.
-The score of a pose is the mean over the projected seams of the square root of the
-contrast across each, ``|C(q + d e) - C(q - d e)|`` of the blurred colour image
+The score of a pose is the weighted mean over the projected seams of the square root of
+the contrast across each, ``|C(q + d e) - C(q - d e)|`` of the blurred colour image
 ``C``, with ``e`` the axis along which the render crossed the seam and ``d`` about
 the blur.  A texture's edges point every way and fall away in the blur; a seam's
 contrast is there along its whole length; the square root makes many seams on their
-edges outweigh a few on very strong ones.
+edges outweigh a few on very strong ones.  Seams where two modelled surfaces meet (a
+wall's foot, a corner, an obstacle's foot) weigh 1; occluding contours, where a surface
+ends against what lies far behind it (a wall's top against the ground beyond, an
+obstacle's outline against the floor), weigh :data:`OCCLUDING_WEIGHT`: there the real
+body may go on past the model's outline (a wall the model draws as a plane is a box
+some centimetres thick, and its real top edge against the ground beyond, the strongest
+edge in view, lies behind the model's), and fitted as strongly as the rest they pull
+the camera off by that much.
 
 The search:
 
@@ -27,18 +34,24 @@ The search:
 2. from the start, from any ``starts`` given (where another alignment put the
    camera) and from the grid's five best peaks, a compass search over the turn alone
    at two finer blurs;
-3. from the five that score best, weighed by a prior on the turn (a Gaussian of
-   :data:`PRIOR_DEG` about the start, floored at :data:`PRIOR_FLOOR`: a far turn that
-   puts a seam on its parallel neighbour must fit much better, and one that fits 18 %
-   better wins however far), a compass search over all six at the finest blur;
-   the shift (at most :data:`SEARCH_M` each way) is kept only if it scores
-   :data:`SHIFT_GAIN` better than the turn alone -- a shift is told from a turn only by
-   a few pixels of parallax between near and far seams.
+3. from the five that score best, weighed by a prior on the turn (flat for
+   :data:`PRIOR_FLAT` about the start -- a camera set up by hand is that far off what
+   the scenario says -- then a Gaussian of :data:`PRIOR_DEG`, floored at
+   :data:`PRIOR_FLOOR`: a far turn that puts a seam on its parallel neighbour must fit
+   much better, and one that fits 18 % better wins however far), a compass search over
+   all six at the finest blur; the shift (at most :data:`SEARCH_M` each way) is kept
+   only if it scores :data:`SHIFT_GAIN` better than the turn alone -- a shift is told
+   from a turn only by a few pixels of parallax between near and far seams.
 
 Measured on the first frames of the 33 fixed-camera throws of ``bench/foreign.py``
-(the camera 2 cm and 1 degree off the scenario's pose): the floor (at the ball's
-height) from 4.4 cm off (median; mean 4.8 cm, worst 15 cm) to 1.3 cm (mean 1.6 cm,
-worst 5.2 cm); about 0.2-0.3 s at 320x240 on this machine, once before the look
+(the camera 2 cm and 1 degree off the scenario's pose), as the ball's position fitted
+from its silhouettes over the throw's first 3 s through the fitted camera against
+through the true one: at 640x480 from 6.2 cm off through the scenario's camera
+(median; mean 7.2 cm) to 0.8 cm (mean 1.2 cm, worst 4.9 cm; 4 throws over 2 cm),
+where the same fit with every seam weighing 1 and a Gaussian prior of 2 degrees gave
+1.0 cm (mean 1.8 cm, worst 10 cm; 10 over 2 cm); at 320x240 from 6.5 cm to 0.95 cm
+(mean 1.7 cm, worst 6.4 cm; 9 over 2 cm), against 1.5 cm (mean 1.9 cm, worst 5.5 cm;
+10).  About 0.2 s at 320x240 and 0.4 s at 640x480 on this machine, once before the look
 is learned.
 
 Examples
@@ -77,7 +90,8 @@ from adapt.geometry import Camera, rotation_exp, rotation_log
 from adapt.vision.scale import image_scale
 
 __all__ = ["SeamPoints", "EdgePose", "seam_points", "fit_edges", "edge_score", "apply_pose", "relative_pose",
-           "SEARCH_DEG", "SEARCH_M", "SHIFT_GAIN", "PRIOR_DEG", "PRIOR_FLOOR", "MAX_SEAM_POINTS"]
+           "SEARCH_DEG", "SEARCH_M", "SHIFT_GAIN", "PRIOR_FLAT", "PRIOR_DEG", "PRIOR_FLOOR",
+           "OCCLUDING_JUMP", "OCCLUDING_WEIGHT", "MAX_SEAM_POINTS"]
 
 FloatArray = NDArray[np.float64]
 
@@ -85,11 +99,24 @@ FloatArray = NDArray[np.float64]
 SEARCH_DEG = 3.0
 #: The largest shift of the camera the fit may make, each way along each axis (metres).
 SEARCH_M = 0.05
-#: The turn (degrees) at which a fit's score is weighed down by exp(-1/2) against the start.
-PRIOR_DEG = 2.0
+#: Turns (degrees) from the start the prior does not weigh against: a camera set up by hand,
+#: its pose measured with a tape and a level, is about this far off what the scenario says.
+PRIOR_FLAT = 1.0
+#: Beyond :data:`PRIOR_FLAT`, the further turn (degrees) at which a fit's score is weighed
+#: down by exp(-1/2) against the start.
+PRIOR_DEG = 1.0
 #: The least weight of the prior: a turn however far from the start wins if it fits this
 #: many times better than one near it (1 / 0.85: 18 % better).
 PRIOR_FLOOR = 0.85
+#: A seam is an occluding contour when what lies behind it is this many times as far as
+#: its edge (or nothing: the sky) ...
+OCCLUDING_JUMP = 1.05
+#: ... and weighs this much in the score against a seam where two surfaces meet.  (Where
+#: two modelled surfaces meet -- a wall's foot, a corner -- the real edge is where the model
+#: says; where a surface ends against what lies beyond it, the real body may go on past the
+#: model's outline: a wall modelled as a plane is a box some centimetres thick, its real top
+#: edge against the ground beyond lies behind the model's, and pulls the camera off.)
+OCCLUDING_WEIGHT = 0.25
 #: How much better (a share of the score) a fit with the shift must be than the turn alone.
 SHIFT_GAIN = 0.03
 #: At most this many seam points are scored (spread evenly: :meth:`SeamPoints.thinned`):
@@ -121,10 +148,20 @@ class SeamPoints:
         Camera coordinates (metres) of the seam points.
     axes : (N, 2) float array
         The image axis the render crossed each seam along (``(1, 0)`` or ``(0, 1)``).
+    weights : (N,) float array, optional
+        What each seam weighs in the score (:data:`OCCLUDING_WEIGHT` for an occluding
+        contour, 1 where two surfaces meet); all 1 when not given.
     """
 
     points: FloatArray
     axes: FloatArray
+    weights: FloatArray | None = None
+
+    def __post_init__(self) -> None:
+        if self.weights is None:
+            object.__setattr__(self, "weights", np.ones(len(self.points)))
+        elif len(self.weights) != len(self.points):
+            raise ValueError(f"{len(self.weights)} weights for {len(self.points)} seam points")
 
     def __len__(self) -> int:
         return len(self.points)
@@ -150,7 +187,8 @@ class SeamPoints:
             return self
         k = np.arange(most, dtype=np.float64)
         pick = np.unique(np.floor((k * _GOLDEN) % 1.0 * n).astype(np.intp))
-        return SeamPoints(self.points[pick], self.axes[pick])
+        assert self.weights is not None  # (set by __post_init__)
+        return SeamPoints(self.points[pick], self.axes[pick], self.weights[pick])
 
 
 @dataclass(frozen=True)
@@ -188,7 +226,9 @@ def seam_points(labels: ArrayLike, depth: ArrayLike, intrinsics: ArrayLike) -> S
 
     A seam between pixels ``(x, y)`` and ``(x + 1, y)`` lies at ``(x + 0.5, y)``; its
     depth is the nearer of the two (the edge in front of what it occludes).  Seams
-    with no finite depth on either side are left out.
+    with no finite depth on either side are left out.  A seam whose far side is
+    :data:`OCCLUDING_JUMP` times as far as its near side, or nothing, is an occluding
+    contour and weighs :data:`OCCLUDING_WEIGHT` (see there).
 
     Parameters
     ----------
@@ -201,27 +241,35 @@ def seam_points(labels: ArrayLike, depth: ArrayLike, intrinsics: ArrayLike) -> S
     --------
     >>> labels = np.zeros((4, 4), np.int32); labels[:, 2:] = 1
     >>> s = seam_points(labels, np.full((4, 4), 2.0), np.diag([100.0, 100.0, 1.0]))
-    >>> len(s), s.points[0].round(3).tolist(), s.axes[0].tolist()
-    (4, [0.03, 0.0, 2.0], [1.0, 0.0])
+    >>> len(s), s.points[0].round(3).tolist(), s.axes[0].tolist(), s.weights[0].item()
+    (4, [0.03, 0.0, 2.0], [1.0, 0.0], 1.0)
+    >>> depth = np.full((4, 4), 2.0); depth[:, 2:] = np.inf  # a surface ending against the sky
+    >>> seam_points(labels, depth, np.diag([100.0, 100.0, 1.0])).weights.tolist()
+    [0.25, 0.25, 0.25, 0.25]
     """
     lab = np.asarray(labels)
     z = np.asarray(depth, np.float64)
     if lab.shape != z.shape:
         raise ValueError(f"labels {lab.shape} and depth {z.shape} differ in size")
-    pts, axes, zs = [], [], []
+    pts, axes, zs, weights = [], [], [], []
     for axis, (a, b, za, zb) in enumerate((
             (lab[:, :-1], lab[:, 1:], z[:, :-1], z[:, 1:]),
             (lab[:-1], lab[1:], z[:-1], z[1:]))):
         ys, xs = np.nonzero(a != b)
         pts.append(np.c_[xs + 0.5, ys] if axis == 0 else np.c_[xs, ys + 0.5])
         axes.append(np.tile([1.0, 0.0] if axis == 0 else [0.0, 1.0], (len(ys), 1)))
-        zs.append(np.minimum(za[ys, xs], zb[ys, xs]))
+        near = np.minimum(za[ys, xs], zb[ys, xs])
+        far = np.maximum(za[ys, xs], zb[ys, xs])
+        zs.append(near)
+        with np.errstate(invalid="ignore"):  # inf against inf: left out below
+            occluding = ~(far <= OCCLUDING_JUMP * near)
+        weights.append(np.where(occluding, OCCLUDING_WEIGHT, 1.0))
     p = np.concatenate(pts).astype(np.float64)
     e = np.concatenate(axes)
     d = np.concatenate(zs)
     ok = np.isfinite(d) & (d > 0)
     rays = np.c_[p[ok], np.ones(int(ok.sum()))] @ np.linalg.inv(np.asarray(intrinsics, float)).T
-    return SeamPoints(rays * d[ok, None], e[ok].reshape(-1, 2))
+    return SeamPoints(rays * d[ok, None], e[ok].reshape(-1, 2), np.concatenate(weights)[ok])
 
 
 def _blurred(image: NDArray[np.uint8], sigma: float) -> NDArray[np.float32]:
@@ -245,10 +293,11 @@ def _rotations(turns: FloatArray) -> FloatArray:
 
 def _scores(colour: NDArray[np.float32], seams: SeamPoints, K: FloatArray,
             poses: FloatArray, step: float) -> FloatArray:
-    """The score (the mean square root of the contrast across the seams) of each pose
-    ``(wx, wy, wz, tx, ty, tz)``."""
+    """The score (the weighted mean square root of the contrast across the seams) of each
+    pose ``(wx, wy, wz, tx, ty, tz)``."""
     x = seams.points.astype(np.float32)
     off = (step * seams.axes).astype(np.float32)
+    weights = np.asarray(seams.weights, np.float32)[None]
     out = np.empty(len(poses))
     chunk = max(1, 60000 // max(1, len(x)))
     for start in range(0, len(poses), chunk):
@@ -273,8 +322,10 @@ def _scores(colour: NDArray[np.float32], seams: SeamPoints, K: FloatArray,
         contrast = np.sqrt(contrast)
         seen = np.isfinite(contrast)
         n = seen.sum(axis=1)
-        total = np.where(seen, contrast, 0.0).sum(axis=1, dtype=np.float64)
-        out[start:start + len(block)] = np.where(n > len(x) // 4, total / np.maximum(n, 1), 0.0)
+        total = np.where(seen, contrast * weights, 0.0).sum(axis=1, dtype=np.float64)
+        weighed = np.where(seen, weights, 0.0).sum(axis=1, dtype=np.float64)
+        out[start:start + len(block)] = np.where(n > len(x) // 4,
+                                                 total / np.maximum(weighed, 1e-12), 0.0)
     return out
 
 
@@ -338,7 +389,8 @@ def _prior(score: float, pose: FloatArray) -> float:
     never impossibly (:data:`PRIOR_FLOOR`: a camera far off the scenario's pose, which
     another alignment found, still wins by fitting clearly better)."""
     turn = float(np.degrees(np.linalg.norm(pose[:3])))
-    return score * max(PRIOR_FLOOR, math.exp(-0.5 * (turn / PRIOR_DEG) ** 2))
+    beyond = max(0.0, turn - PRIOR_FLAT)
+    return score * max(PRIOR_FLOOR, math.exp(-0.5 * (beyond / PRIOR_DEG) ** 2))
 
 
 def fit_edges(image: NDArray[np.uint8], seams: SeamPoints, intrinsics: ArrayLike, *,

@@ -8,6 +8,8 @@ test images: the library package ``adapt.vision`` must not import it; tests may.
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from pathlib import Path
 
 import cv2
@@ -16,6 +18,7 @@ import pytest
 
 from adapt.geometry import Camera, rotation_exp
 from adapt.imagination import Renderer
+from adapt.imagination.scene import Obstacle, SceneSpec
 from adapt.scenario import load_scenario
 from adapt.vision.edge_pose import SEARCH_M, SeamPoints, apply_pose, edge_score, fit_edges, seam_points
 
@@ -114,3 +117,47 @@ def test_a_camera_far_off_the_scenario_is_found_by_fitting_clearly_better(
         fit = fit_edges(image, seams, cam.K, starts=starts)
         assert fit is not None
         assert floor_error_m(apply_pose(cam, fit), true_cam) < 0.015
+
+
+def _thick(scene: SceneSpec, thickness: float) -> SceneSpec:
+    """``scene`` with each wall ``thickness`` thick behind its plane, a light top on it (the
+    real walls; the model's are planes)."""
+    cx, cy = np.mean([w.start for w in scene.walls] + [w.end for w in scene.walls], axis=0)
+    boxes = []
+    for w in scene.walls:
+        (ax, ay), (bx, by) = w.start, w.end
+        nx, ny = by - ay, -(bx - ax)
+        norm = math.hypot(nx, ny)
+        nx, ny = nx / norm, ny / norm
+        if nx * (ax - cx) + ny * (ay - cy) < 0:
+            nx, ny = -nx, -ny  # away from the room
+        near, far = 0.002, thickness
+        corners = [(ax + near * nx, ay + near * ny), (bx + near * nx, by + near * ny),
+                   (bx + far * nx, by + far * ny), (ax + far * nx, ay + far * ny)]
+        boxes.append(Obstacle(f"{w.name}-body", tuple(corners), height=w.height,
+                              color=(225, 225, 220)))
+    return dataclasses.replace(scene, obstacles=scene.obstacles + tuple(boxes))
+
+
+@pytest.mark.parametrize("seed", [21, 22, 23])
+def test_walls_thicker_than_the_models_planes_do_not_pull_the_camera_off(seed: int) -> None:
+    """The model's walls are planes; the real ones are boxes 12 cm thick with a light top:
+    each wall's real top edge against what lies beyond is behind the model's.  Such
+    occluding contours weigh less (OCCLUDING_WEIGHT) than the seams where two surfaces
+    meet, so the fit follows the walls' feet, the corners and the obstacles, and puts the
+    floor back within 1.5 cm."""
+    scenario = load_scenario(SCENARIO)
+    model = Renderer(scenario.scene, scenario.camera)
+    real = Renderer(_thick(scenario.scene, 0.12), scenario.camera)
+    rng = np.random.default_rng(seed)
+    cam = model.camera
+    axis = rng.normal(size=3)
+    turn = rotation_exp(np.radians(1.0) * axis / np.linalg.norm(axis))
+    shift = rng.normal(size=3)
+    true_cam = cam.with_pose(turn @ cam.rotation, cam.position + 0.02 * shift / np.linalg.norm(shift))
+    image = other_look(real.with_camera(true_cam).background.image, rng)
+    seams = seam_points(model.background.labels, model.background_depth, cam.K)
+    assert 0.2 < float(np.mean(seams.weights < 1.0)) < 0.8  # both kinds of seam are there
+    fit = fit_edges(image, seams, cam.K)
+    assert fit is not None
+    assert floor_error_m(apply_pose(cam, fit), true_cam) < 0.015
