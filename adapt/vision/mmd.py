@@ -53,7 +53,7 @@ False
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Sequence
+from typing import Callable, Sequence
 
 import cv2
 import numpy as np
@@ -209,6 +209,7 @@ def mmd(
     min_inliers: int = MIN_INLIERS,
     max_pixels: int | None = None,
     hold: NDArray | None = None,
+    refuse: Callable[[NDArray[np.float64]], str] | None = None,
 ) -> MMDResult:
     """Match-mediated difference of ``real`` and ``synthetic``.
 
@@ -240,6 +241,11 @@ def mmd(
         structure alignment).  The result's alignment is then ``held`` (no
         inliers; its ``reason`` says why none was found), and the difference is
         not masked by matches.
+    refuse : callable, optional
+        Why the matches' ``H_e`` (input pixels) is not to be believed, or ``""``:
+        a caller's test that knows more than the images (the camera loop's: no turn
+        of the camera makes it, :func:`~adapt.vision.sync.sync_step`).  A refused
+        ``H_e`` is no alignment (its ``reason`` says why); ``hold`` then applies.
 
     Raises
     ------
@@ -252,6 +258,13 @@ def mmd(
     hh, ww = frame.shape
     channels = real8.shape[2] if real8.ndim == 3 else 1
     matches, alignment = _align(r, s, min_inliers, reacquire)
+    if alignment.aligned and refuse is not None:
+        h = alignment.homography
+        assert h is not None
+        why = refuse(frame.homography_to_input(h) if frame.reduces else h)
+        if why:
+            alignment = replace(alignment, homography=None, inliers=np.zeros_like(alignment.inliers),
+                                method="none", reason=why)
     if not alignment.aligned and hold is not None:
         kept = frame.homography_to_work(hold) if frame.reduces else np.asarray(hold, np.float64)
         alignment = replace(alignment, homography=kept, method="held")

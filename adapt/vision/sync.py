@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 
 from adapt.errors import VisionError
 from adapt.geometry import Camera
-from adapt.vision.camera_correction import correct_pose, correct_rotation
+from adapt.vision.camera_correction import correct_pose, correct_rotation, rotation_error
 from adapt.vision.homography import corner_error
 from adapt.vision.images import check_image
 from adapt.vision.matching import PreparedImage, prepare
@@ -53,7 +53,8 @@ from adapt.vision.mmd import MMDResult, mmd
 from adapt.vision.scale import image_scale
 
 __all__ = ["Render", "SyncStep", "SyncResult", "synchronise", "sync_step", "correction",
-           "TOLERANCE", "MAX_ITERATIONS", "GAIN", "MIN_PLANE_POINTS"]
+           "TOLERANCE", "MAX_ITERATIONS", "GAIN", "MIN_PLANE_POINTS", "MAX_TURN_MISFIT",
+           "turn_misfit"]
 
 #: Stop when H_e moves the image corners by less than this, pixels at 640x480
 #: (scaled with the image).
@@ -64,6 +65,13 @@ MAX_ITERATIONS = 10
 GAIN = 0.5
 #: Fewest inlier matches on the floor the full pose is corrected from (fewer: the rotation).
 MIN_PLANE_POINTS = 12
+#: Without ``full_pose``, an ``H_e`` that the nearest turn of the camera leaves this far off
+#: (pixels at 640x480, scaled; :func:`turn_misfit`) is no alignment: a camera that only
+#: turns cannot make it (a zoom of a tenth, from matches bunched on one band of the
+#: view), and corrected by its nearest turn the camera walks off, frame after frame.
+#: (Measured on the foreign throws: at most 3 px where the matches are right, 7-13 px on
+#: the frames that turned an outside camera 10-15 px off.)
+MAX_TURN_MISFIT = 3.0
 
 Render = Callable[[Camera], NDArray]
 
@@ -271,6 +279,31 @@ def correction(camera: Camera, result: MMDResult, *, gain: float = GAIN, full_po
         return None
 
 
+def turn_misfit(homography: NDArray[np.float64], camera: Camera, shape: tuple[int, ...]) -> float:
+    """How far (mean corner displacement, pixels of an image of ``shape``) ``homography``
+    is from the one the nearest turn of ``camera`` makes, ``K R_e K^-1``
+    (:func:`~adapt.vision.camera_correction.rotation_error`); ``inf`` for a homography no
+    rotation can be taken from.
+
+    Examples
+    --------
+    >>> from adapt.geometry import rotation_exp
+    >>> cam = Camera(300, 300, 159.5, 119.5, 320, 240, np.eye(3), np.zeros(3))
+    >>> turn = cam.K @ rotation_exp([0.01, -0.02, 0.005]) @ np.linalg.inv(cam.K)
+    >>> round(turn_misfit(turn, cam, (240, 320)), 6)
+    0.0
+    >>> zoom = np.diag([1.1, 1.1, 1.0]); zoom[:2, 2] = -0.1 * np.array([159.5, 119.5])
+    >>> round(turn_misfit(zoom, cam, (240, 320)), 1)  # a tenth's zoom about the centre
+    20.0
+    """
+    try:
+        r = rotation_error(homography, camera.K, camera.K)
+    except VisionError:
+        return math.inf
+    return corner_error(np.asarray(homography, float), camera.K @ r @ np.linalg.inv(camera.K),
+                        shape)
+
+
 def sync_step(
     real: NDArray | PreparedImage,
     synthetic: NDArray | PreparedImage,
@@ -300,16 +333,31 @@ def sync_step(
     a held ``H_e`` corrects nothing.  ``reacquire`` allows the MMD's SIFT re-acquisition
     (:func:`~adapt.vision.mmd.mmd`).
 
+    Without ``full_pose``, an ``H_e`` that no turn of the camera makes (more than
+    :data:`MAX_TURN_MISFIT` off the nearest, :func:`turn_misfit`) is no alignment
+    (``hold`` then applies).
+
     This is the step both :func:`synchronise` and the Scene Background schema take.
     """
-    res = mmd(real, synthetic, max_pixels=max_pixels, hold=hold, reacquire=reacquire)
+    if shape is None:
+        shape = real.shape
+    refuse: Callable[[NDArray[np.float64]], str] | None = None
+    if not full_pose:
+        limit = MAX_TURN_MISFIT * image_scale(shape)
+        size = shape
+
+        def not_a_turn(h: NDArray[np.float64]) -> str:
+            off = turn_misfit(h, camera, size)
+            return (f"H_e is {off:.1f} px from the nearest turn of the camera: no turn makes it"
+                    if off > limit else "")
+        refuse = not_a_turn
+    res = mmd(real, synthetic, max_pixels=max_pixels, hold=hold, reacquire=reacquire,
+              refuse=refuse)
     image = synthetic.image if isinstance(synthetic, PreparedImage) else synthetic
     if not res.aligned:
         return SyncStep(iteration, camera, math.nan, 0, 0.0, image, res, None, False)
     h = res.homography
     assert h is not None
-    if shape is None:
-        shape = real.shape
     err = corner_error(h, np.eye(3), shape)
     if trust is not None and not trust(err):
         return SyncStep(iteration, camera, err, res.n_inliers, 0.0, image, res, None, False)
