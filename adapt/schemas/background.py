@@ -133,7 +133,7 @@ from adapt.vision.regions import Region, best_overlap, find_regions, to_input
 from adapt.vision.registration import structure_homography
 from adapt.vision.scale import MAX_WORK_PIXELS_LIMIT, image_scale, working_frame
 from adapt.vision.stillness import FrameHistory
-from adapt.vision.sync import SyncStep, sync_step
+from adapt.vision.sync import MAX_TURN_MISFIT, SyncStep, sync_step
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.frames import Frame
@@ -448,7 +448,10 @@ class SceneBackground(Schema):
                          full_pose=bool(self.parameters["full_pose"]), on_plane=self._on_floor,
                          trust=lambda error: not self._implausible(error, frame),
                          max_pixels=int(self.parameters["mmd_pixels"]), hold=hold,
-                         reacquire=hold is None)
+                         reacquire=hold is None,
+                         # a learned look differs from the frame only by how the camera turned
+                         max_misfit=MAX_TURN_MISFIT if self.stage is AppearanceStage.LEARNED
+                         else None)
 
     def _tolerance(self, shape: tuple[int, ...]) -> float:
         """``tolerance`` in pixels of a frame of ``shape``: the parameter counts pixels

@@ -65,12 +65,12 @@ MAX_ITERATIONS = 10
 GAIN = 0.5
 #: Fewest inlier matches on the floor the full pose is corrected from (fewer: the rotation).
 MIN_PLANE_POINTS = 12
-#: Without ``full_pose``, an ``H_e`` that the nearest turn of the camera leaves this far off
-#: (pixels at 640x480, scaled; :func:`turn_misfit`) is no alignment: a camera that only
-#: turns cannot make it (a zoom of a tenth, from matches bunched on one band of the
-#: view), and corrected by its nearest turn the camera walks off, frame after frame.
-#: (Measured on the foreign throws: at most 3 px where the matches are right, 7-13 px on
-#: the frames that turned an outside camera 10-15 px off.)
+#: The Scene Background's ``max_misfit`` (:func:`sync_step`): an ``H_e`` that the nearest
+#: turn of the camera leaves this far off (pixels at 640x480, scaled; :func:`turn_misfit`)
+#: is no alignment: a camera that only turns cannot make it (a zoom of a tenth, from
+#: matches bunched on one band of the view), and corrected by its nearest turn the camera
+#: walks off, frame after frame.  (On the foreign throws: at most 2.7 px where the matches
+#: are right, 7-13 px on the frames that turned an outside camera 10-15 px off.)
 MAX_TURN_MISFIT = 3.0
 
 Render = Callable[[Camera], NDArray]
@@ -319,6 +319,7 @@ def sync_step(
     shape: tuple[int, ...] | None = None,
     hold: NDArray | None = None,
     reacquire: bool = True,
+    max_misfit: float | None = None,
 ) -> SyncStep:
     """One step of the camera loop: the MMD of ``real`` and ``synthetic`` (rendered from
     ``camera``), its pixel error, and the corrected camera.
@@ -333,17 +334,20 @@ def sync_step(
     a held ``H_e`` corrects nothing.  ``reacquire`` allows the MMD's SIFT re-acquisition
     (:func:`~adapt.vision.mmd.mmd`).
 
-    Without ``full_pose``, an ``H_e`` that no turn of the camera makes (more than
-    :data:`MAX_TURN_MISFIT` off the nearest, :func:`turn_misfit`) is no alignment
-    (``hold`` then applies).
+    With ``max_misfit`` (pixels at 640x480, scaled; :data:`MAX_TURN_MISFIT` is the Scene
+    Background's) and without ``full_pose``, an ``H_e`` further than that from the nearest
+    turn of the camera (:func:`turn_misfit`) is no alignment (``hold`` then applies): where
+    the render differs from the frame only by how the camera turned (a fixed camera whose
+    look was learned through its pose), no turn makes it.  (A camera moved off the model's
+    position makes such an ``H_e`` in earnest: :func:`synchronise` takes it.)
 
     This is the step both :func:`synchronise` and the Scene Background schema take.
     """
     if shape is None:
         shape = real.shape
     refuse: Callable[[NDArray[np.float64]], str] | None = None
-    if not full_pose:
-        limit = MAX_TURN_MISFIT * image_scale(shape)
+    if max_misfit is not None and not full_pose:
+        limit = max_misfit * image_scale(shape)
         size = shape
 
         def not_a_turn(h: NDArray[np.float64]) -> str:

@@ -16,7 +16,7 @@ from adapt.vision.camera_correction import (
 )
 from adapt.vision.homography import corner_error
 from adapt.vision.mmd import mmd
-from adapt.vision.sync import synchronise
+from adapt.vision.sync import MAX_TURN_MISFIT, sync_step, synchronise, turn_misfit
 
 from . import scenes
 
@@ -189,3 +189,29 @@ def test_default_tolerance_scales_with_the_image():
     result = synchronise(render(base), base.with_rotation(rotation_exp([0.01, -0.01, 0.01])), render, gain=0.5)
     assert result.converged and "< 0.25" in result.reason
     assert result.steps[-1].pixel_error < 0.25 <= result.steps[-2].pixel_error
+
+
+def test_an_H_e_no_turn_of_the_camera_makes_is_no_alignment():
+    """A real view a tenth larger than the render (as matches bunched on one band of the
+    view can make H_e) is no camera turn: the Scene Background's step (``max_misfit``) takes
+    no alignment from it and turns nothing (with ``hold`` it compares through that instead);
+    a turn itself is taken, and without ``max_misfit`` (``synchronise``) the zoom is too."""
+    rng = np.random.default_rng(5)
+    cam = scenes.camera()
+    world = scenes.world("room")
+    synthetic = scenes.renderer_look(scenes.view(world, cam), rng)
+    zoom = np.array([[1.1, 0.0, -0.1 * cam.cx], [0.0, 1.1, -0.1 * cam.cy], [0.0, 0.0, 1.0]])
+    real = scenes.sensor_noise(cv2.warpPerspective(scenes.view(world, cam), zoom, cam.size), rng)
+    assert mmd(real, synthetic).aligned  # the images alone align ...
+    step = sync_step(real, synthetic, cam, tolerance=0.5, max_misfit=MAX_TURN_MISFIT)
+    assert not step.result.aligned and step.corrected is None  # ... no turn of the camera does
+    assert "no turn makes it" in step.result.alignment.reason
+    held = sync_step(real, synthetic, cam, tolerance=0.5, hold=np.eye(3), max_misfit=MAX_TURN_MISFIT)
+    assert held.result.alignment.held and held.corrected is None
+    turned = cam.with_rotation(rotation_exp([0.01, -0.015, 0.01]))
+    real = scenes.sensor_noise(scenes.view(world, turned), rng)
+    step = sync_step(real, synthetic, cam, tolerance=0.5, max_misfit=MAX_TURN_MISFIT)
+    assert step.result.aligned and step.corrected is not None
+    assert turn_misfit(step.result.homography, cam, real.shape) < MAX_TURN_MISFIT
+    real = scenes.sensor_noise(cv2.warpPerspective(scenes.view(world, cam), zoom, cam.size), rng)
+    assert sync_step(real, synthetic, cam, tolerance=0.5).result.aligned
