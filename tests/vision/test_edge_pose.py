@@ -49,15 +49,21 @@ def other_look(image: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     return np.clip(out, 0, 255).astype(np.uint8)
 
 
+def offset_camera(cam: Camera, rng: np.random.Generator) -> Camera:
+    """``cam`` turned by 1 degree about a random axis and moved 2 cm in a random direction
+    (a camera set up by hand)."""
+    axis = rng.normal(size=3)
+    turn = rotation_exp(np.radians(1.0) * axis / np.linalg.norm(axis))
+    shift = rng.normal(size=3)
+    return cam.with_pose(turn @ cam.rotation, cam.position + 0.02 * shift / np.linalg.norm(shift))
+
+
 @pytest.mark.parametrize("seed", [1, 2, 3, 4])
 def test_the_fit_puts_the_floor_back_where_the_true_camera_sees_it(nominal: Renderer,
                                                                     seed: int) -> None:
     rng = np.random.default_rng(seed)
     cam = nominal.camera
-    axis = rng.normal(size=3)
-    turn = rotation_exp(np.radians(1.0) * axis / np.linalg.norm(axis))
-    shift = rng.normal(size=3)
-    true_cam = cam.with_pose(turn @ cam.rotation, cam.position + 0.02 * shift / np.linalg.norm(shift))
+    true_cam = offset_camera(cam, rng)
     image = other_look(nominal.with_camera(true_cam).background.image, rng)
     seams = seam_points(nominal.background.labels, nominal.background_depth, cam.K)
     fit = fit_edges(image, seams, cam.K)
@@ -151,10 +157,7 @@ def test_walls_thicker_than_the_models_planes_do_not_pull_the_camera_off(seed: i
     real = Renderer(_thick(scenario.scene, 0.12), scenario.camera)
     rng = np.random.default_rng(seed)
     cam = model.camera
-    axis = rng.normal(size=3)
-    turn = rotation_exp(np.radians(1.0) * axis / np.linalg.norm(axis))
-    shift = rng.normal(size=3)
-    true_cam = cam.with_pose(turn @ cam.rotation, cam.position + 0.02 * shift / np.linalg.norm(shift))
+    true_cam = offset_camera(cam, rng)
     image = other_look(real.with_camera(true_cam).background.image, rng)
     seams = seam_points(model.background.labels, model.background_depth, cam.K)
     assert 0.2 < float(np.mean(seams.weights < 1.0)) < 0.8  # both kinds of seam are there
