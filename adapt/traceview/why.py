@@ -41,7 +41,7 @@ from adapt.engine.production import (
 from adapt.engine.symbols import format_symbol
 from adapt.engine.wme import WME
 from adapt.errors import TraceError
-from adapt.traceview.conditions import Failure, condition_text, first_failure, matches
+from adapt.traceview.conditions import Failure, condition_text, constants_of, first_failure, matches
 from adapt.traceview.memory import TraceWME, memory_at
 from adapt.traceview.reader import Trace, cycle_of
 from adapt.traceview.symbols import IdentifierTable, id_name, text_of, wme_text
@@ -363,12 +363,16 @@ def why_not(trace: Trace, rule: str, at: int, productions: dict[str, Production]
         name = text_of(i)
         if a == "superstate" and (name in substates or (v == "nil" and name in ids_with_io)):
             table.identifier(name).goal = True
-    failure = first_failure(production, wmes)
+    # the join order's last ties, as the matchers broke them: by the symbol table of the
+    # rule files loaded up to this rule
+    names = list(productions)
+    constants = constants_of([productions[n] for n in names[:names.index(rule) + 1]])
+    failure = first_failure(production, wmes, constants=constants)
     instantiations: tuple[dict[str, str], ...] = ()
     if failure is None:
         instantiations = tuple(
             {v.name: format_symbol(s) for v, s in b.items() if not v.name.startswith("<#")}
-            for b in list(matches(production.conditions, wmes))[:5]
+            for b in list(matches(production.conditions, wmes, constants=constants))[:5]
         )
     return WhyNot(rule, at, production, failure, instantiations, fired, last)
 

@@ -19,10 +19,11 @@ from hypothesis import strategies as st
 
 from adapt.cli import main
 from adapt.engine.naive import NaiveMatcher
+from adapt.engine.production import Condition, EqualityTest, Production, RelationalTest, Variable
 from adapt.engine.rete import Rete
 from adapt.engine.symbols import Identifier
 from adapt.engine.wme import WME
-from adapt.traceview.conditions import first_failure, matches
+from adapt.traceview.conditions import constants_of, first_failure, matches
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "engine"))
 from strategies import productions, wme_fields  # noqa: E402
@@ -46,7 +47,30 @@ def test_trace_tools_agree_with_both_matchers(production, rows) -> None:
     assert naive == rete
     failure = first_failure(production, wmes)
     assert (failure is None) == bool(naive)
-    assert Counter(_key(b) for b in matches(production.conditions, wmes)) == naive
+    assert Counter(_key(b) for b in matches(production.conditions, wmes,
+                                            constants=constants_of((production,)))) == naive
+
+
+def test_the_join_orders_last_tie_is_broken_by_the_matchers_constants() -> None:
+    """``(<s> ^a) (<s>) (<x> ^{< <s>} x)``: the matchers, whose symbol table holds ``a`` and
+    ``x``, join ``(<s> ^a)`` first and read ``a < S1`` as written; without those constants
+    the tie fell the other way, ``(<x> ...)`` first, and the relation was checked turned
+    round (``S1 > a``), which between a string and an identifier reads otherwise."""
+    s, x = Variable("<s>"), Variable("<x>")
+    production = Production("p", (Condition(s, EqualityTest("a"), None), Condition(s, None, None),
+                                  Condition(x, RelationalTest("<", s), EqualityTest("x"))), ())
+    s1 = Identifier("S", 1)
+    wmes = [WME(s1, "a", s1, False, 1), WME(s1, "a", "x", False, 2)]
+    found = []
+    for matcher in (NaiveMatcher(), Rete()):
+        matcher.add_production(production)
+        for w in wmes:
+            matcher.add_wme(w)
+        found.append(len(list(matcher.matches())))
+    assert found == [4, 4]
+    assert first_failure(production, wmes) is None
+    assert len(list(matches(production.conditions, wmes,
+                            constants=constants_of((production,))))) == 4
 
 
 def test_relation_on_a_later_variable(tmp_path, capsys) -> None:
