@@ -51,7 +51,7 @@ through the true one: at 640x480 from 6.2 cm off through the scenario's camera
 where the same fit with every seam weighing 1 and a Gaussian prior of 2 degrees gave
 1.0 cm (mean 1.8 cm, worst 10 cm; 10 over 2 cm); at 320x240 from 6.5 cm to 0.95 cm
 (mean 1.7 cm, worst 6.4 cm; 9 over 2 cm), against 1.5 cm (mean 1.9 cm, worst 5.5 cm;
-10).  About 0.2 s at 320x240 and 0.4 s at 640x480 on this machine, once before the look
+10).  About 0.2 s at 320x240 and 0.35 s at 640x480 on this machine, once before the look
 is learned.
 
 Examples
