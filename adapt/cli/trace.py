@@ -159,14 +159,15 @@ def parse_wme(text: str) -> tuple[int | None, tuple[str, str, str | None, bool |
 
 
 def _cmd_why(args: argparse.Namespace) -> int:
-    from adapt.traceview.rules import load_productions
+    from adapt.traceview.rules import load_join_orders, load_productions
     from adapt.traceview.why import explain, find_timetag, format_origin, format_why_not, why_not
 
     trace = _open(args.trace)
     if args.rule is not None:
         if args.at is None:
             raise TraceError("--rule needs --at D (the decision to check the rule at)")
-        result = why_not(trace, args.rule, args.at, load_productions(trace, args.rules))
+        rules, orders = load_join_orders(trace, args.rules)
+        result = why_not(trace, args.rule, args.at, rules, orders.get(args.rule))
         print(format_why_not(result))
         return 0
     if args.wme is None:

@@ -18,6 +18,8 @@ Examples
 
 from __future__ import annotations
 
+from typing import Sequence
+
 from adapt.engine.conditions import evaluation_order
 from adapt.engine.parse import RuleFile
 from adapt.engine.production import Production
@@ -26,24 +28,26 @@ from adapt.engine.reorder import ConstantOrder, join_order
 __all__ = ["join_orders"]
 
 
-def join_orders(rules: RuleFile) -> list[tuple[Production, list[int]]]:
+def join_orders(rules: RuleFile | Sequence[RuleFile]) -> list[tuple[Production, list[int]]]:
     """Each production with its conditions' indexes in evaluation order (see the module
-    docstring)."""
+    docstring); of several rule files, loaded in that order into one agent (the hints and
+    the symbol table go on from one file to the next)."""
     hints: dict[str, int] = {}
     constants = ConstantOrder()
-    settings = list(rules.settings)
     out: list[tuple[Production, list[int]]] = []
-    k = 0
-    for i, p in enumerate(rules.productions):
-        while k < len(settings) and settings[k][0] <= i:
-            setting = settings[k][1]
-            if setting.kind == "multi-attributes" and setting.name is not None:
-                hints[setting.name] = int(setting.value)  # type: ignore[arg-type]
-                constants.add(setting.name)
-            elif setting.kind == "symbols":
-                constants.add(str(setting.value))
-            k += 1
-        conds = p.conditions
-        constants.add_production(p)
-        out.append((p, evaluation_order(conds, (), join_order(conds, (), hints, constants))))
+    for rule_file in [rules] if isinstance(rules, RuleFile) else rules:
+        settings = list(rule_file.settings)
+        k = 0
+        for i, p in enumerate(rule_file.productions):
+            while k < len(settings) and settings[k][0] <= i:
+                setting = settings[k][1]
+                if setting.kind == "multi-attributes" and setting.name is not None:
+                    hints[setting.name] = int(setting.value)  # type: ignore[arg-type]
+                    constants.add(setting.name)
+                elif setting.kind == "symbols":
+                    constants.add(str(setting.value))
+                k += 1
+            conds = p.conditions
+            constants.add_production(p)
+            out.append((p, evaluation_order(conds, (), join_order(conds, (), hints, constants))))
     return out

@@ -51,6 +51,8 @@ from adapt.engine.conditions import (
     extend,
     match_condition,
 )
+from adapt.engine.joins import join_orders
+from adapt.engine.parse import RuleFile
 from adapt.engine.production import (
     Condition,
     ConditionElement,
@@ -63,11 +65,11 @@ from adapt.engine.production import (
     Variable,
     simple_tests,
 )
-from adapt.engine.reorder import ConstantOrder, join_order
+from adapt.engine.reorder import join_order
 from adapt.engine.symbols import format_symbol
 from adapt.engine.wme import WME
 
-__all__ = ["Bindings", "Failure", "condition_text", "matches", "first_failure", "constants_of"]
+__all__ = ["Bindings", "Failure", "condition_text", "matches", "first_failure"]
 
 
 def _term_text(term: object) -> str:
@@ -107,15 +109,19 @@ def condition_text(element: ConditionElement) -> str:
 
 def matches(elements: Sequence[ConditionElement], wmes: Sequence[WME],
             bindings: Bindings | None = None,
-            constants: ConstantOrder | None = None) -> Iterator[Bindings]:
+            order: Sequence[int] | None = None) -> Iterator[Bindings]:
     """The bindings of every consistent match of a conjunction of condition
     elements (:func:`adapt.engine.conditions.conjunction_matches`), joined in the
-    matchers' order (:func:`adapt.engine.reorder.join_order`: a relational test
-    between values of different types reads differently turned round), whose last
-    ties ``constants`` breaks: the matchers' symbol table when the production was
-    added (:func:`constants_of`; Soar's own symbols only when None)."""
-    order = join_order(elements, tuple(bindings or ()), None, constants)
-    for b, _ in conjunction_matches(elements, WmeIndex(wmes), bindings, positives=order):
+    matchers' order (a relational test between values of different types reads
+    differently turned round): ``order``, the elements' evaluation order as the
+    matchers loaded them (:func:`adapt.engine.joins.join_orders`), or
+    :func:`adapt.engine.reorder.join_order` with Soar's own symbols only."""
+    if order is None:
+        positives = join_order(elements, tuple(bindings or ()))
+    else:
+        positives = [i for i in order if isinstance(elements[i], Condition)
+                     and not elements[i].negated]  # type: ignore[union-attr]
+    for b, _ in conjunction_matches(elements, WmeIndex(wmes), bindings, positives=positives):
         yield b
 
 
@@ -169,39 +175,22 @@ def _deepest(elements: Sequence[ConditionElement], order: Sequence[int], index: 
     return best, found
 
 
-def constants_of(productions: Sequence[Production]) -> ConstantOrder:
-    """The matchers' order of constants once ``productions`` are added, in that order
-    (Soar's symbol table as the rule files load: the join order's last tie-break).
-
-    Examples
-    --------
-    >>> from adapt.engine.parse import parse_rules
-    >>> rules = parse_rules("sp {a (state <s> ^x zebra) --> (write hi)}").productions
-    >>> constants_of(rules).rank("zebra") > constants_of(()).rank("zebra")
-    True
-    """
-    order = ConstantOrder()
-    for p in productions:
-        order.add_production(p)
-    return order
-
-
-def first_failure(production: Production, wmes: Sequence[WME],
-                  examples: int = 3, constants: ConstantOrder | None = None) -> Failure | None:
+def first_failure(production: Production, wmes: Sequence[WME], examples: int = 3,
+                  order: Sequence[int] | None = None) -> Failure | None:
     """The first condition (in evaluation order) at which no partial match of
-    ``production`` survives, or ``None`` if the production matches.  ``constants``
-    breaks the join order's last ties as the matchers' symbol table did when the
-    production was added (by default: as a matcher holding only ``production``,
-    :func:`constants_of`)."""
+    ``production`` survives, or ``None`` if the production matches.  ``order`` is its
+    conditions' evaluation order as the matchers loaded it (with the rule files before it:
+    :func:`adapt.engine.joins.join_orders`, whose last ties the symbol table breaks); by
+    default as a matcher holding only ``production``."""
     index = WmeIndex(wmes)
     elements = production.conditions
-    if constants is None:
-        constants = constants_of((production,))
+    if order is None:
+        (_, order), = join_orders(RuleFile((production,)))
     # whether it matches, in the matchers' join order: a relational test waiting for a
     # variable bound later is checked there turned round, which between values of
     # different types reads differently; where, in source order (as the rule reads) unless
     # that order matches where the matchers' does not
-    joined = evaluation_order(elements, positives=join_order(elements, (), None, constants))
+    joined = list(order)
     depth, partials = _deepest(elements, joined, index, examples)
     if depth == len(joined):
         return None

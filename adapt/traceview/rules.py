@@ -11,12 +11,13 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from adapt.engine.parse import load_rule_file
+from adapt.engine.joins import join_orders
+from adapt.engine.parse import RuleFile, load_rule_file
 from adapt.engine.production import Production
 from adapt.errors import TraceError
 from adapt.traceview.reader import Trace
 
-__all__ = ["find_rule_file", "load_productions"]
+__all__ = ["find_rule_file", "load_rule_files", "load_productions", "load_join_orders"]
 
 
 def find_rule_file(name: str, trace_path: str) -> Path:
@@ -40,17 +41,30 @@ def find_rule_file(name: str, trace_path: str) -> Path:
     )
 
 
+def load_rule_files(trace: Trace, files: list[str] | None = None) -> list[RuleFile]:
+    """The rule files ``files`` (default: the trace header's), parsed, in the order the run
+    loaded them."""
+    paths = [Path(f) for f in files] if files else [
+        find_rule_file(f, trace.path) for f in trace.header.files
+    ]
+    return [load_rule_file(path) for path in paths]
+
+
 def load_productions(trace: Trace, files: list[str] | None = None) -> dict[str, Production]:
     """The productions of ``files`` (default: the trace header's), by name.
 
     A later file's production replaces an earlier one of the same name, as
     when the run loaded them in order.
     """
-    paths = [Path(f) for f in files] if files else [
-        find_rule_file(f, trace.path) for f in trace.header.files
-    ]
-    productions: dict[str, Production] = {}
-    for path in paths:
-        for production in load_rule_file(path).productions:
-            productions[production.name] = production
-    return productions
+    return {p.name: p for rule_file in load_rule_files(trace, files) for p in rule_file.productions}
+
+
+def load_join_orders(trace: Trace, files: list[str] | None = None
+                     ) -> tuple[dict[str, Production], dict[str, list[int]]]:
+    """The productions of ``files`` (default: the trace header's) by name, and each one's
+    conditions' evaluation order as the run's matchers loaded the files
+    (:func:`adapt.engine.joins.join_orders`: the ``multi-attributes`` hints in force and the
+    symbol table's order of constants breaking the last ties)."""
+    rule_files = load_rule_files(trace, files)
+    productions = {p.name: p for rule_file in rule_files for p in rule_file.productions}
+    return productions, {p.name: order for p, order in join_orders(rule_files)}

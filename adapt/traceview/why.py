@@ -28,7 +28,7 @@ False
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Sequence
 
 from adapt.engine.production import (
     ConjunctiveNegation,
@@ -41,7 +41,7 @@ from adapt.engine.production import (
 from adapt.engine.symbols import format_symbol
 from adapt.engine.wme import WME
 from adapt.errors import TraceError
-from adapt.traceview.conditions import Failure, condition_text, constants_of, first_failure, matches
+from adapt.traceview.conditions import Failure, condition_text, first_failure, matches
 from adapt.traceview.memory import TraceWME, memory_at
 from adapt.traceview.reader import Trace, cycle_of
 from adapt.traceview.symbols import IdentifierTable, id_name, text_of, wme_text
@@ -332,8 +332,11 @@ class WhyNot:
     last_fired: int | None
 
 
-def why_not(trace: Trace, rule: str, at: int, productions: dict[str, Production]) -> WhyNot:
-    """Check ``rule``'s conditions against working memory at the end of cycle ``at``."""
+def why_not(trace: Trace, rule: str, at: int, productions: dict[str, Production],
+            order: Sequence[int] | None = None) -> WhyNot:
+    """Check ``rule``'s conditions against working memory at the end of cycle ``at``, in
+    ``order``, their evaluation order as the run's matchers loaded the rule files
+    (:func:`adapt.engine.joins.join_orders`; by default as a matcher holding only the rule)."""
     if rule not in productions:
         near = [n for n in productions if rule.split("*")[0] in n][:5]
         hint = f" (rules like it: {', '.join(near)})" if near else ""
@@ -363,16 +366,12 @@ def why_not(trace: Trace, rule: str, at: int, productions: dict[str, Production]
         name = text_of(i)
         if a == "superstate" and (name in substates or (v == "nil" and name in ids_with_io)):
             table.identifier(name).goal = True
-    # the join order's last ties, as the matchers broke them: by the symbol table of the
-    # rule files loaded up to this rule
-    names = list(productions)
-    constants = constants_of([productions[n] for n in names[:names.index(rule) + 1]])
-    failure = first_failure(production, wmes, constants=constants)
+    failure = first_failure(production, wmes, order=order)
     instantiations: tuple[dict[str, str], ...] = ()
     if failure is None:
         instantiations = tuple(
             {v.name: format_symbol(s) for v, s in b.items() if not v.name.startswith("<#")}
-            for b in list(matches(production.conditions, wmes, constants=constants))[:5]
+            for b in list(matches(production.conditions, wmes, order=order))[:5]
         )
     return WhyNot(rule, at, production, failure, instantiations, fired, last)
 

@@ -182,3 +182,16 @@ def test_the_reorderers_work_grows_linearly_with_the_conditions(
         assert counts["lookahead"] <= reorder.LOOKAHEAD_BUDGET
     assert work[2000]["cost"] <= 2.2 * work[1000]["cost"]
     assert work[2000]["lookahead"] <= work[1000]["lookahead"] + 1
+
+
+def test_rule_files_loaded_one_after_another_share_the_symbol_table() -> None:
+    """``join_orders`` of several rule files: the constants an earlier file made come
+    first in the symbol table, and break the ties of a later file's productions as in one
+    agent that loaded both (alone, the later file's own written order decides)."""
+    from adapt.engine.joins import join_orders
+
+    earlier = parse_rules("sp {a (state <s> ^colour red) --> (halt)}\n"
+                          "sp {b (state <s> ^shape box) --> (halt)}")
+    later = parse_rules("sp {t (state <s> ^x <o>) (<o> ^shape box ^colour red) --> (halt)}")
+    assert join_orders(later) == [(later.productions[0], [0, 2, 1])]  # colour made last
+    assert join_orders([earlier, later])[-1] == (later.productions[0], [0, 1, 2])  # shape

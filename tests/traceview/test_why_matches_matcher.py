@@ -18,12 +18,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from adapt.cli import main
+from adapt.engine.joins import join_orders
 from adapt.engine.naive import NaiveMatcher
+from adapt.engine.parse import RuleFile
 from adapt.engine.production import Condition, EqualityTest, Production, RelationalTest, Variable
 from adapt.engine.rete import Rete
 from adapt.engine.symbols import Identifier
 from adapt.engine.wme import WME
-from adapt.traceview.conditions import constants_of, first_failure, matches
+from adapt.traceview.conditions import first_failure, matches
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "engine"))
 from strategies import productions, wme_fields  # noqa: E402
@@ -47,8 +49,8 @@ def test_trace_tools_agree_with_both_matchers(production, rows) -> None:
     assert naive == rete
     failure = first_failure(production, wmes)
     assert (failure is None) == bool(naive)
-    assert Counter(_key(b) for b in matches(production.conditions, wmes,
-                                            constants=constants_of((production,)))) == naive
+    (_, order), = join_orders(RuleFile((production,)))
+    assert Counter(_key(b) for b in matches(production.conditions, wmes, order=order)) == naive
 
 
 def test_the_join_orders_last_tie_is_broken_by_the_matchers_constants() -> None:
@@ -69,8 +71,8 @@ def test_the_join_orders_last_tie_is_broken_by_the_matchers_constants() -> None:
         found.append(len(list(matcher.matches())))
     assert found == [4, 4]
     assert first_failure(production, wmes) is None
-    assert len(list(matches(production.conditions, wmes,
-                            constants=constants_of((production,))))) == 4
+    (_, order), = join_orders(RuleFile((production,)))
+    assert len(list(matches(production.conditions, wmes, order=order))) == 4
 
 
 def test_relation_on_a_later_variable(tmp_path, capsys) -> None:
