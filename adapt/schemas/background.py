@@ -41,10 +41,14 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    per-pixel median of the frames kept since the start (up to ``still_s``
    seconds of them, :class:`~adapt.vision.stillness.FrameHistory`: an object
    that moved through the view is gone from it) is back-projected onto every
-   surface seen, but for the pixels that changed over those frames; while
-   something moves in them it waits for ``still_s`` seconds of frames, so
-   that a ball rolling from the first frame is gone from their median and
-   never painted into the floor (what it covered is learned later, below);
+   surface seen, but for the pixels whose median is not settled (an object
+   stayed there in most of the frames, or from the oldest to the newest:
+   :meth:`~adapt.vision.stillness.FrameHistory.settled`); while more than
+   :data:`MOVING_SHARE` of them are not, it waits for up to ``still_s``
+   seconds of frames, so that a ball rolling from the first frame is gone
+   from their median and never painted into the floor, and the path it
+   rolled over is learned with the rest (what a slow one covered is learned
+   later, below);
 2. ``learned``: the usual MMD with the learned look, the camera corrected as
    always; every ``learn_every`` frames in which the camera is synchronised,
    the frame refines the look (``learn_rate``, ``learn_gate``), never where a
@@ -171,6 +175,10 @@ STILL_SHARE = 0.02
 UNSEEN_SHARE = 0.5
 #: The first look waits for a full history while more than this share of pixels changed.
 MOVING_SHARE = 0.001
+#: The first look learns a pixel that changed over its frames from their median where more
+#: than this share of them agree with it, the oldest or the newest among them
+#: (:meth:`~adapt.vision.stillness.FrameHistory.settled`): a majority.
+SETTLED_SHARE = 0.55
 #: A camera on the robot has moved (its frame history restarts) once the robot's odometry
 #: carried it past these (m, degrees) since it last did.
 MOUNT_MOVED = (0.005, 0.3)
@@ -479,16 +487,19 @@ class SceneBackground(Schema):
 
     def _moving(self) -> bool:
         """Whether the first look must wait for more frames: until two are kept, and while
-        something moved over those kept (more than :data:`MOVING_SHARE` of the pixels
-        changed) until ``still_s`` seconds of them are, so their median is without it -- at
-        most that many frames (a camera on a robot that keeps driving keeps none)."""
+        something moving over those kept leaves their median unsettled (in more than
+        :data:`MOVING_SHARE` of the pixels: an object that crossed a pixel in a few of the
+        frames is gone from the median there, one that stayed longer is not,
+        :meth:`~adapt.vision.stillness.FrameHistory.settled`) until ``still_s`` seconds of
+        them are -- at most that many frames (a camera on a robot that keeps driving keeps
+        none)."""
         h = self.history
         if len(h) >= h.depth or self._held >= h.depth:
             return False
         if len(h) < 2:
             return True
-        still = h.still(float(self.parameters["threshold"]))
-        return 1.0 - float(np.count_nonzero(still)) / max(still.size, 1) > MOVING_SHARE
+        settled = h.settled(float(self.parameters["threshold"]), SETTLED_SHARE)
+        return 1.0 - float(np.count_nonzero(settled)) / max(settled.size, 1) > MOVING_SHARE
 
     def _waiting(self, frame: "Frame", started: float, gathering: bool = False) -> None:
         """A frame of the structure stage: the render for the figures, no MMD, no regions."""
@@ -634,6 +645,11 @@ class SceneBackground(Schema):
         still = self.history.still(float(p["threshold"])) if len(self.history) >= 2 else None
         if fresh:  # what the view showed most of the time: a passing object is gone from it
             image = self.history.median() if len(self.history) else frame.image
+            if still is not None:
+                # where an object crossed a pixel in a few of the frames the others agree
+                # on what lies under it: learned from the median, not left for a later pass
+                # (the path the ball rolled during the first look is no difference then)
+                still = self.history.settled(float(p["threshold"]), SETTLED_SHARE)
             exclude, relearn = self._exclusion(frame.image.shape, still=still)
             self._covered = None
             if not mirror.mounted and labels.shape == frame.image.shape[:2]:

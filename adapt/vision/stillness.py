@@ -7,8 +7,11 @@ that did not move and says, per pixel, whether its colour stayed within a
 gate over them (:meth:`FrameHistory.still`; a moving object changes the
 pixels it crosses), and what the pixel showed most of the time
 (:meth:`FrameHistory.median`: an object that crossed a pixel in less than
-half of the frames is gone from it).  The caller clears the history when the
-camera moves (a camera on a robot that drives).
+half of the frames is gone from it), and where that median can be believed
+(:meth:`FrameHistory.settled`: most frames agree with it, the oldest or the
+newest among them -- a pixel a rolling ball crossed for a frame or two).  The
+caller clears the history when the camera moves (a camera on a robot that
+drives).
 
 Examples
 --------
@@ -110,6 +113,58 @@ class FrameHistory:
         spread = cv2.absdiff(high, low)
         worst = spread.max(axis=2) if spread.ndim == 3 else spread
         return float(np.count_nonzero(worst > gate)) / float(worst.size)
+
+    def settled(self, gate: float, share: float) -> NDArray[np.bool_]:
+        """Pixels whose median (:meth:`median`) shows what held there: at least ``share``
+        of the frames kept lie within ``gate`` grey levels of it (every channel), and so
+        does the oldest frame or the newest.
+
+        An object that crossed a pixel in a few frames is gone from the median there, and
+        the frames before and after it agree; where a slow object stayed longer than the
+        frames that agree, or covered the pixel from the first frame to the last, the
+        median is not believed.  Every pixel that held still (:meth:`still`) is settled;
+        with fewer than three frames only those are.
+
+        Parameters
+        ----------
+        gate : float
+            Grey levels a frame may differ from the median and agree.
+        share : float
+            The share of the frames that must agree, in (0.5, 1].
+
+        Returns
+        -------
+        ndarray of bool
+            Per pixel (an empty array with no frame).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> history = FrameHistory(depth=6)
+        >>> for k in range(6):
+        ...     frame = np.full((10, 30, 3), 100, np.uint8)
+        ...     frame[:, 5 * k:5 * k + 5] = 250      # crossing, 5 px a frame
+        ...     history.push(frame)
+        >>> settled = history.settled(gate=20.0, share=2 / 3)
+        >>> bool(settled[5, 2]), bool(history.still(gate=20.0)[5, 2])
+        (True, False)
+        """
+        if not 0.5 < share <= 1.0:
+            raise VisionError(f"share: expected a share in (0.5, 1], got {share}")
+        still = self.still(gate)
+        n = len(self._frames)
+        if n < 3 or still.all():
+            return still
+        # only the pixels that changed: a median of every pixel costs a frame's budget
+        changed = np.flatnonzero(~still)
+        values = np.stack([f.reshape(still.size, -1)[changed]
+                           for f in self._frames]).astype(np.int16)
+        middle = np.median(values, axis=0)
+        near = np.all(np.abs(values - middle) <= gate, axis=-1)
+        ok = (near.sum(axis=0) >= share * n) & (near[0] | near[-1])
+        out = still.copy()
+        out.reshape(-1)[changed[ok]] = True
+        return out
 
     def median(self) -> NDArray[np.uint8]:
         """The per-pixel median of the frames kept (the newest frame for one or two).

@@ -60,3 +60,42 @@ def test_clear_and_a_new_size_restart_the_history() -> None:
         h.median()
     with pytest.raises(VisionError, match="at least 1"):
         FrameHistory(0)
+
+
+def test_a_fast_balls_path_is_settled_and_its_median_the_floor() -> None:
+    # the first look learns what the frames agree on: a ball that crossed each pixel of its
+    # path in a few frames leaves the floor there (median and most frames agree)
+    frames = frames_with_a_ball(5, speed=12, noise=2.0)
+    h = FrameHistory(12)
+    for f in frames:
+        h.push(f)
+    path = np.zeros((60, 120), bool)
+    path[30, 10:58] = True
+    assert not h.still(gate=30.0)[path].any()
+    assert h.settled(gate=30.0, share=0.55)[path].all()
+    floor = np.random.default_rng(0).integers(60, 200, (60, 120, 3), dtype=np.uint8)
+    assert np.abs(h.median().astype(int) - floor.astype(int))[path].max() <= 8
+
+
+def test_a_slow_balls_path_is_not_settled_where_it_stayed_longest() -> None:
+    # 2 px a frame, 17 px across: the middle of the path is covered in 8 of 12 frames; the
+    # ball's own colour is then the median and most frames agree with it, but neither the
+    # oldest frame nor the newest does: not settled (it would be learned as a ghost)
+    h = FrameHistory(12)
+    for f in frames_with_a_ball(12, speed=2):
+        h.push(f)
+    middle = (30, 21)
+    assert tuple(h.median()[middle]) == (30, 30, 230)
+    assert not h.settled(gate=30.0, share=0.55)[middle]
+    # a pixel the ball covered in its first 5 frames only (7 of 12 agree on the floor) is
+    assert h.settled(gate=30.0, share=0.55)[30, 10]
+
+
+def test_settled_is_still_with_few_frames_and_refuses_a_minority_share() -> None:
+    h = FrameHistory(12)
+    for f in frames_with_a_ball(2, speed=12):
+        h.push(f)
+    assert np.array_equal(h.settled(gate=30.0, share=0.55), h.still(gate=30.0))
+    with pytest.raises(VisionError, match="share"):
+        h.settled(gate=30.0, share=0.5)
+    assert FrameHistory(3).settled(gate=30.0, share=0.6).shape == (0, 0)
