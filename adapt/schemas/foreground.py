@@ -14,7 +14,9 @@ imagination (paper section 4.4, Figure 6):
   :class:`~adapt.schemas.percepts.ObjectPercept` on its ``object`` port.  The imagination's label image (warped by ``H_e``) says which
   pixels other imagined objects cover; they are left out, and so is the
   imagined robot, grown by :data:`ROBOT_MARGIN` pixels (the robot knows where
-  it is).  The blobs left are tried nearest and largest first, up to
+  it is), but for the pixels of another colour than the robot's in the frame
+  (a ball resting against the robot shows past its real edge, which the
+  imagined one, a few pixels off, covers).  The blobs left are tried nearest and largest first, up to
   :data:`MAX_BLOBS`, until one has the object's size and stands where it can.  (Comparing with
   the full render instead would hide the object wherever the imagined body
   already covers it, and mistake background of the object's colour for the
@@ -484,7 +486,10 @@ class ForegroundObject(Schema):
         others = [m[y0:y1, x0:x1] for m in (bg.imagined_mask(lab)
                                             for lab in bg.balls_except(self.body))
                   if m is not None]
-        robot = bg.robot_mask(margin=ROBOT_MARGIN, box=(x0, y0, x1 - x0, y1 - y0))
+        # (what shows past the real robot's edge in another colour is not the robot's image: a
+        # ball resting against it, the imagined robot a few pixels off)
+        robot = bg.robot_mask(margin=ROBOT_MARGIN, box=(x0, y0, x1 - x0, y1 - y0),
+                              real=frame.image)
         if robot is not None:
             own = bg.drawn.get(self.body)
             mine = None if own is None else bg.imagined_mask(own)

@@ -128,6 +128,10 @@ LOOKS_LIKE_MARGIN = 25.0
 #: object's diameter (either way): the box's bottom edge back-projected is a rough measure.
 LOOKS_LIKE_SIZE = 2.5
 
+#: The fewest pixels inside the imagined robot's outline that say the robot's colour in a
+#: frame (:meth:`BackgroundPercept.robot_mask` with ``real``).
+ROBOT_COLOUR_PIXELS = 20
+
 
 @dataclass(frozen=True, slots=True)
 class RegionReport:
@@ -359,11 +363,18 @@ class BackgroundPercept:
         return [lab for n, lab in self.drawn.items()
                 if n != name and LABEL_BALL <= lab < LABEL_ROBOT]
 
-    def robot_mask(self, margin: int = 0, box: tuple[int, int, int, int] | None = None
-                   ) -> NDArray[np.bool_] | None:
+    def robot_mask(self, margin: int = 0, box: tuple[int, int, int, int] | None = None,
+                   real: NDArray[np.uint8] | None = None) -> NDArray[np.bool_] | None:
         """Pixels of the real frame where the imagination shows the robot, grown by ``margin``
         pixels, or None (no alignment, no robot drawn); within ``box`` (``x, y, w, h``) only,
         when given (the mask of that part of the frame).
+
+        Given the ``real`` frame, the pixels whose colour there is not the robot's are left
+        out: more than ``threshold`` grey levels (any channel) from the median colour of the
+        pixels the imagined robot covers at least ``margin`` pixels inside its outline (at
+        least :data:`ROBOT_COLOUR_PIXELS` of them in the box; else none is left out).  The
+        imagined robot stands where the robot's odometry says, a few pixels off: what shows
+        past the real robot's edge there (a ball resting against it) is not its image.
 
         >>> cam = Camera(100, 100, 40, 30, 80, 60, np.eye(3), np.zeros(3))
         >>> labels = np.pad(np.full((2, 2), LABEL_ROBOT, np.uint16), 3)
@@ -381,11 +392,29 @@ class BackgroundPercept:
         # the box grown by the margin: a robot pixel just outside it grows into it
         gx0, gy0 = max(x0 - margin, 0), max(y0 - margin, 0)
         gx1, gy1 = min(x0 + bw + margin, w), min(y0 + bh + margin, h)
-        mask = self.warped_labels[gy0:gy1, gx0:gx1] == LABEL_ROBOT
+        drawn = self.warped_labels[gy0:gy1, gx0:gx1] == LABEL_ROBOT
+        mask = drawn
         if margin > 0 and mask.any():
             size = 2 * margin + 1
-            mask = cv2.dilate(mask.view(np.uint8), np.ones((size, size), np.uint8)).astype(bool)
-        return mask[y0 - gy0:y0 - gy0 + bh, x0 - gx0:x0 - gx0 + bw]
+            kernel = np.ones((size, size), np.uint8)
+            mask = cv2.dilate(drawn.view(np.uint8), kernel).astype(bool)
+        inside = (slice(y0 - gy0, y0 - gy0 + bh), slice(x0 - gx0, x0 - gx0 + bw))
+        out = mask[inside]
+        if real is None or not out.any():
+            return out
+        core = drawn
+        if margin > 0:
+            core = cv2.erode(drawn.view(np.uint8), kernel).astype(bool)
+        core = core[inside]
+        if int(np.count_nonzero(core)) < ROBOT_COLOUR_PIXELS:
+            return out
+        part = np.asarray(real[y0:y0 + bh, x0:x0 + bw], np.int16)
+        if part.shape[:2] != out.shape:
+            return out
+        colour = np.median(part[core], axis=0)
+        off = np.abs(part - colour)
+        unlike = (off.max(axis=-1) if off.ndim == 3 else off) > self.threshold
+        return out & ~unlike
 
     def imagined_mask(self, label: int) -> NDArray[np.bool_] | None:
         """Pixels of the real frame where the imagination shows the object of ``label``,
