@@ -42,13 +42,14 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    seconds of them, :class:`~adapt.vision.stillness.FrameHistory`: an object
    that moved through the view is gone from it) is back-projected onto every
    surface seen, but for the pixels whose median is not settled (an object
-   stayed there in most of the frames, or from the oldest to the newest:
-   :meth:`~adapt.vision.stillness.FrameHistory.settled`); while more than
-   :data:`MOVING_SHARE` of them are not, it waits for up to ``still_s``
-   seconds of frames, so that a ball rolling from the first frame is gone
-   from their median and never painted into the floor, and the path it
-   rolled over is learned with the rest (what a slow one covered is learned
-   later, below);
+   stayed there in most of the frames, stood there at the oldest or stands
+   there at the newest: :meth:`~adapt.vision.stillness.FrameHistory.settled`);
+   while in more than :data:`MOVING_SHARE` of the pixels no majority of the
+   frames agree, it waits for up to ``still_s`` seconds of frames, so that a
+   ball rolling from the first frame is gone from their median and never
+   painted into the floor, and the path it rolled over is learned with the
+   rest (where it started and where it is, and what a slow one covered, are
+   learned later, below);
 2. ``learned``: the usual MMD with the learned look, the camera corrected as
    always; every ``learn_every`` frames in which the camera is synchronised,
    the frame refines the look (``learn_rate``, ``learn_gate``), never where a
@@ -87,8 +88,11 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    differently as a robot's camera turns, a plain face filling the view) is
    aligned by the structure instead, keeping the look, and compared through
    that (the MMD's ``H_e`` held at the identity): the object schemas search it,
-   but it reports no region, since without matches the difference's own
-   errors cannot be told from objects (``structure_held`` counts such frames).
+   but a camera on the robot reports no region, since without matches the
+   difference's own errors cannot be told from objects (``structure_held``
+   counts such frames); a fixed camera whose matches last left it within
+   :data:`HELD_IN_STEP` pixels of synchronised has not moved since, and reports
+   its regions as with matches.
    After :data:`REACQUIRE_AFTER` frames that neither aligns the structure is
    aligned again from a wide margin and the look learned afresh.
 
@@ -176,9 +180,13 @@ UNSEEN_SHARE = 0.5
 #: The first look waits for a full history while more than this share of pixels changed.
 MOVING_SHARE = 0.001
 #: The first look learns a pixel that changed over its frames from their median where more
-#: than this share of them agree with it, the oldest or the newest among them
+#: than this share of them agree with it, the oldest and the newest among them
 #: (:meth:`~adapt.vision.stillness.FrameHistory.settled`): a majority.
 SETTLED_SHARE = 0.55
+#: A fixed camera whose matches last left it within this many pixels (at 640x480) of
+#: synchronised reports regions in a frame without matches too (the perception rules spawn
+#: only below 4 px).
+HELD_IN_STEP = 3.0
 #: A camera on the robot has moved (its frame history restarts) once the robot's odometry
 #: carried it past these (m, degrees) since it last did.
 MOUNT_MOVED = (0.005, 0.3)
@@ -384,6 +392,9 @@ class SceneBackground(Schema):
             if not res.alignment.held:  # a held H_e's error is no measurement of the camera's
                 self._settled = (step.pixel_error if self._settled >= 1e9
                                  else 0.8 * self._settled + 0.2 * step.pixel_error)
+            elif self._fixed_in_step(frame.image.shape):
+                # a fixed camera has not moved since its matches last measured it: that error
+                self.pixel_error = self._settled
             if step.corrected is not None:
                 self.correction_deg = step.correction_deg
                 self.corrections += 1
@@ -391,10 +402,12 @@ class SceneBackground(Schema):
         # published once the camera step is done: the boxes the other schemas monitor are
         # asked for in this frame's alignment
         early = self._publish(frame.index, frame.time, camera, started)
-        if res.alignment.held:
-            # without matches the difference's own errors (a texture aliased differently, a
-            # view the look has not seen) cannot be told from objects: the schemas search for
-            # the objects they follow, but no region is reported to spawn one for
+        if res.alignment.held and not self._fixed_in_step(frame.image.shape):
+            # without matches the difference's own errors (a texture aliased differently as
+            # a camera on the robot turns, a view the look has not seen) cannot be told from
+            # objects: the schemas search for the objects they follow, but no region is
+            # reported to spawn one for.  (A fixed camera in step compares the frame through
+            # the camera its matches last corrected, which has not moved: as good as then.)
             self.tracker.update([], frame.index)
             self.regions = []
         else:
@@ -480,6 +493,14 @@ class SceneBackground(Schema):
 
     # -- appearance learning ------------------------------------------------------------
 
+    def _fixed_in_step(self, shape: tuple[int, ...]) -> bool:
+        """A fixed camera whose look is learned and whose matches, when they last aligned
+        it, left it within :data:`HELD_IN_STEP` pixels (at 640x480) of synchronised: a frame
+        without matches is compared through that camera as well as through an ``H_e``."""
+        if self.network.mirror.mounted or self.stage is not AppearanceStage.LEARNED:
+            return False
+        return self._settled <= HELD_IN_STEP * image_scale(shape)
+
     def _remember(self, frame: "Frame") -> None:
         """Keep the frame in the history of a camera that has not moved (a camera on the
         robot starts it again whenever the robot's odometry moves it: :meth:`perceive`)."""
@@ -487,19 +508,19 @@ class SceneBackground(Schema):
 
     def _moving(self) -> bool:
         """Whether the first look must wait for more frames: until two are kept, and while
-        something moving over those kept leaves their median unsettled (in more than
-        :data:`MOVING_SHARE` of the pixels: an object that crossed a pixel in a few of the
-        frames is gone from the median there, one that stayed longer is not,
-        :meth:`~adapt.vision.stillness.FrameHistory.settled`) until ``still_s`` seconds of
-        them are -- at most that many frames (a camera on a robot that keeps driving keeps
-        none)."""
+        in more than :data:`MOVING_SHARE` of the pixels no majority of them agree (something
+        moving crossed them in about half the frames,
+        :meth:`~adapt.vision.stillness.FrameHistory.settled` without its ends) until
+        ``still_s`` seconds of them are -- at most that many frames (a camera on a robot
+        that keeps driving keeps none).  What the look learns is stricter: the pixels where
+        the oldest and the newest frame agree with the majority too (see :meth:`_learn`)."""
         h = self.history
         if len(h) >= h.depth or self._held >= h.depth:
             return False
         if len(h) < 2:
             return True
-        settled = h.settled(float(self.parameters["threshold"]), SETTLED_SHARE)
-        return 1.0 - float(np.count_nonzero(settled)) / max(settled.size, 1) > MOVING_SHARE
+        agreed = h.settled(float(self.parameters["threshold"]), SETTLED_SHARE, ends=False)
+        return 1.0 - float(np.count_nonzero(agreed)) / max(agreed.size, 1) > MOVING_SHARE
 
     def _waiting(self, frame: "Frame", started: float, gathering: bool = False) -> None:
         """A frame of the structure stage: the render for the figures, no MMD, no regions."""

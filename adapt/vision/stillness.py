@@ -8,7 +8,7 @@ gate over them (:meth:`FrameHistory.still`; a moving object changes the
 pixels it crosses), and what the pixel showed most of the time
 (:meth:`FrameHistory.median`: an object that crossed a pixel in less than
 half of the frames is gone from it), and where that median can be believed
-(:meth:`FrameHistory.settled`: most frames agree with it, the oldest or the
+(:meth:`FrameHistory.settled`: most frames agree with it, the oldest and the
 newest among them -- a pixel a rolling ball crossed for a frame or two).  The
 caller clears the history when the camera moves (a camera on a robot that
 drives).
@@ -114,16 +114,20 @@ class FrameHistory:
         worst = spread.max(axis=2) if spread.ndim == 3 else spread
         return float(np.count_nonzero(worst > gate)) / float(worst.size)
 
-    def settled(self, gate: float, share: float) -> NDArray[np.bool_]:
-        """Pixels whose median (:meth:`median`) shows what held there: at least ``share``
-        of the frames kept lie within ``gate`` grey levels of it (every channel), and so
-        does the oldest frame or the newest.
+    def settled(self, gate: float, share: float, ends: bool = True) -> NDArray[np.bool_]:
+        """Pixels whose median (:meth:`median`) shows what lies there: at least ``share``
+        of the frames kept lie within ``gate`` grey levels of it (every channel) and, with
+        ``ends``, so do the oldest frame and the newest.
 
-        An object that crossed a pixel in a few frames is gone from the median there, and
-        the frames before and after it agree; where a slow object stayed longer than the
-        frames that agree, or covered the pixel from the first frame to the last, the
-        median is not believed.  Every pixel that held still (:meth:`still`) is settled;
-        with fewer than three frames only those are.
+        An object that crossed a pixel in a few frames between the oldest and the newest
+        is gone from the median there, and the frames before and after it agree.  Where it
+        was at the oldest frame or is at the newest, the frames cannot say whether it left
+        the background or arrived on it (a ball that stood at the start and rolled away,
+        or one that rolled in and stays), and where it stayed in most frames the median is
+        its colour: with ``ends`` none of these is settled.  Without, a pixel is settled
+        wherever a majority agree (the frames agree on something, even if not on what lies
+        under an object).  Every pixel that held still (:meth:`still`) is settled; with
+        fewer than three frames only those are.
 
         Parameters
         ----------
@@ -131,6 +135,8 @@ class FrameHistory:
             Grey levels a frame may differ from the median and agree.
         share : float
             The share of the frames that must agree, in (0.5, 1].
+        ends : bool
+            The oldest frame and the newest must agree too.
 
         Returns
         -------
@@ -146,8 +152,12 @@ class FrameHistory:
         ...     frame[:, 5 * k:5 * k + 5] = 250      # crossing, 5 px a frame
         ...     history.push(frame)
         >>> settled = history.settled(gate=20.0, share=2 / 3)
-        >>> bool(settled[5, 2]), bool(history.still(gate=20.0)[5, 2])
-        (True, False)
+        >>> [bool(settled[5, x]) for x in (2, 12, 27)]  # at the oldest, between, at the newest
+        [False, True, False]
+        >>> bool(history.settled(gate=20.0, share=2 / 3, ends=False)[5, 2])
+        True
+        >>> bool(history.still(gate=20.0)[5, 12])
+        False
         """
         if not 0.5 < share <= 1.0:
             raise VisionError(f"share: expected a share in (0.5, 1], got {share}")
@@ -161,7 +171,9 @@ class FrameHistory:
                            for f in self._frames]).astype(np.int16)
         middle = np.median(values, axis=0)
         near = np.all(np.abs(values - middle) <= gate, axis=-1)
-        ok = (near.sum(axis=0) >= share * n) & (near[0] | near[-1])
+        ok = near.sum(axis=0) >= share * n
+        if ends:
+            ok &= near[0] & near[-1]
         out = still.copy()
         out.reshape(-1)[changed[ok]] = True
         return out
