@@ -177,7 +177,8 @@ STILL_SHARE = 0.02
 #: An unexpected region at least this share of whose pixels show surfaces where the look
 #: was never learned, and held still, is reported ``unseen`` (see the module docstring).
 UNSEEN_SHARE = 0.5
-#: The first look waits for a full history while more than this share of pixels changed.
+#: The first look waits for up to a full history while in more than this share of the pixels
+#: no majority of the frames agree.
 MOVING_SHARE = 0.001
 #: The first look learns a pixel that changed over its frames from their median where more
 #: than this share of them agree with it, the oldest and the newest among them
