@@ -664,14 +664,17 @@ class SceneBackground(Schema):
         p = self.parameters
         mirror = self.network.mirror
         before = mirror.render().image if self.first_look is None else None
-        still = self.history.still(float(p["threshold"])) if len(self.history) >= 2 else None
+        gate = float(p["threshold"])
+        still = None
+        if len(self.history) >= 2:
+            # the first look: where an object crossed a pixel in a few of the frames the
+            # others agree on what lies under it, learned from the median, not left for a
+            # later pass (the path the ball rolled during the first look is no difference
+            # then); a refinement: the pixels that held still
+            still = (self.history.settled(gate, SETTLED_SHARE) if fresh
+                     else self.history.still(gate))
         if fresh:  # what the view showed most of the time: a passing object is gone from it
             image = self.history.median() if len(self.history) else frame.image
-            if still is not None:
-                # where an object crossed a pixel in a few of the frames the others agree
-                # on what lies under it: learned from the median, not left for a later pass
-                # (the path the ball rolled during the first look is no difference then)
-                still = self.history.settled(float(p["threshold"]), SETTLED_SHARE)
             exclude, relearn = self._exclusion(frame.image.shape, still=still)
             self._covered = None
             if not mirror.mounted and labels.shape == frame.image.shape[:2]:

@@ -393,17 +393,16 @@ class BackgroundPercept:
         gx0, gy0 = max(x0 - margin, 0), max(y0 - margin, 0)
         gx1, gy1 = min(x0 + bw + margin, w), min(y0 + bh + margin, h)
         drawn = self.warped_labels[gy0:gy1, gx0:gx1] == LABEL_ROBOT
+        kernel = np.ones((2 * margin + 1, 2 * margin + 1), np.uint8) if margin > 0 else None
         mask = drawn
-        if margin > 0 and mask.any():
-            size = 2 * margin + 1
-            kernel = np.ones((size, size), np.uint8)
+        if kernel is not None and mask.any():
             mask = cv2.dilate(drawn.view(np.uint8), kernel).astype(bool)
         inside = (slice(y0 - gy0, y0 - gy0 + bh), slice(x0 - gx0, x0 - gx0 + bw))
         out = mask[inside]
         if real is None or not out.any():
             return out
         core = drawn
-        if margin > 0:
+        if kernel is not None:
             core = cv2.erode(drawn.view(np.uint8), kernel).astype(bool)
         core = core[inside]
         if int(np.count_nonzero(core)) < ROBOT_COLOUR_PIXELS:

@@ -56,7 +56,12 @@ def load_productions(trace: Trace, files: list[str] | None = None) -> dict[str, 
     A later file's production replaces an earlier one of the same name, as
     when the run loaded them in order.
     """
-    return {p.name: p for rule_file in load_rule_files(trace, files) for p in rule_file.productions}
+    return _by_name(load_rule_files(trace, files))
+
+
+def _by_name(rule_files: list[RuleFile]) -> dict[str, Production]:
+    """The productions of ``rule_files`` by name, a later one replacing an earlier."""
+    return {p.name: p for rule_file in rule_files for p in rule_file.productions}
 
 
 def load_join_orders(trace: Trace, files: list[str] | None = None
@@ -66,5 +71,4 @@ def load_join_orders(trace: Trace, files: list[str] | None = None
     (:func:`adapt.engine.joins.join_orders`: the ``multi-attributes`` hints in force and the
     symbol table's order of constants breaking the last ties)."""
     rule_files = load_rule_files(trace, files)
-    productions = {p.name: p for rule_file in rule_files for p in rule_file.productions}
-    return productions, {p.name: order for p, order in join_orders(rule_files)}
+    return _by_name(rule_files), {p.name: order for p, order in join_orders(rule_files)}
