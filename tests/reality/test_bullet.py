@@ -24,7 +24,7 @@ pytest.importorskip("pybullet")
 from adapt.reality.bullet import BulletSource, Client  # noqa: E402
 from adapt.reality.bullet.calibrate import measure  # noqa: E402
 from adapt.reality.bullet.draw import BallDraw, SurfaceDraw  # noqa: E402
-from adapt.reality.bullet.view import matrices  # noqa: E402
+from adapt.reality.bullet.view import matrices, render  # noqa: E402
 
 
 def open_source(sc: Scenario, seed: int = 1, calibrate: bool = False) -> BulletSource:
@@ -64,6 +64,26 @@ def test_frames_are_bgr_images_of_the_camera_size_with_the_ball_in_view() -> Non
     u, v = truth.camera.project(np.array([[*ball.position, ball.height]]))[0]
     b, g, r = image[int(round(v)), int(round(u))].astype(int)
     assert r > b + 40 and r > g + 40   # the red ball is red in a BGR frame
+
+
+def test_walls_show_their_textured_faces_steadily_as_the_camera_moves() -> None:
+    # a wall's collision box has no visual shape of its own, and a body without one is
+    # drawn as plain white boxes: lying on the textured faces, they fought them for every
+    # pixel, in a noise that changed as a robot's camera moved a centimetre
+    src = open_source(scenario())
+    look = src.drawn.look
+    seen = []
+    for dy in (0.0, 0.01):
+        cam = Camera.look_at(fx=130, fy=130, cx=79.5, cy=59.5, width=160, height=120,
+                             position=(0.0, -0.4 + dy, 0.35), look_at=(1.5, 1.2 + dy, 0.3))
+        rgb, seg = render(src.client, cam, look)
+        walls = np.isin(seg, [b for b, n in src.bodies.names.items()
+                              if n in ("north", "east", "south", "west")])
+        assert walls.mean() > 0.2                            # a quarter of the view is walls
+        assert not np.isin(seg, src.bodies.walls).any()      # never a collision box
+        seen.append(rgb.astype(int))
+    # 1 cm further on, the walls' pixels are much as they were (texture, not a fight)
+    assert np.abs(seen[0] - seen[1]).mean() < 12
 
 
 def test_the_same_seed_gives_the_same_frames_and_another_seed_another_reality() -> None:

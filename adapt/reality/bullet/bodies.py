@@ -208,6 +208,10 @@ def build(client: Client, scene: SceneSpec, drawn: BulletDraw, thickness: float,
             baseMass=0, baseCollisionShapeIndex=box, basePosition=[cx, cy, wall.height / 2],
             baseOrientation=client.getQuaternionFromEuler([0, 0, yaw])))
         _contacts(client, collision_body, drawn.walls)
+        # a body without a visual shape is drawn as its collision shape, plain white: this
+        # box's faces lie on the textured mesh's, and the two would fight for every pixel
+        # (a noise of white and texture that changes as the camera moves a centimetre)
+        client.changeVisualShape(collision_body, -1, rgbaColor=[1, 1, 1, 0])
         body = _static(client, -1, _visual(client, mesh, textures[f"walls[{i}]"]),
                        textures[f"walls[{i}]"])
         walls.append(collision_body)
