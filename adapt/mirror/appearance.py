@@ -551,8 +551,13 @@ class AppearanceModel:
             if cv2.countNonZero(region) < MIN_SEEN_PIXELS:
                 continue
             region = cv2.copyMakeBorder(region, _PAD, _PAD, _PAD, _PAD, cv2.BORDER_REPLICATE)
-            # The region's outline bounds what each plane sees of it.
-            contours, _ = cv2.findContours(region, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+            # The region's outline bounds what each plane sees of it.  The sky's, every
+            # point of it: a sky face sees only the outline's points whose directions are in
+            # front of it, and the corners alone can leave it a sliver (a camera looking
+            # down: the frame's top corners on +y, its bottom ones behind it).
+            contours, _ = cv2.findContours(
+                region, cv2.RETR_EXTERNAL,
+                cv2.CHAIN_APPROX_NONE if label == LABEL_SKY else cv2.CHAIN_APPROX_SIMPLE)
             outline = np.concatenate([c.reshape(-1, 2) for c in contours]).astype(np.float64)
             for plane, pts in self._planes_seen(label, camera, shift, outline):
                 got = self._update(plane, plane_to_frame=shift @ plane.to_pixels(camera),

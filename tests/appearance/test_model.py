@@ -169,6 +169,31 @@ def test_the_sky_is_learned_by_direction() -> None:
     assert np.array_equal(out[~new_sky], view.image[~new_sky])
 
 
+def test_the_sky_round_a_room_seen_from_above_is_learned_on_every_face_it_shows() -> None:
+    # a camera outside a room, high and looking down over it: the sky (what the scene
+    # does not model: the ground beyond) surrounds the floor, on four faces of the sky's
+    # cube.  The frame's bottom corners look behind the +y face; its top corners alone
+    # on it once left it a sliver of a few rows, and the rest of it never learned.
+    scene = SceneSpec(floor=Floor(texture="builtin:gravel", tile=0.8,
+                                  extent=(-1.7, -1.4, 1.7, 1.4)),
+                      walls=(Wall("north", (-1.7, 1.4), (1.7, 1.4), height=0.8,
+                                  texture="builtin:brick", tile=0.6),))
+    cam = Camera.look_at(fx=145.6, fy=145.6, cx=159.5, cy=119.5, width=320, height=240,
+                         position=(-0.2, -2.0, 2.5), look_at=(-0.2, -0.4, 0.0))
+    renderer = Renderer(scene, cam)
+    frame = renderer.render()
+    sky = frame.labels == LABEL_SKY
+    real = frame.image.copy()
+    real[sky] = sky_colour(cam)[sky]
+    model = AppearanceModel(renderer.surfaces)
+    learned = model.learn(real, cam, frame.labels)
+    assert {"sky/+y", "sky/+x", "sky/-x", "sky/-z"} <= set(learned.surfaces)
+    out = model.composite(frame.image, frame.labels, cam)
+    err = np.abs(out.astype(int) - sky_colour(cam).astype(int)).max(axis=2)[sky]
+    assert sky.mean() > 0.3
+    assert (err <= 12).mean() > 0.98, (err <= 12).mean()
+
+
 def test_an_unbounded_floor_grows_as_more_of_it_is_seen() -> None:
     scene = SceneSpec(floor=Floor(texture="builtin:gravel", tile=0.8))
     first = Camera.look_at(fx=200, fy=200, cx=79.5, cy=59.5, width=160, height=120,
