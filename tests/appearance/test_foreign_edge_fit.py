@@ -1,11 +1,13 @@
 """A fixed camera off the scenario's pose is put back by its edges before the look is learned.
 
-Throws 15 and 36 of ``bench/foreign.py --small``: a camera outside the arena, above a low
+Throws 39 and 42 of ``bench/foreign.py --small``: a camera outside the arena, above a low
 wall, 2 cm and 1 degree off where the scenario puts it.  The structure's alignment (a turn
-of the image fitted to a flat look) left throw 15's camera 2 degrees off and throw 36's
-1.9 degrees off: the floor was mapped 5-15 cm off, and the ball with it.  The edge fit
-(:mod:`adapt.vision.edge_pose`) fits the pose to the frame's edges at the structure's seams,
-from the scenario's pose, before the first look is learned through it.
+of the image fitted to a flat look) leaves the floor mapped 4.7 and 24 cm off, and the ball
+with it.  The edge fit (:mod:`adapt.vision.edge_pose`) fits the pose to the frame's edges at
+the structure's seams, from the scenario's pose, before the first look is learned through it:
+0.8 and 1.4 cm.  (Throws 15 and 36 were the cases until the reality's walls were drawn without
+their collision boxes' white noise, 2026-11-28: the noise had misled the structure's alignment,
+which now leaves throw 15 within 1 cm by itself.)
 """
 
 from __future__ import annotations
@@ -59,7 +61,7 @@ def _run(seed: int, *overrides: str) -> _Last:
     return last
 
 
-@pytest.mark.parametrize("seed", [15, 36])
+@pytest.mark.parametrize("seed", [39, 42])
 def test_the_edge_fit_puts_a_fixed_camera_back_on_the_floor(seed: int) -> None:
     fitted = _run(seed)
     unfitted = _run(seed, "schemas.scene-background.edge_fit=false")

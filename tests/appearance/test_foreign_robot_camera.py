@@ -1,23 +1,29 @@
 """A camera on the robot keeps its history through its own corrections, and relearns a look
 its corrections cannot settle on.
 
-Throw 8 of ``bench/foreign.py --small``: the camera rides on the robot, which stands still,
-turns about 3 degrees towards the ball at 0.7 s, and stands still again until 1.8 s.  The
-turn shows the far wall's texture aliased anew by the foreign renderer (a band the look
-learned at the start never had), so ``H_e`` from the matches moves the image by 3 to 15
-pixels from frame to frame while the camera does not move.  Two things kept it so for the
-rest of the throw: every correction moved the imagined robot, and the frame history
-restarted whenever the imagined robot moved, so nothing ever held still long enough to be
-learned afresh; and the look is refined only by a synchronised camera, which this one
-never was again.
+Throw 17 of ``bench/foreign.py --small``: the camera rides on the robot, which stands still.
+From frame 20 the upper half of every frame shows its texture 6 pixels to the side -- a far
+wall's texture aliased anew, as a renderer does when the light or the view changes a little.
+``H_e`` from the matches then moves the image by 1 to 4 pixels from frame to frame while the
+camera does not move.  If every correction, which moves the imagined robot, restarted the
+frame history, nothing would ever hold still long enough to be learned afresh, and it would
+stay so for the rest of the throw.  What it learns afresh is learned by the repair of what
+held still in the frames it is synchronised in, or, far from synchronised for
+``UNSYNCHRONISED_RELEARN`` frames, by that relearning (with it disabled this throw still
+settles, by the repair: the test holds the history and the outcome).  (Until 2026-11-28 the case was throw 8's turn, whose far wall
+the reality drew in a noise of white and texture that changed with the pose: its walls'
+collision boxes, drawn as plain white boxes on the textured faces.  Drawn right, no throw
+shows it; the shift here stands in for it.)
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import statistics
 from typing import Any
 
+import numpy as np
 import pytest
 
 from adapt.runner import Runner
@@ -45,25 +51,44 @@ class _Rows:
                           "heading": math.degrees(math.atan2(forward[1], forward[0]))})
 
 
-def test_a_robot_camera_that_stands_still_learns_afresh_what_its_corrections_cannot_settle() -> None:
-    # Without the edge fit (adapt.vision.edge_pose): with it, the first look is learned
-    # through a better pose, the ball is seen, and the robot drives after it -- no longer
-    # the camera standing still this test is about.
-    sc = throw(8, 1.9, "schemas.scene-background.edge_fit=false")
+SHIFTED_FROM = 20
+
+
+def _shifted(monkeypatch: pytest.MonkeyPatch) -> None:
+    from adapt.reality.bullet import BulletSource
+
+    frame = BulletSource.frame
+
+    def shifted(self: Any, index: int) -> Any:
+        f = frame(self, index)
+        if index < SHIFTED_FROM:
+            return f
+        image = f.image.copy()
+        half = image.shape[0] // 2
+        image[:half] = np.roll(image[:half], 6, axis=1)
+        image.setflags(write=False)
+        return dataclasses.replace(f, image=image)
+
+    monkeypatch.setattr(BulletSource, "frame", shifted)
+
+
+def test_a_robot_camera_that_stands_still_learns_afresh_what_its_corrections_cannot_settle(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    # Without the edge fit (adapt.vision.edge_pose), as the throw was first traced.
+    _shifted(monkeypatch)
+    sc = throw(17, 1.9, "schemas.scene-background.edge_fit=false")
     rows = _Rows()
-    runner = Runner(sc, out=None, seed=8, outputs=QUIET, listeners=(rows,))
+    runner = Runner(sc, out=None, seed=17, outputs=QUIET, listeners=(rows,))
     rows.runner = runner
     runner.run()
     r = rows.rows
-    turned = [i for i in range(1, len(r)) if abs(r[i]["heading"] - r[i - 1]["heading"]) > 0.5]
-    assert turned and max(turned) < 25, turned  # the real robot turned once, then stood
-    after = r[max(turned):]
-    assert after[0]["moving"] and not after[-1]["moving"]
-    # its own corrections move no camera: the history fills while it corrects
-    full = [i for i, row in enumerate(after) if row["history"] == row["depth"]]
-    assert full and after[-1]["corrections"] - after[full[0]]["corrections"] >= 10
-    assert all(row["history"] == row["depth"] for row in after[full[0]:])
-    # far from synchronised for a while, it learns afresh what held still (the first look
-    # took two passes), and its corrections settle
-    assert after[-1]["passes"] >= r[max(turned) - 1]["passes"] + 2
-    assert statistics.median(row["error"] for row in r[-10:]) < 2.0
+    assert max(row["heading"] for row in r) - min(row["heading"] for row in r) < 0.1  # stood
+    before, after = r[SHIFTED_FROM - 1], r[SHIFTED_FROM:]
+    assert before["passes"] >= 1 and before["error"] < 0.5  # learned and synchronised
+    # its own corrections move no camera: the history stays full while it corrects
+    assert after[-1]["corrections"] - before["corrections"] >= 10
+    assert all(row["history"] == row["depth"] for row in after)
+    # out of step for a while, it learns afresh what held still, and its corrections settle
+    assert max(row["error"] for row in after[:15]) > 2.0
+    assert after[-1]["passes"] >= before["passes"] + 1
+    assert statistics.median(row["error"] for row in r[-10:]) < 1.0
