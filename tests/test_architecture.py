@@ -286,7 +286,7 @@ SCHEMA_NETWORK_API = {"mirror", "models", "goals", "predict", "rng", "frame_inte
                       "robot", "robot_pose", "command_robot"}
 #: What the runner may use of the network besides: driving it, and reading what it publishes.
 RUNNER_NETWORK_API = SCHEMA_NETWORK_API | {
-    "published", "names", "listeners", "changed", "subscene", "seconds", "perceive", "act",
+    "published", "names", "listeners", "changed", "subscene", "seconds", "perceive", "perceive_spawned", "act",
     "write_input", "on_output"}
 
 

@@ -11,7 +11,9 @@ Each frame, in this order (paper sections 3.1-3.3, 4.1):
    input phase the schema network writes the input-link, in each output
    phase it carries out the rules' commands (instantiating schemas, top-down
    from the goals or bottom-up for unexpected regions, and commanding motor
-   schemas);
+   schemas); a perceptual schema spawned bottom-up in them looks at the
+   frame too (:meth:`SchemaNetwork.perceive_spawned
+   <adapt.schemas.network.SchemaNetwork.perceive_spawned>`);
 4. the **motor schemas** act on the reality and the imagination;
 5. the **baselines** step on the same sightings, and the frame's typed
    record (:class:`~adapt.runner.record.FrameRecord`: the imagination as it
@@ -459,6 +461,8 @@ class Runner:
             stats.mmd(bg.ms)
         t2 = time.perf_counter()
         self.agent.run(self.scenario.run.decisions_per_frame, footer=False)
+        self.network.perceive_spawned()  # a schema spawned this frame looks at it too
+        self._create_twins()
         t3 = time.perf_counter()
         self.network.act(frame.time)
         t4 = time.perf_counter()

@@ -158,6 +158,10 @@ class SchemaNetwork:
         self.seconds: dict[str, float] = {}
         self._order: list[Schema] | None = None
         self._counter: dict[str, int] = {}
+        #: The frame perceived last, and the perceptual schemas spawned since (each looks
+        #: at it too: :meth:`perceive_spawned`).
+        self._frame: "Frame | None" = None
+        self._spawned: list[str] = []
         self._root: Structure | None = None
         self._seen_commands: set[Identifier] = set()
         self._statuses: dict[Identifier, tuple[str, str]] = {}
@@ -333,6 +337,8 @@ class SchemaNetwork:
         self.changed = True
         self._last_status[name] = schema.status
         schema.joined()
+        if origin is Origin.BOTTOM_UP and spec.kind is SchemaKind.PERCEPTUAL:
+            self._spawned.append(name)
         kind = EventKind.SPAWNED if origin is Origin.BOTTOM_UP else EventKind.INSTANTIATED
         self._emit(SchemaEvent(kind, name, self.frame_index, self.decision,
                                {"type": spec.name, "origin": origin.value,
@@ -393,9 +399,30 @@ class SchemaNetwork:
         """Every perceptual schema looks at ``frame``, providers first."""
         self.frame_index = frame.index
         self.time = frame.time
+        self._frame = frame
+        self._spawned = []
         spent = self.seconds
         for schema in self.ordered():
             if schema.kind is SchemaKind.PERCEPTUAL:
+                started = time.perf_counter()
+                schema.perceive(frame)
+                key = schema.spec.name
+                spent[key] = spent.get(key, 0.0) + time.perf_counter() - started
+        self._status_events()
+
+    def perceive_spawned(self) -> None:
+        """Every perceptual schema spawned bottom-up since :meth:`perceive` looks at that
+        frame too -- the frame whose difference region it was spawned for -- providers
+        first, so that what it finds there is this frame's, not the next's (a spawned
+        schema used to wait a frame: one frame of every object unfollowed).  Its percept
+        reaches the rules at the next input phase, as every percept does."""
+        spawned, self._spawned = self._spawned, []
+        frame = self._frame
+        if frame is None or not spawned:
+            return
+        spent = self.seconds
+        for schema in self.ordered():
+            if schema.name in spawned and schema.kind is SchemaKind.PERCEPTUAL:
                 started = time.perf_counter()
                 schema.perceive(frame)
                 key = schema.spec.name

@@ -277,3 +277,38 @@ def test_removing_an_unknown_objects_schema_takes_its_body_and_a_declared_ones_s
     net.remove(known.name)
     assert not net.mirror.has_body(unknown.name)   # nothing else would pull it
     assert net.mirror.has_body("ball")             # the world declares it
+
+
+def test_a_schema_spawned_in_a_frame_looks_at_that_frame_once() -> None:
+    # spawned for a region of frame k (during the decisions that follow its perception), a
+    # perceptual schema looks at frame k too, not first at k + 1; one put in place top-down,
+    # and one spawned before the frame was perceived, do not look twice
+    import numpy as np
+
+    from adapt.frames import Frame
+    from adapt.schemas import Schema, SchemaKind, SchemaSpec
+
+    seen: dict[str, list[int]] = {}
+
+    class Looker(Schema):
+        def perceive(self, frame: Frame) -> None:
+            seen.setdefault(self.name, []).append(frame.index)
+
+    spec = SchemaSpec("looker", SchemaKind.PERCEPTUAL, "a test type",
+                      factory=lambda n, p, net: Looker(n, spec, p, net), singleton=False)
+    registry = REGISTRY.copy()
+    registry.register(spec)
+    net = SchemaNetwork(Mirror(SceneSpec(), CAM), registry=registry)
+    frames = [Frame(k, k / 30, np.zeros((120, 160, 3), np.uint8)) for k in range(3)]
+    early = net.instantiate("looker", origin=Origin.BOTTOM_UP)  # before any frame
+    net.perceive(frames[0])
+    net.perceive_spawned()
+    top = net.instantiate("looker")                              # top-down, in frame 0
+    spawned = net.instantiate("looker", origin=Origin.BOTTOM_UP)  # bottom-up, in frame 0
+    net.perceive_spawned()
+    net.perceive_spawned()                                       # once only
+    net.perceive(frames[1])
+    net.perceive_spawned()
+    assert seen[early.name] == [0, 1]
+    assert seen[top.name] == [1]
+    assert seen[spawned.name] == [0, 1]
