@@ -401,13 +401,9 @@ class SchemaNetwork:
         self.time = frame.time
         self._frame = frame
         self._spawned = []
-        spent = self.seconds
         for schema in self.ordered():
             if schema.kind is SchemaKind.PERCEPTUAL:
-                started = time.perf_counter()
-                schema.perceive(frame)
-                key = schema.spec.name
-                spent[key] = spent.get(key, 0.0) + time.perf_counter() - started
+                self._look(schema, frame)
         self._status_events()
 
     def perceive_spawned(self) -> None:
@@ -420,14 +416,17 @@ class SchemaNetwork:
         frame = self._frame
         if frame is None or not spawned:
             return
-        spent = self.seconds
         for schema in self.ordered():
             if schema.name in spawned and schema.kind is SchemaKind.PERCEPTUAL:
-                started = time.perf_counter()
-                schema.perceive(frame)
-                key = schema.spec.name
-                spent[key] = spent.get(key, 0.0) + time.perf_counter() - started
+                self._look(schema, frame)
         self._status_events()
+
+    def _look(self, schema: Schema, frame: "Frame") -> None:
+        """``schema`` perceives ``frame``, its seconds counted for its type."""
+        started = time.perf_counter()
+        schema.perceive(frame)
+        key = schema.spec.name
+        self.seconds[key] = self.seconds.get(key, 0.0) + time.perf_counter() - started
 
     def act(self, time: float) -> None:
         """Every motor schema acts."""
