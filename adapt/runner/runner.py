@@ -484,6 +484,8 @@ class Runner:
     def _create_twins(self) -> None:
         """An object the mirror created this frame is created in the uncorrected twin too,
         with the model's own parameters (or what was measured of an unknown one)."""
+        if not self._created:
+            return  # most frames (it is called after the perception and after the spawns)
         objects = self.network.published(ObjectPercept)
         for event in self._created:
             name = str(event.data["body"])
