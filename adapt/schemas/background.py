@@ -60,7 +60,8 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    the look has wrong or never saw (a ghost of an object learned at rest that
    has left, what a ball covered at the first look), learned afresh there.
    An unexpected region whose pixels have not changed over its last
-   :data:`STILL_REGION_FRAMES` frames is reported ``still``: the perception
+   :data:`STILL_REGION_FRAMES` frames (but for :data:`STILL_SHARE` of them, or
+   fewer than :data:`STILL_PIXELS`: the camera's noise) is reported ``still``: the perception
    rules spawn no schema for it (nothing arrived there; it is the look's
    error, repaired as above).  A fixed camera's first look cannot see what the
    imagined bodies hid (the floor under the robot's starting place): once they
@@ -79,7 +80,8 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    it (never for this schema's own corrections of where the robot stands), and is
    ``camera-moving`` for ``still_s`` after: its difference then holds its own
    motion's errors (the perception rules spawn only for a region that looks like a
-   declared object).  A camera that held still that long and has been far from
+   declared object no schema follows yet, and find a lost object again only once the
+   camera holds still).  A camera that held still that long and has been far from
    synchronised (more than :data:`STRUCTURE_ACCEPT` pixels) for
    :data:`UNSYNCHRONISED_RELEARN` frames learns afresh what held still: its
    corrections do not settle, so its look is what is wrong (a texture the renderer
@@ -172,8 +174,12 @@ EXCLUDE_PAD = 6
 FLOOR_LABEL = 1
 #: Frames over which an unexpected region is judged still (its box's pixels unchanged).
 STILL_REGION_FRAMES = 3
-#: A region whose box changed in less than this share of its pixels over those frames is still.
+#: A region whose box changed in less than this share of its pixels over those frames is still
+#: -- or in fewer than :data:`STILL_PIXELS` pixels: a small box's share is its sensor noise.
 STILL_SHARE = 0.02
+#: Changed pixels a still region's box may hold whatever its size (a camera's noise flips a few
+#: isolated pixels past the threshold: one is 3 % of a 7 x 5 box).
+STILL_PIXELS = 4
 #: An unexpected region at least this share of whose pixels show surfaces where the look
 #: was never learned, and held still, is reported ``unseen`` (see the module docstring).
 UNSEEN_SHARE = 0.5
@@ -798,9 +804,10 @@ class SceneBackground(Schema):
         :data:`STILL_REGION_FRAMES` frames, with a learned look (see the module docstring)."""
         if self.stage is not AppearanceStage.LEARNED or len(self.history) < STILL_REGION_FRAMES:
             return False
-        changed = self.history.changed(bbox, float(self.parameters["threshold"]),
-                                       frames=STILL_REGION_FRAMES)
-        return changed < STILL_SHARE
+        held = self.history.still(float(self.parameters["threshold"]),
+                                  frames=STILL_REGION_FRAMES, box=bbox)
+        changed = held.size - int(np.count_nonzero(held))
+        return changed < max(STILL_SHARE * held.size, STILL_PIXELS)
 
     def _unseen(self, region: Region) -> bool:
         """Whether at least :data:`UNSEEN_SHARE` of ``region``'s pixels are where imagined

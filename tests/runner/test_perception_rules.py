@@ -179,7 +179,7 @@ def test_a_region_on_surfaces_the_look_never_learned_is_never_spawned_for(lost_b
 
 
 @pytest.mark.parametrize("moving", [False, True])
-def test_a_camera_the_robot_drives_spawns_only_for_what_looks_like_a_declared_object(
+def test_a_camera_the_robot_drives_spawns_only_for_a_declared_object_nothing_follows(
         moving: bool) -> None:
     # while the robot's odometry moves its camera, the difference holds the camera's own
     # motion's errors (parallax, blur, a texture aliased anew): on bench/foreign.py's robot
@@ -195,9 +195,15 @@ def test_a_camera_the_robot_drives_spawns_only_for_what_looks_like_a_declared_ob
     done = run(Network({}, [dict(like)], camera_moving=moving))
     assert done == [("instantiate", {"type": "foreground-object", "region": 2,
                                      "object": "ball", "name": "ball"})], done
-    # ... or its schema lost it and a region that looks like it moves elsewhere
+    # ... but a region that looks like an object a schema follows, or lost, is that object
+    # for its schema to find, or the floor's texture seen anew in its colour (robot camera 32
+    # of bench/foreign.py: its lost ball's schema was moved onto such patches of a white
+    # floor, and 5 objects the scenario does not know were spawned for the others): it is
+    # spawned for, or the lost object found again in it, only from a camera that holds still
+    done = run(Network(dict(tracked), [dict(like)], camera_moving=moving))
+    assert [v for v, _ in done] == ([] if moving else ["instantiate"]), done
     done = run(Network(lost(), [dict(like)], camera_moving=moving))
-    assert [v for v, _ in done][:2] == ["remove", "instantiate"], done
+    assert [v for v, _ in done][:2] == ([] if moving else ["remove", "instantiate"]), done
 
 
 def test_the_goals_object_on_a_ghost_of_its_own_shape_is_recognised_once_the_other_moves() -> None:
