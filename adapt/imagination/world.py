@@ -973,6 +973,11 @@ class World:
         px, py = self._forces.get(name, (0.0, 0.0))
         self._forces[name] = (px + fx, py + fy)
 
+    @property
+    def robot_command(self) -> tuple[float, float, float]:
+        """The robot's commanded ``(vx, vy, turn rate)`` (zeros without a robot or command)."""
+        return self._command
+
     def command_robot(self, velocity: Sequence[float], angular_velocity: float = 0.0) -> None:
         """Command the robot's velocity (m/s, clipped to ``max_speed``) and turn rate (rad/s)."""
         try:

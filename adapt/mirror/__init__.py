@@ -280,6 +280,11 @@ class Mirror:
             return None
         return self._robot_pose()
 
+    def robot_driven(self) -> bool:
+        """Whether the imagined robot is commanded to move (a camera on it is carried as the
+        real robot starts, before its odometry has gone far)."""
+        return any(v != 0.0 for v in self.world.robot_command)
+
     def command_robot(self, velocity: Sequence[float], angular_velocity: float = 0.0) -> None:
         """Drive the imagined robot (the commanded motion: odometry)."""
         self.world.command_robot(velocity, angular_velocity)

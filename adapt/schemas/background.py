@@ -78,7 +78,9 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    draws there now, the robot come back, is never learned).
    A camera on the robot restarts its history whenever the robot's odometry moves
    it (never for this schema's own corrections of where the robot stands), and is
-   ``camera-moving`` for ``still_s`` after: its difference then holds its own
+   ``camera-moving`` while the robot is driven and for ``still_s`` after the odometry
+   last moved it (the real robot sets off before the odometry has gone far): its
+   difference then holds its own
    motion's errors (the perception rules spawn only for a region that looks like a
    declared object no schema follows yet, and find a lost object again only once the
    camera holds still).  A camera that held still that long and has been far from
@@ -315,8 +317,9 @@ class SceneBackground(Schema):
         if self._odometry_moved():
             self.history.clear()  # what the camera saw before is another view
             self._moved_at = frame.time
-        self.camera_moving = mirror.mounted and frame.time - self._moved_at \
-            < float(self.parameters["still_s"])
+        self.camera_moving = mirror.mounted and (
+            frame.time - self._moved_at < float(self.parameters["still_s"])
+            or mirror.robot_driven())
         self._perceive(frame)
         if mirror.mounted:
             self._last_pose = mirror.robot_pose()

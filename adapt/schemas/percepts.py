@@ -89,7 +89,10 @@ def looks_like(color: tuple[int, int, int] | None, size: float | None,
     looks like: the nearest colour within :data:`LOOKS_LIKE_COLOR` among those whose
     diameter is within :data:`LOOKS_LIKE_SIZE` of ``size`` (any size when it is unknown);
     None when none is near enough, or when the next is within :data:`LOOKS_LIKE_MARGIN` of it
-    (objects of one colour are told apart otherwise).
+    (objects of one colour are told apart otherwise).  A colour is compared under the light
+    that brings it nearest, up to :data:`LOOKS_LIKE_LIGHT` times brighter or darker: a
+    scenario gives an object's colour as lit, a frame shows it shaded, its mean over a
+    sphere darker still.
 
     >>> objects = {"red": ((230, 60, 30), 0.1), "blue": ((40, 80, 220), 0.1)}
     >>> looks_like((200, 70, 50), 0.18, objects), looks_like((60, 90, 200), None, objects)
@@ -97,16 +100,29 @@ def looks_like(color: tuple[int, int, int] | None, size: float | None,
     >>> looks_like((120, 120, 120), 0.2, objects), looks_like((200, 70, 50), 1.5, objects)
     (None, None)
     >>> looks_like((200, 70, 50), 0.2, {"a": ((230, 60, 30), 0.1), "b": ((225, 65, 35), 0.1)})
+    >>> looks_like((151, 143, 33), 0.2, {"ball": ((235, 220, 40), 0.1)})  # a yellow ball, shaded
+    'ball'
     """
     if color is None:
         return None
-    near = sorted((math.dist(color, c), name) for name, (c, radius) in objects.items()
+    near = sorted((_lit_distance(color, c), name) for name, (c, radius) in objects.items()
                   if size is None or 1.0 / LOOKS_LIKE_SIZE <= size / (2.0 * radius) <= LOOKS_LIKE_SIZE)
     if not near or near[0][0] > LOOKS_LIKE_COLOR:
         return None
     if len(near) > 1 and near[1][0] - near[0][0] < LOOKS_LIKE_MARGIN:
         return None  # two objects look alike: the colour does not tell which
     return near[0][1]
+
+
+def _lit_distance(color: tuple[int, int, int], declared: tuple[int, int, int]) -> float:
+    """How far ``color`` is from ``declared`` (RGB) under the light, within
+    :data:`LOOKS_LIKE_LIGHT` either way, that brings it nearest."""
+    seen = np.asarray(color, float)
+    lit = np.asarray(declared, float)
+    power = float(seen @ seen)
+    gain = 1.0 if power <= 0.0 else float(np.clip(float(seen @ lit) / power,
+                                                  1.0 / LOOKS_LIKE_LIGHT, LOOKS_LIKE_LIGHT))
+    return float(np.linalg.norm(gain * seen - lit))
 
 
 class AppearanceStage(enum.Enum):
@@ -120,6 +136,10 @@ class AppearanceStage(enum.Enum):
 #: Largest distance between a region's mean colour and an object's (RGB, 0-255) for the
 #: region to look like it: lighting, blur and the floor showing through move a ball's colour.
 LOOKS_LIKE_COLOR = 90.0
+
+#: A region's colour is compared with an object's under a light up to this many times brighter
+#: or darker (a ball shaded by its own curve, a dimmer light than the scenario's colour says).
+LOOKS_LIKE_LIGHT = 2.0
 
 #: A region looks like none of two objects whose colours are this close to it alike.
 LOOKS_LIKE_MARGIN = 25.0
