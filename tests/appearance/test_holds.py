@@ -113,8 +113,10 @@ def test_the_summary_says_a_goals_object_was_never_seen() -> None:
     assert "the goal's object 'ball' was never seen (1 s)" in summary_lines(summary)
 
 
-def _ghost_network() -> tuple[Any, Any, list[Any]]:
-    """A network whose Scene Background learned the synthetic reality's look, and its frames."""
+def _ghost_network(rows: slice, cols: slice) -> tuple[Any, Any, list[Any]]:
+    """A network whose Scene Background learned the synthetic reality's look, then a ghost in
+    it at ``rows, cols`` (the look of a patch of floor learned wrong: an object at rest when it
+    was learned, gone since); and the reality's frames."""
     from adapt.mirror import Mirror
     from adapt.reality import open_reality
     from adapt.scenario import RealityKind, load_scenario
@@ -135,28 +137,31 @@ def _ghost_network() -> tuple[Any, Any, list[Any]]:
     for f in frames[:6]:
         net.perceive(f)
     assert bg.stage is AppearanceStage.LEARNED and not [r for r in bg.regions if not r.expected]
+    labels = net.mirror.render().labels
+    painted = frames[5].image.copy()
+    spot = np.zeros(labels.shape, bool)
+    spot[rows, cols] = True
+    painted[spot] = (30, 30, 220)
+    net.mirror.learn_appearance(painted, labels, relearn=spot)
     return net, bg, frames
+
+
+def _over(bg: Any, rows: slice, cols: slice) -> list[Any]:
+    """The regions ``bg`` reports over ``rows, cols``."""
+    return [r for r in bg.regions if r.bbox[0] < cols.stop and r.bbox[0] + r.bbox[2] > cols.start
+            and r.bbox[1] < rows.stop and r.bbox[1] + r.bbox[3] > rows.start]
 
 
 def test_a_ghost_in_the_learned_look_is_still_never_spawned_for_and_repaired() -> None:
     from adapt.frames import Frame
 
-    net, bg, frames = _ghost_network()
-    # a ghost: the look of a patch of floor learned wrong (an object at rest when it was
-    # learned, gone since)
-    labels = net.mirror.render().labels
-    painted = frames[5].image.copy()
-    spot = np.zeros(labels.shape, bool)
-    spot[150:170, 200:225] = True
-    painted[spot] = (30, 30, 220)
-    net.mirror.learn_appearance(painted, labels, relearn=spot)
+    rows, cols = slice(150, 170), slice(200, 225)
+    net, bg, frames = _ghost_network(rows, cols)
     ghost = []
     for k in range(6, 16):
         f = frames[k]
         net.perceive(Frame(f.index, 6 / 15 + (k - 5) / 15, frames[5].image))  # nothing moves
-        found = [r for r in bg.regions if r.bbox[0] < 225 and r.bbox[0] + r.bbox[2] > 200
-                 and r.bbox[1] < 170 and r.bbox[1] + r.bbox[3] > 150]
-        ghost.append(found)
+        ghost.append(_over(bg, rows, cols))
     assert ghost[0] and all(r.still and not r.expected for found in ghost for r in found)
     assert not ghost[-1], "the look was repaired where the camera sees floor, still"
 
@@ -168,13 +173,8 @@ def test_a_small_ghost_is_still_through_a_few_noisy_pixels() -> None:
     # know spawned for them
     from adapt.frames import Frame
 
-    net, bg, frames = _ghost_network()
-    labels = net.mirror.render().labels
-    painted = frames[5].image.copy()
-    spot = np.zeros(labels.shape, bool)
-    spot[150:156, 200:207] = True
-    painted[spot] = (30, 30, 220)
-    net.mirror.learn_appearance(painted, labels, relearn=spot)
+    rows, cols = slice(150, 156), slice(200, 207)
+    net, bg, frames = _ghost_network(rows, cols)
     rng = np.random.default_rng(3)
     reports = []
     for k in range(6, 16):
@@ -184,9 +184,7 @@ def test_a_small_ghost_is_still_through_a_few_noisy_pixels() -> None:
         y, x = int(rng.integers(150, 156)), int(rng.integers(200, 207))
         image[y, x] = np.clip(image[y, x].astype(int) + 90, 0, 255)
         net.perceive(Frame(frames[k].index, 6 / 15 + (k - 5) / 15, image))
-        reports += [r for r in bg.regions if r.bbox[0] < 207 and r.bbox[0] + r.bbox[2] > 200
-                    and r.bbox[1] < 156 and r.bbox[1] + r.bbox[3] > 150
-                    and len(bg.history) >= 3]
+        reports += _over(bg, rows, cols) if len(bg.history) >= 3 else []
     assert reports and all(r.still and not r.expected for r in reports), \
         [(r.bbox, r.age, r.still) for r in reports]
 
