@@ -39,7 +39,6 @@ documented in ``docs/schemas.md``.
 from __future__ import annotations
 
 import difflib
-import time
 from time import perf_counter
 from typing import TYPE_CHECKING, Any, Callable, Iterator, Mapping, Sequence, TypeVar
 
@@ -417,26 +416,28 @@ class SchemaNetwork:
         if frame is None or not spawned:
             return
         for schema in self.ordered():
-            if schema.name in spawned and schema.kind is SchemaKind.PERCEPTUAL:
+            if schema.name in spawned:  # perceptual all (instantiate keeps only those)
                 self._look(schema, frame)
         self._status_events()
 
     def _look(self, schema: Schema, frame: "Frame") -> None:
         """``schema`` perceives ``frame``, its seconds counted for its type."""
-        started = time.perf_counter()
+        started = perf_counter()
         schema.perceive(frame)
+        self._spend(schema, started)
+
+    def _spend(self, schema: Schema, started: float) -> None:
+        """Count the seconds since ``started`` (``perf_counter``) for ``schema``'s type."""
         key = schema.spec.name
-        self.seconds[key] = self.seconds.get(key, 0.0) + time.perf_counter() - started
+        self.seconds[key] = self.seconds.get(key, 0.0) + perf_counter() - started
 
     def act(self, time: float) -> None:
         """Every motor schema acts."""
-        spent = self.seconds
         for schema in self.ordered():
             if schema.kind is SchemaKind.MOTOR:
                 started = perf_counter()
                 schema.act(time)
-                key = schema.spec.name
-                spent[key] = spent.get(key, 0.0) + perf_counter() - started
+                self._spend(schema, started)
         self._status_events()
 
     def _status_events(self) -> None:
