@@ -13,6 +13,7 @@ homography         H_e with USAC_MAGSAC / RANSAC, or an explicit "no alignment"
 mask               the MMD mask I_m (exact and fast sum of Gaussians)
 mmd                the MMD image I_d and MMDResult
 regions            difference regions, expected / unexpected
+texture            where the frame is flat over a textured background (camouflage)
 camera_correction  eq. 3 as a fractional rotation; full pose from the floor's homography
 registration       the structure's registration (a flat look, ECC) and the flat look itself
 edges              edge agreement: the image's gradient on a label image's seams
