@@ -80,7 +80,14 @@ from adapt.schemas.percepts import (
     mean_color,
 )
 from adapt.schemas.predictor import Prediction, Predictor
-from adapt.schemas.silhouette import BallFit, fit_ball, fit_small_ball, image_area, visible_area
+from adapt.schemas.silhouette import (
+    BallFit,
+    fit_ball,
+    fit_small_ball,
+    image_area,
+    silhouette_length,
+    visible_area,
+)
 from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 from adapt.vision.regions import Region, find_regions
 
@@ -117,6 +124,13 @@ OUTLINE_RMS_SHARE = 0.1
 #: A ball of which less than this share of its image can show (the imagined robot or
 #: another object in front of the rest) is not taken: a sliver does not say where it is.
 MIN_SHOWN = 0.2
+#: A blob is no ball's image when it is longer
+#: (:func:`~adapt.schemas.silhouette.silhouette_length`) than this many times the image's diameter, plus the ball's travel in a frame (motion
+#: blur) and :data:`LENGTH_SLACK_PX`: a streak of a ghost in the look, the ball merged with
+#: something beside it.  (A ball's image is an ellipse off the optical axis, and its contact
+#: shadow adds below it: well within.)
+MAX_LENGTH = 1.6
+LENGTH_SLACK_PX = 2.0
 #: A blob at most this many pixels across whose outline is too short to fit is placed by
 #: its centroid (:func:`~adapt.schemas.silhouette.fit_small_ball`).
 SMALL_BLOB = 8
@@ -480,16 +494,37 @@ class ForegroundObject(Schema):
         x1, y1 = min(int(cx + reach) + 1, w), min(int(cy + reach) + 1, h)
         if x0 >= x1 or y0 >= y1:
             return None
-        d = bg.object_difference(frame.image, (x0, y0, x1 - x0, y1 - y0))
-        if d is None:
-            return None
+        window = (x0, y0, x1 - x0, y1 - y0)
+        hidden = self._hidden(frame, bg, window)
+        refused = False
+        # the difference per pixel first; only when it shows no sighting, with where the frame
+        # is flat over the look's texture too (an object of its floor's mean colour shows in
+        # pieces per pixel; the texture costs a few milliseconds a frame, spent only then)
+        for flat in (False, True):
+            d = bg.object_difference(frame.image, window, flat=flat)
+            if d is None:
+                return None
+            if hidden is not None:
+                d = np.array(d)
+                d[hidden] = 0  # what another imagined object explains
+            found, refused_here = self._search(frame, bg, d, (x0, y0), hidden, (cx, cy))
+            if found is not None:
+                return found
+            refused = refused or refused_here
+        if refused:
+            self.refused += 1
+        return None
+
+    def _hidden(self, frame: "Frame", bg: BackgroundPercept, window: BBox) -> np.ndarray | None:
+        """The pixels of ``window`` other imagined objects and the imagined robot explain."""
+        x0, y0, ww, wh = window
+        x1, y1 = x0 + ww, y0 + wh
         others = [m[y0:y1, x0:x1] for m in (bg.imagined_mask(lab)
                                             for lab in bg.balls_except(self.body))
                   if m is not None]
         # (what shows past the real robot's edge in another colour is not the robot's image: a
         # ball resting against it, the imagined robot a few pixels off)
-        robot = bg.robot_mask(margin=ROBOT_MARGIN, box=(x0, y0, x1 - x0, y1 - y0),
-                              real=frame.image)
+        robot = bg.robot_mask(margin=ROBOT_MARGIN, box=window, real=frame.image)
         if robot is not None:
             own = bg.drawn.get(self.body)
             mine = None if own is None else bg.imagined_mask(own)
@@ -498,36 +533,35 @@ class ForegroundObject(Schema):
                 # robot's: a ball just behind it or at its side keeps its pixels
                 robot = robot & ~mine[y0:y1, x0:x1]
             others.append(robot)
-        hidden = None
-        if others:
-            d = np.array(d)
-            hidden = np.logical_or.reduce(others)
-            d[hidden] = 0  # what another imagined object explains
+        return np.logical_or.reduce(others) if others else None
+
+    def _search(self, frame: "Frame", bg: BackgroundPercept, d: np.ndarray,
+                offset: tuple[int, int], hidden: np.ndarray | None,
+                centre: tuple[float, float]) -> tuple[Sighting | None, bool]:
+        """The sighting among the blobs of the difference ``d`` (found at ``offset``), and
+        whether a blob was refused as something else."""
+        x0, y0 = offset
         # large blobs near the prediction first; the first that is the object is it (the
         # nearest may be something else: a part of the robot's image, another object)
         blobs = sorted(find_regions(d, threshold=bg.threshold,
                                     min_area=int(self.parameters["min_area"]),
                                     open_size=BLOB_OPEN, close=False),
                        key=lambda r: math.dist((r.centroid[0] + x0, r.centroid[1] + y0),
-                                               (cx, cy)) / math.sqrt(r.area))
+                                               centre) / math.sqrt(r.area))
         refused = False
         unlike: Sighting | None = None
         for blob in blobs[:MAX_BLOBS]:
-            found = self._sighting(frame, bg, blob, (x0, y0), hidden)
+            found = self._sighting(frame, bg, blob, offset, hidden)
             if isinstance(found, Sighting):
-                if self._looks_unlike(frame, blob, (x0, y0)):
+                if self._looks_unlike(frame, blob, offset):
                     # the object's size and outline but not its colour (the look's error
                     # where it rolled while the look was first learned): one of its colour
                     # further on is taken first
                     unlike = unlike or found
                     continue
-                return found
+                return found, refused
             refused = refused or found
-        if unlike is not None:
-            return unlike
-        if refused:
-            self.refused += 1
-        return None
+        return unlike, refused
 
     def _looks_unlike(self, frame: "Frame", blob: Region, offset: tuple[int, int]) -> bool:
         """Whether ``blob`` (found at ``offset``) does not look like the declared object's
@@ -595,9 +629,9 @@ class ForegroundObject(Schema):
         """Whether ``blob``, whose upper outline ``fit`` fitted with the known radius, is that
         ball's image: of the area its image can show there (:data:`AREA_RANGE`; less what
         the imagined robot and other objects hide, ``hidden`` at ``offset``, and at least
-        :data:`MIN_SHOWN` of it), and with an outline that fits it
-        (:data:`OUTLINE_RMS_PX`, :data:`OUTLINE_RMS_SHARE`; a blob placed by its centroid has
-        none, and is tested by its area only)."""
+        :data:`MIN_SHOWN` of it), no longer than a ball's image (:data:`MAX_LENGTH`), and
+        with an outline that fits it (:data:`OUTLINE_RMS_PX`, :data:`OUTLINE_RMS_SHARE`; a
+        blob placed by its centroid has none, and is tested by its area and length only)."""
         cam = self.network.mirror.camera
         centre = (fit.position[0], fit.position[1], fit.radius)
         whole = image_area(cam, centre, fit.radius)
@@ -608,6 +642,11 @@ class ForegroundObject(Schema):
         area = visible_area(cam, centre, fit.radius, hidden=hidden, hidden_at=offset,
                             to_camera=bg.to_synthetic)
         if area < MIN_SHOWN * whole or not AREA_RANGE[0] * area <= blob.area <= AREA_RANGE[1] * area:
+            return False
+        diameter = 2.0 * math.sqrt(whole / math.pi)
+        speed = math.hypot(*self.kf.velocity) if self.kf.initialised else 0.0
+        blur = speed * self.network.frame_interval * diameter / (2.0 * fit.radius)
+        if silhouette_length(blob.silhouette) > MAX_LENGTH * diameter + blur + LENGTH_SLACK_PX:
             return False
         if fit.points == 0:
             return True  # placed by its centroid: no outline to test

@@ -47,6 +47,7 @@ from numpy.typing import NDArray
 
 from adapt.geometry import Camera
 from adapt.imagination.surface import LABEL_BALL, LABEL_ROBOT
+from adapt.vision.texture import flat_over_texture
 
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.imagination import Ball
@@ -331,7 +332,8 @@ class BackgroundPercept:
 
     # -- differences through H_e -------------------------------------------------------
 
-    def object_difference(self, real: NDArray[np.uint8], window: BBox) -> NDArray[Any] | None:
+    def object_difference(self, real: NDArray[np.uint8], window: BBox, *,
+                          flat: bool = False) -> NDArray[Any] | None:
         """How much ``real`` differs from the imagination's *background* (no moving
         objects) in ``window`` (real pixels ``(x, y, w, h)``), in grey levels (the largest
         over the channels), with the frame's gain and bias; None without alignment.
@@ -340,10 +342,16 @@ class BackgroundPercept:
         wherever it really is, whatever the imagination shows of it.  The MMD mask is not
         applied: its Gaussians, centred on background corners matched next to the object,
         would eat into the object's outline and bias its fitted position.
+
+        With ``flat``, where the real frame is flat over a textured background and of its
+        mean colour, within ``threshold`` (:func:`~adapt.vision.texture.flat_over_texture`:
+        a smooth object over gravel or grass, the colour of the texture's mean), the
+        difference is at least ``threshold + 1``: the object shows whole, not only where a
+        grain differs from it.
         """
         if self.background is None:
             return None
-        return self._difference(real, self.background, window)
+        return self._difference(real, self.background, window, flat=flat)
 
     def difference_with(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8]
                         ) -> NDArray[Any] | None:
@@ -354,7 +362,7 @@ class BackgroundPercept:
         return self._difference(real, synthetic, (0, 0, w, h))
 
     def _difference(self, real: NDArray[np.uint8], synthetic: NDArray[np.uint8],
-                    window: BBox) -> NDArray[Any] | None:
+                    window: BBox, flat: bool = False) -> NDArray[Any] | None:
         res = self.mmd
         if res is None or not res.aligned:
             return None
@@ -368,13 +376,22 @@ class BackgroundPercept:
             m = np.zeros((c, c + 1))
             m[np.arange(c), np.arange(c)] = res.gain
             m[:, -1] = res.bias
-            diff = cv2.absdiff(part, cv2.transform(warped, m))
+            adjusted = cv2.transform(warped, m)
+            diff = cv2.absdiff(part, adjusted)
             out = diff[:, :, 0]
             for k in range(1, c):
                 out = cv2.max(out, diff[:, :, k])
-            return out
-        adjusted = cv2.convertScaleAbs(warped, alpha=float(res.gain[0]), beta=float(res.bias[0]))
-        return cv2.absdiff(part, adjusted)
+        else:
+            adjusted = cv2.convertScaleAbs(warped, alpha=float(res.gain[0]),
+                                           beta=float(res.bias[0]))
+            out = cv2.absdiff(part, adjusted)
+        if flat:
+            # (cv2.transform keeps the frame's 8 bits: no copy)
+            smooth = flat_over_texture(part, np.asarray(adjusted, np.uint8),
+                                       mean_within=self.threshold)
+            if smooth.any():
+                out = np.where(smooth, np.maximum(out, min(int(self.threshold) + 1, 255)), out)
+        return out
 
     # -- the imagined objects in the real frame ----------------------------------------
 

@@ -42,7 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 from adapt.geometry import Camera
 
 __all__ = ["BallFit", "fit_ball", "fit_small_ball", "upper_outline", "silhouette_circle",
-           "image_area", "visible_area"]
+           "image_area", "visible_area", "silhouette_length"]
 
 FloatArray = NDArray[np.float64]
 
@@ -351,3 +351,22 @@ def visible_area(camera: Camera, centre: ArrayLike, radius: float,
             if part.any():
                 shows -= float(np.count_nonzero(disc(ox0, oy0, ox1, oy1) & part))
     return max(shows, 0.0)
+
+
+def silhouette_length(mask: NDArray[np.bool_]) -> float:
+    """The length (pixels) of a silhouette along its longest axis: that of the ellipse with
+    its second moments (``4 sqrt(λ_max)`` of their covariance; a disc's diameter, a
+    streak's length), 0 for an empty mask.
+
+    >>> import numpy as np
+    >>> yy, xx = np.mgrid[0:41, 0:41]
+    >>> round(silhouette_length((xx - 20) ** 2 + (yy - 20) ** 2 <= 15 ** 2), 1)  # radius 15
+    30.1
+    >>> round(silhouette_length(np.ones((21, 8), bool)), 1)  # a streak 21 long
+    24.2
+    """
+    ys, xs = np.nonzero(mask)
+    if len(xs) < 2:
+        return 0.0 if len(xs) == 0 else 1.0
+    cov = np.cov(np.vstack([xs, ys]).astype(np.float64), bias=True)
+    return float(4.0 * math.sqrt(max(float(np.linalg.eigvalsh(cov)[-1]), 0.0)))

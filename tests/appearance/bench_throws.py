@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import importlib.util
 from pathlib import Path
+from typing import Any
 
+from adapt.runner import Runner
 from adapt.scenario import OutputSettings, Scenario, loads_scenario
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -26,3 +28,32 @@ def throw(seed: int, duration: float, *overrides: str) -> Scenario:
     style ``overrides``, ``KEY=VALUE``)."""
     return loads_scenario(scenario_text(seed, duration), file=f"foreign-{seed}.yaml",
                           base=ROOT / "scenarios", overrides=list(overrides))
+
+
+class Rows:
+    """A listener: per frame, the object schemas' names, the ball's sighting and what is
+    true of the ball and the robot (evaluation: a test may read the truth)."""
+
+    def __init__(self) -> None:
+        self.truth: Any = None
+        self.rows: list[dict[str, Any]] = []
+
+    def frame(self, record: Any) -> None:
+        t = self.truth.at(record.index)
+        ball = t.objects.get("ball")  # None before it is thrown
+        tracked = record.tracked_object("ball")
+        self.rows.append({"names": {x.name for x in record.tracked},
+                          "truth": None if ball is None else ball.position,
+                          "height": None if ball is None else ball.height,
+                          "robot": None if t.robot is None else t.robot.position,
+                          "observed": None if tracked is None else tracked.observed})
+
+
+def replay(seed: int, duration: float) -> tuple[Scenario, list[dict[str, Any]]]:
+    """Throw ``seed`` run for ``duration`` seconds: its scenario, and its frames' rows."""
+    sc = throw(seed, duration)
+    rows = Rows()
+    runner = Runner(sc, out=None, seed=seed, outputs=QUIET, listeners=(rows,))
+    rows.truth = runner.truth
+    runner.run()
+    return sc, rows.rows

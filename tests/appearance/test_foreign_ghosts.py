@@ -18,38 +18,10 @@ import pytest
 from adapt.runner import Runner
 from adapt.schemas.foreground import ForegroundObject
 
-from .bench_throws import QUIET, throw
+from .bench_throws import QUIET, replay, throw
 
 pytest.importorskip("pybullet")
 
-
-
-class _Rows:
-    """Per frame: the object schemas, the ball's sighting and the truth (evaluation)."""
-
-    def __init__(self) -> None:
-        self.truth: Any = None
-        self.rows: list[dict[str, Any]] = []
-
-    def frame(self, record: Any) -> None:
-        t = self.truth.at(record.index)
-        ball = t.objects.get("ball")  # None before it is thrown
-        tracked = record.tracked_object("ball")
-        self.rows.append({"names": [x.name for x in record.tracked],
-                          "truth": None if ball is None else ball.position,
-                          "height": None if ball is None else ball.height,
-                          "robot": None if t.robot is None else t.robot.position,
-                          "observed": None if tracked is None else tracked.observed})
-
-
-def _replay(seed: int, duration: float) -> tuple[Any, list[dict[str, Any]]]:
-    """Throw ``seed`` run for ``duration`` seconds: its scenario, and its frames' rows."""
-    sc = throw(seed, duration)
-    rows = _Rows()
-    runner = Runner(sc, out=None, seed=seed, outputs=QUIET, listeners=(rows,))
-    rows.truth = runner.truth
-    runner.run()
-    return sc, rows.rows
 
 
 def _robot_drove_off(sc: Any, rows: list[dict[str, Any]]) -> bool:
@@ -60,7 +32,7 @@ def _robot_drove_off(sc: Any, rows: list[dict[str, Any]]) -> bool:
 
 
 def test_the_floor_under_the_robots_start_is_never_spawned_for() -> None:
-    sc, rows = _replay(13, 3.0)
+    sc, rows = replay(13, 3.0)
     assert _robot_drove_off(sc, rows)
     assert {n for r in rows for n in r["names"]} == {"ball"}
     radius = sc.model("ball").ball.radius
@@ -80,7 +52,7 @@ def test_the_robots_rim_left_in_the_look_is_never_spawned_for() -> None:
     # was spawned for as an object the scenario does not know (at 1.5 s, at 320x240 and
     # at 640x480).  A region mostly on the pixels the imagined bodies covered at the first
     # look, held still, is the look's ignorance there, learned or not.
-    sc, rows = _replay(6, 2.2)
+    sc, rows = replay(6, 2.2)
     assert _robot_drove_off(sc, rows)
     assert {n for r in rows for n in r["names"]} == {"ball"}
 
@@ -93,7 +65,7 @@ def test_the_ball_is_told_from_the_looks_error_on_its_path_by_its_colour() -> No
     # it while the ball rolled on, to be spawned for as an object the scenario does not
     # know at 0.77 s.  Of the blobs of the ball's size and outline, one of its colour is taken
     # first.
-    sc, rows = _replay(45, 1.2)
+    sc, rows = replay(45, 1.2)
     assert {n for r in rows for n in r["names"]} == {"ball"}
     radius = sc.model("ball").ball.radius
     seen = [r for r in rows if r["observed"] is not None]

@@ -1,0 +1,33 @@
+"""A grey ball on grey gravel is followed whole, and none of its pieces is an object.
+
+Throw 50 of ``bench/foreign.py``: a camera on the robot, a smooth light-grey ball rolling
+on a gravel floor whose mean grey is the ball's.  Its per-pixel difference from the
+learned look showed only where a grain was lighter or darker than the ball: its top, and
+scattered pieces of its lower half.  The ball's schema, spawned on its top, refused every
+piece as not ball-shaped and never sighted it; the rules spawned schemas for the pieces
+as objects the scenario does not know (both spurious schemas of the 50 throws at
+640x480).  When the per-pixel difference shows no sighting, the object's search now also
+counts where the frame is flat over the look's texture
+(:func:`~adapt.vision.texture.flat_over_texture`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from .bench_throws import replay
+
+pytest.importorskip("pybullet")
+
+
+def test_a_ball_the_colour_of_the_gravel_is_followed_and_its_pieces_are_not_objects() -> None:
+    sc, rows = replay(50, 2.0)
+    assert set().union(*(r["names"] for r in rows)) == {"ball"}
+    radius = sc.model("ball").ball.radius
+    seen = [r for r in rows if r["observed"] is not None]
+    on = [r for r in seen if math.dist(r["observed"], r["truth"]) < 2 * radius]
+    # before: no sighting at all in the 6 s; now 15 in 2 s (the camera on the robot falls out
+    # of step as the robot sets off, and the ball with it), one of them 3.1 radii off
+    assert len(on) >= 12 and len(seen) - len(on) <= 1
