@@ -146,6 +146,9 @@ FIT_CHI2 = 4.0
 UNKNOWN_RANGES = {"restitution": (0.2, 0.95), "friction": (0.0, 1.0),
                   "rolling_resistance": (0.0, 0.2)}
 
+#: An object seen before and missed this many frames in a row is searched for along its path
+#: (wide), not around its imagined body and last sighting.
+FOLLOWING_MISSES = 3
 #: Side of the opening that cleans an object's blob of specks (pixels).
 BLOB_OPEN = 3
 #: Without a floor extent, sightings fitted farther than this from the camera are refused (m).
@@ -311,7 +314,7 @@ class ForegroundObject(Schema):
     def _predicted(self, frame: "Frame") -> tuple[tuple[float, float], float] | None:
         """Where to look (real pixels) and how far (pixels)."""
         imagined = self._imagined_real_box()
-        if imagined is not None and self.sightings > 0 and self.misses < 3:
+        if imagined is not None and self.sightings > 0 and self.misses < FOLLOWING_MISSES:
             centre, rpx = imagined
             if self.last is not None:
                 # the imagined body may lag the real one: look around both
@@ -499,8 +502,11 @@ class ForegroundObject(Schema):
         refused = False
         # the difference per pixel first; only when it shows no sighting, with where the frame
         # is flat over the look's texture too (an object of its floor's mean colour shows in
-        # pieces per pixel; the texture costs a few milliseconds a frame, spent only then)
-        for flat in (False, True):
+        # pieces per pixel; the texture costs a few milliseconds a frame, spent only then) --
+        # but only for an object not seen yet or seen in the frame before: searching for one
+        # missed, a flat patch of a flaw in the look, still, would be taken for it
+        searching = self.sightings > 0 and self.misses > 0
+        for flat in (False,) if searching else (False, True):
             d = bg.object_difference(frame.image, window, flat=flat)
             if d is None:
                 return None
