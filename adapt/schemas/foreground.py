@@ -125,10 +125,10 @@ OUTLINE_RMS_SHARE = 0.1
 #: another object in front of the rest) is not taken: a sliver does not say where it is.
 MIN_SHOWN = 0.2
 #: A blob is no ball's image when it is longer
-#: (:func:`~adapt.schemas.silhouette.silhouette_length`) than this many times the image's diameter, plus the ball's travel in a frame (motion
-#: blur) and :data:`LENGTH_SLACK_PX`: a streak of a ghost in the look, the ball merged with
-#: something beside it.  (A ball's image is an ellipse off the optical axis, and its contact
-#: shadow adds below it: well within.)
+#: (:func:`~adapt.schemas.silhouette.silhouette_length`) than this many times the image's
+#: diameter, plus the ball's travel in a frame (motion blur) and :data:`LENGTH_SLACK_PX`: a
+#: streak of a ghost in the look, the ball merged with something beside it.  (A ball's image
+#: is an ellipse off the optical axis, and its contact shadow adds below it: well within.)
 MAX_LENGTH = 1.6
 LENGTH_SLACK_PX = 2.0
 #: A blob at most this many pixels across whose outline is too short to fit is placed by
