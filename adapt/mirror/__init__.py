@@ -213,13 +213,15 @@ class Mirror:
     def learn_appearance(self, image: NDArray[np.uint8], labels: NDArray[np.integer], *,
                          exclude: NDArray[np.bool_] | None = None, margin: float = 0.0,
                          rate: float = 0.1, gate: float | None = None,
-                         relearn: NDArray[np.bool_] | None = None) -> Learning:
+                         relearn: NDArray[np.bool_] | None = None,
+                         new_only: bool = False) -> Learning:
         """Learn the surfaces' look from a real ``image`` seen through the current
         camera (:meth:`AppearanceModel.learn
         <adapt.mirror.appearance.AppearanceModel.learn>`; ``labels`` is this
         camera's render's label image) and show it in every render from now on."""
         learned = self.appearance.learn(image, self.camera, labels, exclude=exclude,
-                                        margin=margin, rate=rate, gate=gate, relearn=relearn)
+                                        margin=margin, rate=rate, gate=gate, relearn=relearn,
+                                        new_only=new_only)
         self.appearance.apply(self._renderer)
         return learned
 

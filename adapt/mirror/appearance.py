@@ -244,6 +244,9 @@ class _Plane:
         self.size = (w, h)
         self.image = np.zeros((h, w, 3), np.float32)
         self.count = np.zeros((h, w), np.uint16)
+        #: 255 where a learning pass saw the plane but was told to leave it (an object
+        #: covered it) while it was still unlearned: see :meth:`AppearanceModel.hidden`.
+        self.hidden = np.zeros((h, w), np.uint8)
         self.inside = inside
         self.updates = 0
         self.drift = 0.0
@@ -311,6 +314,8 @@ def _halved(plane: _SurfacePlane) -> _SurfacePlane:
     ok = weight > 0
     out.image[ok] = total[ok] / weight[ok][:, None]
     out.count[ok] = np.maximum(1, cv2.resize(count, out.size, interpolation=cv2.INTER_NEAREST)[ok])
+    hidden = cv2.copyMakeBorder(plane.hidden, h % 2, 0, 0, w % 2, cv2.BORDER_CONSTANT, value=0)
+    out.hidden[:] = cv2.resize(hidden, out.size, interpolation=cv2.INTER_NEAREST)
     out.updates = plane.updates
     out.dirty = True
     return out
@@ -477,6 +482,67 @@ class AppearanceModel:
             out |= (sub == label) & (seen == 0)
         return out
 
+    def hidden(self, camera: Camera, labels: NDArray[np.integer],
+               box: tuple[int, int, int, int] | None = None) -> NDArray[np.bool_]:
+        """Which pixels of ``labels`` show a surface where its look is unlearned because a
+        learning pass saw it but was told to leave it (``learn``'s ``exclude``: an object
+        covered it, a ball rolling through the first look) -- background to learn once
+        what covered it has gone, unlike a face no frame has shown (:meth:`unseen`, of
+        which these pixels are a part).
+
+        Parameters
+        ----------
+        camera : Camera
+            The camera ``labels`` was rendered through.
+        labels : (H, W) int ndarray
+            The render's label image.
+        box : (x, y, w, h), optional
+            Only these pixels (the result has the box's shape); the whole image without.
+
+        Examples
+        --------
+        >>> from adapt.imagination import Renderer, SceneSpec
+        >>> cam = Camera.look_at(fx=100, fy=100, cx=39.5, cy=29.5, width=80, height=60,
+        ...                      position=(0, -2, 1.5), look_at=(0, 0, 0))
+        >>> frame = Renderer(SceneSpec(), cam).background
+        >>> model = AppearanceModel(Renderer(SceneSpec(), cam).surfaces)
+        >>> ball = np.zeros(frame.labels.shape, bool)
+        >>> ball[40:50, 30:50] = True                     # something rolled there
+        >>> _ = model.learn(np.full((60, 80, 3), 90, np.uint8), cam, frame.labels, exclude=ball)
+        >>> hidden = model.hidden(cam, frame.labels)
+        >>> bool(hidden[42:48, 32:48].all()), int(hidden[:30].sum())
+        (True, 0)
+        >>> _ = model.learn(np.full((60, 80, 3), 90, np.uint8), cam, frame.labels)  # it left
+        >>> int(model.hidden(cam, frame.labels).sum())
+        0
+        """
+        h, w = labels.shape[:2]
+        x0, y0, bw, bh = (0, 0, w, h) if box is None else box
+        x0, y0 = max(0, int(x0)), max(0, int(y0))
+        x1, y1 = min(w, x0 + int(bw)), min(h, y0 + int(bh))
+        sub = np.asarray(labels[y0:y1, x0:x1])
+        out = np.zeros(sub.shape, bool)
+        if not sub.size:
+            return out
+        to_box = np.array([[1.0, 0.0, -x0], [0.0, 1.0, -y0], [0.0, 0.0, 1.0]])
+        for label in np.unique(sub).tolist():
+            if not LABEL_FLOOR <= label < LABEL_BALL or label not in self._by_label:
+                continue
+            hid = np.zeros(sub.shape, np.uint8)
+            for surface in self._by_label[label]:
+                plane = self._planes.get(surface.name)
+                if plane is None or not surface.seen_from(camera.position) \
+                        or not plane.hidden.any():
+                    continue
+                left = cv2.bitwise_and(plane.hidden, cv2.compare(  # type: ignore[call-overload]
+                    plane.count, 0, cv2.CMP_EQ))
+                hid |= np.asarray(cv2.warpPerspective(
+                    left, to_box @ plane.to_pixels(camera), (x1 - x0, y1 - y0),
+                    flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0),
+                    np.uint8)
+            out |= (sub == label) & (hid > 0)
+        return out
+
     def coverage(self) -> dict[str, float]:
         """The share of each learned plane's image that has been seen."""
         return {name: float(np.count_nonzero(self._planes[name].count))
@@ -486,7 +552,8 @@ class AppearanceModel:
 
     def learn(self, image: NDArray[np.uint8], camera: Camera, labels: NDArray[np.integer], *,
               exclude: NDArray[np.bool_] | None = None, margin: float = 0.0, rate: float = 0.1,
-              gate: float | None = None, relearn: NDArray[np.bool_] | None = None) -> Learning:
+              gate: float | None = None, relearn: NDArray[np.bool_] | None = None,
+              new_only: bool = False) -> Learning:
         """Back-project ``image`` onto every plane ``camera`` sees and learn it.
 
         Parameters
@@ -511,6 +578,10 @@ class AppearanceModel:
             Pixels whose texels are learned afresh, taking the frame's value
             whatever was learned before and past the ``gate`` (background
             that an object covered when it was learned, seen uncovered since).
+        new_only : bool
+            Learn only texels never learned (a view a camera on the robot turned
+            to: what was learned stays as it is); what ``exclude`` leaves is not
+            marked :meth:`hidden` (the caller's caution, not an object seen there).
 
         Raises
         ------
@@ -525,6 +596,7 @@ class AppearanceModel:
         if not 0.0 < rate <= 1.0:
             raise AppearanceError(f"rate: expected a fraction in (0, 1], got {rate!r}")
         keep = None if exclude is None else (~exclude.astype(bool)).view(np.uint8)
+        left = None if exclude is None else exclude.astype(bool).view(np.uint8)
         anew = None if relearn is None or not relearn.any() else np.asarray(
             cv2.copyMakeBorder(relearn.astype(np.uint8), _PAD, _PAD, _PAD, _PAD,
                                cv2.BORDER_CONSTANT, value=0), np.uint8)
@@ -546,7 +618,14 @@ class AppearanceModel:
             region = (labels == label).view(np.uint8)
             if kernel is not None:
                 region = cv2.erode(region, kernel, borderType=cv2.BORDER_CONSTANT, borderValue=0)
+            covered: NDArray[np.uint8] | None = None
             if keep is not None:
+                assert left is not None
+                if not new_only:  # seen, but the caller says not to learn
+                    left_here = cv2.bitwise_and(region, left)
+                    if cv2.countNonZero(left_here):
+                        covered = np.asarray(cv2.copyMakeBorder(
+                            left_here, _PAD, _PAD, _PAD, _PAD, cv2.BORDER_REPLICATE), np.uint8)
                 region = cv2.bitwise_and(region, keep)
             if cv2.countNonZero(region) < MIN_SEEN_PIXELS:
                 continue
@@ -562,7 +641,7 @@ class AppearanceModel:
             for plane, pts in self._planes_seen(label, camera, shift, outline):
                 got = self._update(plane, plane_to_frame=shift @ plane.to_pixels(camera),
                                    image=pad, region=region, points=pts, rate=rate, gate=gate,
-                                   relearn=anew)
+                                   relearn=anew, covered=covered, new_only=new_only)
                 if got is not None:
                     done[plane.name] = got[0]
                     new += got[1]
@@ -613,9 +692,13 @@ class AppearanceModel:
 
     def _update(self, plane: _Plane, *, plane_to_frame: FloatArray, image: NDArray[np.uint8],
                 region: NDArray[np.uint8], points: FloatArray, rate: float, gate: float | None,
-                relearn: NDArray[np.uint8] | None = None) -> tuple[int, int] | None:
+                relearn: NDArray[np.uint8] | None = None,
+                covered: NDArray[np.uint8] | None = None,
+                new_only: bool = False) -> tuple[int, int] | None:
         """Learn ``plane`` from ``image`` where ``region`` is set; ``points`` (plane
-        pixels) bound what is seen; where ``relearn`` is set the texels start afresh.
+        pixels) bound what is seen; where ``relearn`` is set the texels start afresh;
+        the unlearned texels where ``covered`` is set are marked hidden; ``new_only``:
+        only texels never learned are learned.
         Returns (pixels updated, of them new)."""
         w, h = plane.size
         x0 = max(0, int(math.floor(points[:, 0].min())) - 2)
@@ -630,16 +713,29 @@ class AppearanceModel:
                                    borderMode=cv2.BORDER_CONSTANT, borderValue=0)
         # In front of the camera: the map's third row is positive (a half-plane;
         # linear, so the box's corners decide whether it needs checking).
+        front = None
         if min(m[2, 0] * x + m[2, 1] * y + m[2, 2] for x in (0, rw) for y in (0, rh)) <= 0:
-            front = ((m[2, 0] * np.arange(rw, dtype=np.float64))[None, :]
-                     + (m[2, 1] * np.arange(rh, dtype=np.float64) + m[2, 2])[:, None]) > 0
-            cv2.bitwise_and(seen, front.view(np.uint8), dst=seen)
+            front = (((m[2, 0] * np.arange(rw, dtype=np.float64))[None, :]
+                      + (m[2, 1] * np.arange(rh, dtype=np.float64) + m[2, 2])[:, None]) > 0
+                     ).view(np.uint8)
+            cv2.bitwise_and(seen, front, dst=seen)
         if plane.inside is not None:
             cv2.bitwise_and(seen, plane.inside[y0:y1, x0:x1], dst=seen)
+        if covered is not None:
+            # in view but left: while unlearned, these texels are what an object covered
+            hid = cv2.warpPerspective(covered, m, (rw, rh),
+                                      flags=cv2.INTER_NEAREST | cv2.WARP_INVERSE_MAP,
+                                      borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+            if front is not None:
+                cv2.bitwise_and(hid, front, dst=hid)
+            if plane.inside is not None:
+                cv2.bitwise_and(hid, plane.inside[y0:y1, x0:x1], dst=hid)
+            cv2.bitwise_and(hid, cv2.compare(plane.count[y0:y1, x0:x1], 0, cv2.CMP_EQ),  # type: ignore[call-overload]
+                            dst=hid)
+            cv2.bitwise_and(hid, cv2.bitwise_not(seen), dst=hid)
+            cv2.bitwise_or(plane.hidden[y0:y1, x0:x1], hid, dst=plane.hidden[y0:y1, x0:x1])
         if cv2.countNonZero(seen) == 0:
             return None
-        sampled = cv2.warpPerspective(image, m, (rw, rh), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
-                                      borderMode=cv2.BORDER_REPLICATE)
         img = plane.image[y0:y1, x0:x1]
         cnt = plane.count[y0:y1, x0:x1]
         unseen = cv2.compare(cnt, 0, cv2.CMP_EQ)  # type: ignore[call-overload]
@@ -649,8 +745,13 @@ class AppearanceModel:
                                        borderMode=cv2.BORDER_CONSTANT, borderValue=0)
             unseen = cv2.bitwise_or(unseen, cv2.compare(anew, 0, cv2.CMP_GT))  # type: ignore[call-overload]
         fresh = cv2.bitwise_and(seen, unseen)
-        old = cv2.bitwise_and(seen, cv2.bitwise_not(unseen))
+        old = (np.zeros_like(fresh) if new_only
+               else cv2.bitwise_and(seen, cv2.bitwise_not(unseen)))
         n_old = cv2.countNonZero(old)
+        if n_old == 0 and cv2.countNonZero(fresh) == 0:
+            return None
+        sampled = cv2.warpPerspective(image, m, (rw, rh), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+                                      borderMode=cv2.BORDER_REPLICATE)
         alpha = max(rate, 1.0 / (plane.updates + 1))
         drift = 0.0
         if n_old and gate is not None:
@@ -740,6 +841,7 @@ class AppearanceModel:
         # rows run down from t_max: the old image starts `above` rows down
         grown.image[above:above + h, left:left + w] = plane.image
         grown.count[above:above + h, left:left + w] = plane.count
+        grown.hidden[above:above + h, left:left + w] = plane.hidden
         grown.updates = plane.updates
         grown.dirty = True
         self._planes[plane.name] = grown

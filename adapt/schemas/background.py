@@ -72,7 +72,9 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    stands (a pose a little off, another shape): once it leaves, a dark rim.  An
    unexpected region at least :data:`UNSEEN_SHARE` of whose pixels are there and
    held still over its last :data:`STILL_REGION_FRAMES` frames is reported
-   ``unseen``: the rules spawn no schema for it either; and those texels that are
+   ``unseen`` (so is one mostly on texels a pass left unlearned because an object
+   covered them: :meth:`~adapt.mirror.appearance.AppearanceModel.hidden`, a ball
+   rolling through the first look): the rules spawn no schema for it either; and those texels that are
    still unlearned are learned as soon as their pixels held
    still for ``still_s``, whatever box or region covers them (what the imagination
    draws there now, the robot come back, is never learned).
@@ -87,7 +89,9 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    synchronised (more than :data:`STRUCTURE_ACCEPT` pixels) for
    :data:`UNSYNCHRONISED_RELEARN` frames learns afresh what held still: its
    corrections do not settle, so its look is what is wrong (a texture the renderer
-   aliases anew since the camera turned, a change of light).
+   aliases anew since the camera turned, a change of light).  While it moves, what
+   its view shows for the first time is learned every frame it is in step
+   (:meth:`SceneBackground._explore`).
    A frame whose matches give no ``H_e`` (a texture the renderer aliases
    differently as a robot's camera turns, a plain face filling the view) is
    aligned by the structure instead, keeping the look, and compared through
@@ -120,7 +124,7 @@ from numpy.typing import NDArray
 
 from adapt.errors import VisionError
 from adapt.geometry import MAX_PIXELS
-from adapt.imagination import LABEL_BALL
+from adapt.imagination import LABEL_BALL, LABEL_SKY
 from adapt.mirror.structure import face_labels
 from adapt.scenario import RealityKind
 from adapt.schemas.base import BBox, Schema, Status
@@ -130,6 +134,7 @@ from adapt.schemas.percepts import (
     BackgroundPercept,
     FirstLook,
     RegionReport,
+    colour_like,
     looks_like,
     mean_color,
 )
@@ -174,6 +179,9 @@ UNSYNCHRONISED_RELEARN = 10
 EXCLUDE_PAD = 6
 #: Label of the floor in a render (the full pose is corrected from matches on it).
 FLOOR_LABEL = 1
+#: A moving camera on the robot learns what it sees for the first time once it sees at least
+#: this many such pixels (at 640x480): the scenario's guess drawn there, not the scene.
+EXPLORE_PIXELS = 400
 #: Frames over which an unexpected region is judged still (its box's pixels unchanged).
 STILL_REGION_FRAMES = 3
 #: A region whose box changed in less than this share of its pixels over those frames is still
@@ -667,6 +675,63 @@ class SceneBackground(Schema):
         if (synchronised or stuck) and self._since_learn >= self.parameters["learn_every"] \
                 and self.labels is not None:
             self._learn(frame, self.labels, fresh=False)
+        elif self.camera_moving and self.trusted and self.labels is not None and (
+                res.alignment.held  # aligned by the structure this frame: no matches
+                or self.pixel_error <= self._tolerance(frame.image.shape)):
+            self._explore(frame, self.labels)
+
+    def _explore(self, frame: "Frame", labels: NDArray[np.int32]) -> None:
+        """A camera on the robot that moves, in step: learn what its view shows for the
+        first time (the scenario's guess is drawn there until then, a difference that
+        hides objects and spoils the matches), and the sky's faces it never saw, every
+        frame; never where a pixel's colour could be a declared object's
+        (:func:`~adapt.schemas.percepts.colour_like`), near an imagined body (within its
+        image's width and height), in the box of a schema whose object is not drawn yet,
+        or in a region that looks like a declared object no schema follows; what was
+        learned stays as it is (:meth:`~adapt.mirror.appearance.AppearanceModel.learn`'s
+        ``new_only``)."""
+        shape = frame.image.shape
+        h, w = int(shape[0]), int(shape[1])
+        if labels.shape != (h, w):
+            return
+        mirror = self.network.mirror
+        new = mirror.appearance.unseen(mirror.camera, labels)
+        if np.count_nonzero(new) < EXPLORE_PIXELS * image_scale(shape) ** 2:
+            return
+        new |= labels == LABEL_SKY  # (new_only: the sky's faces never seen)
+        pad = int(math.ceil(EXCLUDE_PAD * image_scale(shape)))
+        kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
+        # a pixel that could show a declared object (its colour under some light): the
+        # object itself, seen where nothing follows it yet, is never learned
+        ys, xs = np.nonzero(new)
+        like = np.zeros((h, w), np.uint8)
+        like[ys, xs] = colour_like(frame.image[ys, xs], [c for c, _ in self._looks.values()])
+        # only there (a pixel around it: a texel straddles pixels): what was learned stays
+        near = np.asarray(cv2.dilate(new.view(np.uint8), np.ones((3, 3), np.uint8)), np.uint8)
+        mask = (near ^ 1) | np.asarray(cv2.dilate(like, kernel), np.uint8)
+        boxes = []
+        bodies = (labels >= LABEL_BALL).astype(np.uint8)
+        if bodies.any():
+            n, _, stats, _ = cv2.connectedComponentsWithStats(bodies)
+            for x, y, bw, bh, _area in stats[1:n].tolist():
+                # an imagined body and a body's width or height around it: where the real
+                # one is, a little off
+                boxes.append((x - bw, y - bh, 3 * bw, 3 * bh))
+        # an object's schema whose object the imagination does not draw yet: where it looks
+        boxes += [b for name, b in self.network.monitored_boxes(exclude=self.name)
+                  if name not in self._label_of]
+        # what looks like a declared object no schema follows yet
+        boxes += [r.bbox for r in self.regions if not r.expected and r.looks_like is not None]
+        for x, y, bw, bh in boxes:
+            mask[max(0, y - pad):max(0, y + bh + pad), max(0, x - pad):max(0, x + bw + pad)] = 1
+        p = self.parameters
+        learned = mirror.learn_appearance(
+            frame.image, labels, exclude=mask.astype(bool), rate=p["learn_rate"],
+            gate=p["learn_gate"], new_only=True)
+        if learned.new:
+            self.learning = learned
+            self.learn_ms = learned.ms
+            self.learn_passes += 1
 
     def _learn(self, frame: "Frame", labels: NDArray[np.int32], *, fresh: bool) -> None:
         """One learning pass of the mirror's appearance model on ``frame``."""
@@ -748,6 +813,20 @@ class SceneBackground(Schema):
                     fresh[by:by + bh, bx:bx + bw] = mirror.appearance.unseen(
                         mirror.camera, labels, (bx, by, bw, bh))
                     anew |= (moved == 0) & fresh & covered
+                if labels is not None and labels.shape == (h, w):
+                    # what an object covered when the look was learned (a ball rolling
+                    # through the first look) and held still since, in a box or region:
+                    # never what the imagination draws there now, with a margin
+                    boxed = (mask > 0) & (moved == 0)
+                    if boxed.any():
+                        mirror = self.network.mirror
+                        bx, by, bw, bh = cv2.boundingRect(boxed.view(np.uint8))
+                        left = np.zeros((h, w), bool)
+                        left[by:by + bh, bx:bx + bw] = mirror.appearance.hidden(
+                            mirror.camera, labels, (bx, by, bw, bh))
+                        if left.any():
+                            bodies = cv2.dilate((labels >= LABEL_BALL).astype(np.uint8), kernel)
+                            anew |= boxed & left & (bodies == 0)
                 relearn = anew if anew.any() else None
                 differs[anew] = 0
                 mask[anew] = 0
@@ -813,27 +892,37 @@ class SceneBackground(Schema):
         return changed < max(STILL_SHARE * held.size, STILL_PIXELS)
 
     def _unseen(self, region: Region) -> bool:
-        """Whether at least :data:`UNSEEN_SHARE` of ``region``'s pixels are where imagined
-        bodies hid the surfaces from the first look (with a margin) and held still over the
-        last :data:`STILL_REGION_FRAMES` frames: the look's ignorance there, whether its
-        texels are still unlearned or were learned from the real body's rim past the
-        imagined outline (see the module docstring)."""
-        covered = self._covered
-        if self.stage is not AppearanceStage.LEARNED or self.labels is None \
-                or covered is None or len(self.history) < STILL_REGION_FRAMES:
+        """Whether at least :data:`UNSEEN_SHARE` of ``region``'s pixels are where the look
+        is the scenario's guess, not the scene's, and held still over the last
+        :data:`STILL_REGION_FRAMES` frames: where imagined bodies hid the surfaces from a
+        fixed camera's first look (with a margin), or where a learning pass left texels
+        unlearned because an object covered them
+        (:meth:`~adapt.mirror.appearance.AppearanceModel.hidden`: a ball rolling through
+        the first look).  The look's ignorance there, whether its texels are still
+        unlearned or were learned from the real body's rim past the imagined outline (see
+        the module docstring)."""
+        labels = self.labels
+        if self.stage is not AppearanceStage.LEARNED or labels is None \
+                or len(self.history) < STILL_REGION_FRAMES:
             return False
         x, y, w, h = region.bbox
-        if covered.shape != self.labels.shape or not covered[y:y + h, x:x + w].any():
+        mask = region.silhouette
+        mirror = self.network.mirror
+        left = mirror.appearance.hidden(mirror.camera, labels, region.bbox)
+        covered = self._covered
+        if covered is not None and covered.shape == labels.shape \
+                and covered[y:y + h, x:x + w].shape == left.shape:
+            left |= covered[y:y + h, x:x + w]
+        if not left.any():
             return False
         still = self.history.still(float(self.parameters["threshold"]),
                                    frames=STILL_REGION_FRAMES, box=region.bbox)
-        mask = region.silhouette
-        if not still.shape == mask.shape == covered[y:y + h, x:x + w].shape:  # cut by the edge
+        if not still.shape == mask.shape == left.shape:  # cut by the edge
             return False
         # the texels there were never learned, or learned past the imagined body's outline
         # from the real one (a pose a little off, another shape: a dark rim of it once it
         # has driven off)
-        mine = still & mask & covered[y:y + h, x:x + w]
+        mine = still & mask & left
         return int(np.count_nonzero(mine)) >= UNSEEN_SHARE * max(int(mask.sum()), 1)
 
     def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:
@@ -862,6 +951,7 @@ class SceneBackground(Schema):
         node.set("synchronised", aligned and self.pixel_error
                  <= self._tolerance((cam.height, cam.width)))
         node.set("camera-moving", self.camera_moving)
+        node.set("mounted", self.network.mirror.mounted)
         unexpected = [r for r in self.regions if not r.expected]
         node.set("unexpected", len(unexpected))
         node.set("appearance", self.stage.value)

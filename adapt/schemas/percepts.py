@@ -39,7 +39,7 @@ import enum
 import math
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping, Sequence
 
 import cv2
 import numpy as np
@@ -59,7 +59,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["BackgroundPercept", "ObjectPercept", "RegionReport", "Sighting", "FirstLook",
            "AppearanceStage", "BBox", "Vec2", "LOOKS_LIKE_COLOR", "LOOKS_LIKE_SIZE", "LOOKS_LIKE_MARGIN",
-           "looks_like", "mean_color"]
+           "looks_like", "colour_like", "mean_color"]
 
 BBox = tuple[int, int, int, int]
 Vec2 = tuple[float, float]
@@ -113,6 +113,31 @@ def looks_like(color: tuple[int, int, int] | None, size: float | None,
     if len(near) > 1 and near[1][0] - near[0][0] < LOOKS_LIKE_MARGIN:
         return None  # two objects look alike: the colour does not tell which
     return near[0][1]
+
+
+def colour_like(pixels: NDArray[np.uint8], colors: Sequence[tuple[int, int, int]]
+                ) -> NDArray[np.bool_]:
+    """Which of ``pixels`` (``(N, 3)`` BGR) could show one of ``colors`` (RGB): within
+    :data:`LOOKS_LIKE_COLOR` of it under the light that brings it nearest, as
+    :func:`looks_like` asks of a region's mean colour, pixel by pixel.
+
+    >>> px = np.array([[20, 150, 240], [128, 128, 128], [10, 75, 120]], np.uint8)  # BGR
+    >>> colour_like(px, [(240, 150, 20)]).tolist()   # orange, grey, orange in the shade
+    [True, False, True]
+    """
+    out = np.zeros(len(pixels), bool)
+    if not len(pixels):
+        return out
+    rgb = np.asarray(pixels, np.float32)[:, ::-1]
+    power = np.einsum("ij,ij->i", rgb, rgb)
+    for color in colors:
+        lit = np.asarray(color, np.float32)
+        gain = np.clip(rgb @ lit / np.maximum(power, 1e-6), 1.0 / LOOKS_LIKE_LIGHT,
+                       LOOKS_LIKE_LIGHT)
+        gain[power <= 0.0] = 1.0
+        d = gain[:, None] * rgb - lit
+        out |= np.einsum("ij,ij->i", d, d) <= LOOKS_LIKE_COLOR ** 2
+    return out
 
 
 def _lit_distance(color: tuple[int, int, int], declared: tuple[int, int, int]) -> float:
