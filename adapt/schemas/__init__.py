@@ -16,7 +16,8 @@
   :mod:`~adapt.schemas.predictor` (predictions with a confidence);
 * the types: :mod:`~adapt.schemas.background` (``scene-background``),
   :mod:`~adapt.schemas.foreground` (``foreground-object``), :mod:`~adapt.schemas.drive`
-  (``drive``), :mod:`~adapt.schemas.intercept` (``intercept``).
+  (``drive``), :mod:`~adapt.schemas.intercept` (``intercept``), :mod:`~adapt.schemas.search`
+  (``search``).
 
 This package imports the engine (its I/O links), vision, the imagination (through
 :mod:`adapt.mirror`) and networkx; it never imports the reality or ground truth.

@@ -166,10 +166,11 @@ def _builtin() -> Registry:
     from adapt.schemas.drive import DRIVE
     from adapt.schemas.foreground import FOREGROUND_OBJECT
     from adapt.schemas.intercept import INTERCEPT
+    from adapt.schemas.search import SEARCH
 
     reg = Registry()
     with builtin():
-        for spec in (SCENE_BACKGROUND, FOREGROUND_OBJECT, DRIVE, INTERCEPT):
+        for spec in (SCENE_BACKGROUND, FOREGROUND_OBJECT, DRIVE, INTERCEPT, SEARCH):
             reg.register(spec)
     return reg
 

@@ -161,7 +161,7 @@ def test_the_registry_lists_every_builtin_type() -> None:
 
     builtin = [s for s in REGISTRY if REGISTRY.origin(s.name) == BUILTIN]  # not a plugin's
     assert [s.name for s in builtin] == ["drive", "foreground-object", "intercept",
-                                         "scene-background"]
+                                         "scene-background", "search"]
     for spec in builtin:
         data = spec.as_json()
         assert data["name"] == spec.name and data["parameters"]
@@ -312,3 +312,58 @@ def test_a_schema_spawned_in_a_frame_looks_at_that_frame_once() -> None:
     assert seen[early.name] == [0, 1]
     assert seen[top.name] == [1]
     assert seen[spawned.name] == [0, 1]
+
+
+@pytest.mark.parametrize("heading_deg, middle_side", [(0.0, 1.0), (180.0, -1.0)])
+def test_the_search_schema_waits_then_turns_towards_the_middle_and_stops_on_removal(
+        heading_deg: float, middle_side: float) -> None:
+    import math
+
+    from adapt.imagination import Floor
+
+    # the robot in the floor's south-west part: the middle is to its left facing +x, to its
+    # right facing -x
+    scene = SceneSpec(floor=Floor(extent=(-2.0, -2.0, 2.0, 2.0)),
+                      robot=RobotSpec(position=(-1.0, -1.0), heading_deg=heading_deg,
+                                      max_speed=1.0, max_accel=2.0))
+    mirror = Mirror(scene, CAM)
+    net = SchemaNetwork(mirror)
+    s = net.instantiate("search", parameters={"object": "ball", "turn_rate": 1.0, "delay": 0.5})
+    t = 0.0
+    headings = []
+    while t < 2.0:
+        net.act(t)
+        t += 1 / 30
+        mirror.step_to(t)
+        pose = mirror.robot_pose()
+        assert pose is not None and math.dist(pose[0], (-1.0, -1.0)) < 1e-6  # in place
+        headings.append(pose[1])
+        if t < 0.45:
+            assert s.status is Status.IDLE
+    assert s.status is Status.EXECUTING and s.direction == middle_side
+    turned = (headings[-1] - headings[0] + math.pi) % (2 * math.pi) - math.pi
+    assert turned * middle_side == pytest.approx(1.5, abs=0.1)  # 1 rad/s for 1.5 s
+    assert s.turned == pytest.approx(1.5, abs=0.1)
+    net.remove(s.name)
+    mirror.step_to(t + 0.5)
+    assert mirror.world.robot_command == (0.0, 0.0, 0.0)
+    with pytest.raises(SchemaError, match="no robot"):
+        network(robot=False).instantiate("search")
+
+
+def test_the_search_schema_holds_still_while_a_region_looks_like_its_object() -> None:
+    from adapt.schemas.percepts import BackgroundPercept, RegionReport
+
+    scene = SceneSpec(robot=RobotSpec(position=(0.0, -1.0), max_speed=1.0, max_accel=2.0))
+    mirror = Mirror(scene, CAM)
+    net = SchemaNetwork(mirror)
+    bg = net.instantiate("scene-background", parameters={"appearance": "off"})
+    s = net.instantiate("search", parameters={"object": "ball", "delay": 0.0})
+    region = RegionReport(7, (10, 10, 8, 8), (14.0, 14.0), 50, 4, False, None, (0.0, 1.0), 0.2,
+                          looks_like="ball")
+    for regions, turning in (((), True), ((region,), False), ((), True)):
+        net.publish(bg, BackgroundPercept(frame=0, time=0.0, camera_before=CAM,
+                                          camera_after=CAM, regions=regions))
+        net.act(0.0)
+        assert s.holding is (not turning)
+        assert (mirror.world.robot_command[2] != 0.0) is turning
