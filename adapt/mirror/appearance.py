@@ -84,7 +84,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 import cv2
 import numpy as np
@@ -457,30 +457,9 @@ class AppearanceModel:
         >>> bool(unseen[42:48, 32:48].all()), int(unseen[:30].sum())
         (True, 0)
         """
-        h, w = labels.shape[:2]
-        x0, y0, bw, bh = (0, 0, w, h) if box is None else box
-        x0, y0 = max(0, int(x0)), max(0, int(y0))
-        x1, y1 = min(w, x0 + int(bw)), min(h, y0 + int(bh))
-        sub = np.asarray(labels[y0:y1, x0:x1])
-        out = np.zeros(sub.shape, bool)
-        if not sub.size:
-            return out
-        to_box = np.array([[1.0, 0.0, -x0], [0.0, 1.0, -y0], [0.0, 0.0, 1.0]])
-        for label in np.unique(sub).tolist():
-            if not LABEL_FLOOR <= label < LABEL_BALL or label not in self._by_label:
-                continue
-            seen = np.zeros(sub.shape, np.uint8)
-            for surface in self._by_label[label]:
-                plane = self._planes.get(surface.name)
-                if plane is None or not surface.seen_from(camera.position):
-                    continue
-                known = cv2.compare(plane.count, 0, cv2.CMP_GT)  # type: ignore[call-overload]
-                seen |= np.asarray(cv2.warpPerspective(
-                    known, to_box @ plane.to_pixels(camera), (x1 - x0, y1 - y0),
-                    flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0),
-                    np.uint8)
-            out |= (sub == label) & (seen == 0)
-        return out
+        return self._texel_pixels(
+            camera, labels, box, lambda plane: np.asarray(cv2.compare(  # type: ignore[call-overload]
+                plane.count, 0, cv2.CMP_GT), np.uint8), where=False)
 
     def hidden(self, camera: Camera, labels: NDArray[np.integer],
                box: tuple[int, int, int, int] | None = None) -> NDArray[np.bool_]:
@@ -516,6 +495,18 @@ class AppearanceModel:
         >>> int(model.hidden(cam, frame.labels).sum())
         0
         """
+        return self._texel_pixels(
+            camera, labels, box, lambda plane: None if not plane.hidden.any() else np.asarray(
+                cv2.bitwise_and(plane.hidden, cv2.compare(  # type: ignore[call-overload]
+                    plane.count, 0, cv2.CMP_EQ)), np.uint8), where=True)
+
+    def _texel_pixels(self, camera: Camera, labels: NDArray[np.integer],
+                      box: tuple[int, int, int, int] | None,
+                      texels: Callable[[_Plane], NDArray[np.uint8] | None], *,
+                      where: bool) -> NDArray[np.bool_]:
+        """The pixels of ``labels`` (cut to ``box``) showing a surface where the texels
+        ``texels(plane)`` marks (255; None: none) of its planes land through ``camera``
+        (``where``), or where none does (not ``where``)."""
         h, w = labels.shape[:2]
         x0, y0, bw, bh = (0, 0, w, h) if box is None else box
         x0, y0 = max(0, int(x0)), max(0, int(y0))
@@ -528,19 +519,18 @@ class AppearanceModel:
         for label in np.unique(sub).tolist():
             if not LABEL_FLOOR <= label < LABEL_BALL or label not in self._by_label:
                 continue
-            hid = np.zeros(sub.shape, np.uint8)
+            marked = np.zeros(sub.shape, np.uint8)
             for surface in self._by_label[label]:
                 plane = self._planes.get(surface.name)
-                if plane is None or not surface.seen_from(camera.position) \
-                        or not plane.hidden.any():
+                if plane is None or not surface.seen_from(camera.position):
                     continue
-                left = cv2.bitwise_and(plane.hidden, cv2.compare(  # type: ignore[call-overload]
-                    plane.count, 0, cv2.CMP_EQ))
-                hid |= np.asarray(cv2.warpPerspective(
-                    left, to_box @ plane.to_pixels(camera), (x1 - x0, y1 - y0),
-                    flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT, borderValue=0),
-                    np.uint8)
-            out |= (sub == label) & (hid > 0)
+                mask = texels(plane)
+                if mask is not None:
+                    marked |= np.asarray(cv2.warpPerspective(
+                        mask, to_box @ plane.to_pixels(camera), (x1 - x0, y1 - y0),
+                        flags=cv2.INTER_NEAREST, borderMode=cv2.BORDER_CONSTANT,
+                        borderValue=0), np.uint8)
+            out |= (sub == label) & ((marked > 0) if where else (marked == 0))
         return out
 
     def coverage(self) -> dict[str, float]:
