@@ -214,14 +214,15 @@ class Mirror:
                          exclude: NDArray[np.bool_] | None = None, margin: float = 0.0,
                          rate: float = 0.1, gate: float | None = None,
                          relearn: NDArray[np.bool_] | None = None,
-                         new_only: bool = False) -> Learning:
+                         new_only: bool = False,
+                         covered: NDArray[np.bool_] | None = None) -> Learning:
         """Learn the surfaces' look from a real ``image`` seen through the current
         camera (:meth:`AppearanceModel.learn
         <adapt.mirror.appearance.AppearanceModel.learn>`; ``labels`` is this
         camera's render's label image) and show it in every render from now on."""
         learned = self.appearance.learn(image, self.camera, labels, exclude=exclude,
                                         margin=margin, rate=rate, gate=gate, relearn=relearn,
-                                        new_only=new_only)
+                                        new_only=new_only, covered=covered)
         self.appearance.apply(self._renderer)
         return learned
 

@@ -463,11 +463,11 @@ class AppearanceModel:
 
     def hidden(self, camera: Camera, labels: NDArray[np.integer],
                box: tuple[int, int, int, int] | None = None) -> NDArray[np.bool_]:
-        """Which pixels of ``labels`` show a surface where its look is unlearned because a
-        learning pass saw it but was told to leave it (``learn``'s ``exclude``: an object
-        covered it, a ball rolling through the first look) -- background to learn once
-        what covered it has gone, unlike a face no frame has shown (:meth:`unseen`, of
-        which these pixels are a part).
+        """Which pixels of ``labels`` show a surface where its look is unlearned because an
+        object covered it when a pass saw it (``learn``'s ``covered``: a ball rolling
+        through the first look) -- background to learn once what covered it has gone,
+        unlike a face no frame has shown (:meth:`unseen`, of which these pixels are a
+        part), or one a pass left for another reason.
 
         Parameters
         ----------
@@ -487,7 +487,7 @@ class AppearanceModel:
         >>> model = AppearanceModel(Renderer(SceneSpec(), cam).surfaces)
         >>> ball = np.zeros(frame.labels.shape, bool)
         >>> ball[40:50, 30:50] = True                     # something rolled there
-        >>> _ = model.learn(np.full((60, 80, 3), 90, np.uint8), cam, frame.labels, exclude=ball)
+        >>> _ = model.learn(np.full((60, 80, 3), 90, np.uint8), cam, frame.labels, covered=ball)
         >>> hidden = model.hidden(cam, frame.labels)
         >>> bool(hidden[42:48, 32:48].all()), int(hidden[:30].sum())
         (True, 0)
@@ -543,7 +543,7 @@ class AppearanceModel:
     def learn(self, image: NDArray[np.uint8], camera: Camera, labels: NDArray[np.integer], *,
               exclude: NDArray[np.bool_] | None = None, margin: float = 0.0, rate: float = 0.1,
               gate: float | None = None, relearn: NDArray[np.bool_] | None = None,
-              new_only: bool = False) -> Learning:
+              new_only: bool = False, covered: NDArray[np.bool_] | None = None) -> Learning:
         """Back-project ``image`` onto every plane ``camera`` sees and learn it.
 
         Parameters
@@ -570,8 +570,11 @@ class AppearanceModel:
             that an object covered when it was learned, seen uncovered since).
         new_only : bool
             Learn only texels never learned (a view a camera on the robot turned
-            to: what was learned stays as it is); what ``exclude`` leaves is not
-            marked :meth:`hidden` (the caller's caution, not an object seen there).
+            to: what was learned stays as it is).
+        covered : (H, W) bool ndarray, optional
+            Pixels an object covered in ``image`` (excluded too): their texels,
+            while unlearned, are marked :meth:`hidden` (a ball rolling through the
+            frames a first look is learned from).
 
         Raises
         ------
@@ -583,10 +586,13 @@ class AppearanceModel:
         _check_image(image, labels, exclude, camera)
         if relearn is not None:
             _check_image(image, labels, relearn, camera)
+        if covered is not None:
+            _check_image(image, labels, covered, camera)
+            exclude = covered if exclude is None else (exclude.astype(bool) | covered)
         if not 0.0 < rate <= 1.0:
             raise AppearanceError(f"rate: expected a fraction in (0, 1], got {rate!r}")
         keep = None if exclude is None else (~exclude.astype(bool)).view(np.uint8)
-        left = None if exclude is None else exclude.astype(bool).view(np.uint8)
+        hid = None if covered is None or not covered.any() else covered.astype(np.uint8)
         anew = None if relearn is None or not relearn.any() else np.asarray(
             cv2.copyMakeBorder(relearn.astype(np.uint8), _PAD, _PAD, _PAD, _PAD,
                                cv2.BORDER_CONSTANT, value=0), np.uint8)
@@ -608,14 +614,13 @@ class AppearanceModel:
             region = (labels == label).view(np.uint8)
             if kernel is not None:
                 region = cv2.erode(region, kernel, borderType=cv2.BORDER_CONSTANT, borderValue=0)
-            covered: NDArray[np.uint8] | None = None
+            here: NDArray[np.uint8] | None = None
+            if hid is not None:  # the surface's pixels an object covered
+                under = cv2.bitwise_and(region, hid)
+                if cv2.countNonZero(under):
+                    here = np.asarray(cv2.copyMakeBorder(
+                        under, _PAD, _PAD, _PAD, _PAD, cv2.BORDER_REPLICATE), np.uint8)
             if keep is not None:
-                assert left is not None
-                if not new_only:  # seen, but the caller says not to learn
-                    left_here = cv2.bitwise_and(region, left)
-                    if cv2.countNonZero(left_here):
-                        covered = np.asarray(cv2.copyMakeBorder(
-                            left_here, _PAD, _PAD, _PAD, _PAD, cv2.BORDER_REPLICATE), np.uint8)
                 region = cv2.bitwise_and(region, keep)
             if cv2.countNonZero(region) < MIN_SEEN_PIXELS:
                 continue
@@ -631,7 +636,7 @@ class AppearanceModel:
             for plane, pts in self._planes_seen(label, camera, shift, outline):
                 got = self._update(plane, plane_to_frame=shift @ plane.to_pixels(camera),
                                    image=pad, region=region, points=pts, rate=rate, gate=gate,
-                                   relearn=anew, covered=covered, new_only=new_only)
+                                   relearn=anew, covered=here, new_only=new_only)
                 if got is not None:
                     done[plane.name] = got[0]
                     new += got[1]

@@ -72,9 +72,9 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    stands (a pose a little off, another shape): once it leaves, a dark rim.  An
    unexpected region at least :data:`UNSEEN_SHARE` of whose pixels are there and
    held still over its last :data:`STILL_REGION_FRAMES` frames is reported
-   ``unseen`` (so is one mostly on texels a pass left unlearned because an object
-   covered them: :meth:`~adapt.mirror.appearance.AppearanceModel.hidden`, a ball
-   rolling through the first look): the rules spawn no schema for it either; and those texels that are
+   ``unseen`` (so is one mostly on texels the first look left unlearned because
+   something moved over them: :meth:`~adapt.mirror.appearance.AppearanceModel.hidden`,
+   a ball rolling through it): the rules spawn no schema for it either; and those texels that are
    still unlearned are learned as soon as their pixels held
    still for ``still_s``, whatever box or region covers them (what the imagination
    draws there now, the robot come back, is never learned).
@@ -747,9 +747,15 @@ class SceneBackground(Schema):
             # then); a refinement: the pixels that held still
             still = (self.history.settled(gate, SETTLED_SHARE) if fresh
                      else self.history.still(gate))
+        covered = None
         if fresh:  # what the view showed most of the time: a passing object is gone from it
             image = self.history.median() if len(self.history) else frame.image
             exclude, relearn = self._exclusion(frame.image.shape, still=still)
+            if still is not None and still.shape == exclude.shape:
+                # where something moved through the frames: texels to learn once it has gone
+                pad = int(math.ceil(EXCLUDE_PAD * image_scale(frame.image.shape)))
+                kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
+                covered = np.asarray(cv2.dilate((~still).view(np.uint8), kernel), bool)
             self._covered = None
             if not mirror.mounted and labels.shape == frame.image.shape[:2]:
                 # what the imagined bodies (the robot) hid from this look, with a margin
@@ -764,7 +770,7 @@ class SceneBackground(Schema):
                                                labels=labels)
         learned = mirror.learn_appearance(
             image, labels, exclude=exclude, rate=p["learn_rate"],
-            gate=None if fresh else p["learn_gate"], relearn=relearn)
+            gate=None if fresh else p["learn_gate"], relearn=relearn, covered=covered)
         if before is not None:
             self.first_look = FirstLook(frame.index, frame.time, image, before,
                                         mirror.render().image)

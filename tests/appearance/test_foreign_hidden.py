@@ -6,8 +6,9 @@ obstacle.  The first look left its path unlearned (the frames never settled ther
 render drew the scenario's gravel in it: a ghost the shape of the ball's path.  The ball's
 schema was spawned on it and held it in its box, where nothing was ever learned again; when
 the ball came out from behind the obstacle a second schema was spawned for it, as an object
-the scenario does not know.  Texels a learning pass was told to leave are now *hidden*
-(:meth:`~adapt.mirror.appearance.AppearanceModel.hidden`): once their pixels held still
+the scenario does not know.  Texels the first look left unlearned because something moved
+over them are now *hidden* (:meth:`~adapt.mirror.appearance.AppearanceModel.hidden`): once
+their pixels held still
 they are learned whatever box covers them, and a region on them that holds still is
 ``unseen``, never spawned for.
 """

@@ -409,7 +409,7 @@ def test_hidden_is_what_a_pass_saw_covered_and_a_face_never_in_view_is_not() -> 
     ball[180:215, 120:200] = True  # a ball rolled there while the look was learned
     lab = labels.astype(np.float32)
     seams = cv2.dilate(lab, np.ones((3, 3))) != cv2.erode(lab, np.ones((3, 3)))
-    model.learn(real.image, CAMERA, labels, exclude=ball)
+    model.learn(real.image, CAMERA, labels, covered=ball)
     hidden = model.hidden(CAMERA, labels)
     inner = np.zeros_like(ball)
     inner[183:212, 123:197] = True
@@ -451,7 +451,7 @@ def test_new_only_learns_what_was_never_learned_and_leaves_the_rest() -> None:
     assert np.abs(render - first.image.astype(int))[left].mean() < 4
     assert np.abs(render - then.image.astype(int))[right].mean() < 4
     assert np.abs(render - then.image.astype(int))[left].mean() > 10  # the looks differ
-    # an excluded part of a new_only pass is not marked hidden: the caller's caution
+    # what a pass excludes is not hidden: only what it says an object covered
     model2 = AppearanceModel(Renderer(SCENE, CAMERA).surfaces)
-    model2.learn(first.image, CAMERA, labels, exclude=half, new_only=True)
+    model2.learn(first.image, CAMERA, labels, exclude=half)
     assert not model2.hidden(CAMERA, labels).any()
