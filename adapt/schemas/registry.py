@@ -15,7 +15,7 @@ True
 >>> REGISTRY.get("scene-backgrund")
 Traceback (most recent call last):
 ...
-adapt.errors.SchemaError: unknown schema type 'scene-backgrund' (did you mean 'scene-background'?); expected one of drive, foreground-object, ...intercept, ...scene-background
+adapt.errors.SchemaError: unknown schema type 'scene-backgrund' (did you mean 'scene-background'?); expected one of drive, foreground-object, ...intercept, ...scene-background, search
 """
 
 from __future__ import annotations

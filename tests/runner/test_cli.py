@@ -61,6 +61,6 @@ def test_schemas_list_names_every_type() -> None:
     proc = adapt("schemas", "list", "--json")
     assert proc.returncode == 0, proc.stderr
     names = {t["name"] for t in json.loads(proc.stdout)}
-    assert names == {"scene-background", "foreground-object", "drive", "intercept"}
+    assert names == {"scene-background", "foreground-object", "drive", "intercept", "search"}
     text = adapt("schemas", "list").stdout
     assert "intercept" in text and "turn_rate" in text
