@@ -751,11 +751,20 @@ class SceneBackground(Schema):
         if fresh:  # what the view showed most of the time: a passing object is gone from it
             image = self.history.median() if len(self.history) else frame.image
             exclude, relearn = self._exclusion(frame.image.shape, still=still)
-            if still is not None and still.shape == exclude.shape:
-                # where something moved through the frames: texels to learn once it has gone
+            if still is not None and still.shape == exclude.shape \
+                    and image.shape == frame.image.shape:
+                # where something moved through the frames and has gone (the newest frame
+                # agrees with the median there): texels to learn once it held still -- not
+                # where it is now (the object itself, for its schema)
                 pad = int(math.ceil(EXCLUDE_PAD * image_scale(frame.image.shape)))
                 kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
-                covered = np.asarray(cv2.dilate((~still).view(np.uint8), kernel), bool)
+                now = cv2.absdiff(frame.image, image)
+                if now.ndim == 3:
+                    now = now.max(axis=2)
+                moving = (~still).view(np.uint8)
+                here = np.asarray(cv2.dilate(moving & (now > gate).view(np.uint8), kernel),
+                                  np.uint8)
+                covered = (np.asarray(cv2.dilate(moving, kernel), np.uint8) > 0) & (here == 0)
             self._covered = None
             if not mirror.mounted and labels.shape == frame.image.shape[:2]:
                 # what the imagined bodies (the robot) hid from this look, with a margin
@@ -901,10 +910,10 @@ class SceneBackground(Schema):
         """Whether at least :data:`UNSEEN_SHARE` of ``region``'s pixels are where the look
         is the scenario's guess, not the scene's, and held still over the last
         :data:`STILL_REGION_FRAMES` frames: where imagined bodies hid the surfaces from a
-        fixed camera's first look (with a margin), or where a learning pass left texels
-        unlearned because an object covered them
+        fixed camera's first look (with a margin), or where the first look left texels
+        unlearned because something moved over them
         (:meth:`~adapt.mirror.appearance.AppearanceModel.hidden`: a ball rolling through
-        the first look).  The look's ignorance there, whether its texels are still
+        it).  The look's ignorance there, whether its texels are still
         unlearned or were learned from the real body's rim past the imagined outline (see
         the module docstring)."""
         labels = self.labels
