@@ -699,8 +699,7 @@ class SceneBackground(Schema):
         if np.count_nonzero(new) < EXPLORE_PIXELS * image_scale(shape) ** 2:
             return
         new |= labels == LABEL_SKY  # (new_only: the sky's faces never seen)
-        pad = int(math.ceil(EXCLUDE_PAD * image_scale(shape)))
-        kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
+        pad, kernel = _margin(shape)
         # a pixel that could show a declared object (its colour under some light): the
         # object itself, seen where nothing follows it yet, is never learned
         ys, xs = np.nonzero(new)
@@ -748,6 +747,7 @@ class SceneBackground(Schema):
             still = (self.history.settled(gate, SETTLED_SHARE) if fresh
                      else self.history.still(gate))
         covered = None
+        _, kernel = _margin(frame.image.shape)
         if fresh:  # what the view showed most of the time: a passing object is gone from it
             image = self.history.median() if len(self.history) else frame.image
             exclude, relearn = self._exclusion(frame.image.shape, still=still)
@@ -756,8 +756,6 @@ class SceneBackground(Schema):
                 # where something moved through the frames and has gone (the newest frame
                 # agrees with the median there): texels to learn once it held still -- not
                 # where it is now (the object itself, for its schema)
-                pad = int(math.ceil(EXCLUDE_PAD * image_scale(frame.image.shape)))
-                kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
                 now = cv2.absdiff(frame.image, image)
                 if now.ndim == 3:
                     now = now.max(axis=2)
@@ -768,8 +766,6 @@ class SceneBackground(Schema):
             self._covered = None
             if not mirror.mounted and labels.shape == frame.image.shape[:2]:
                 # what the imagined bodies (the robot) hid from this look, with a margin
-                pad = int(math.ceil(EXCLUDE_PAD * image_scale(frame.image.shape)))
-                kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
                 self._covered = np.asarray(
                     cv2.dilate((labels >= LABEL_BALL).astype(np.uint8), kernel), bool)
         else:
@@ -799,8 +795,7 @@ class SceneBackground(Schema):
         imagined bodies hid the surfaces from a fixed camera's first look and the look there
         is still unlearned, whatever box covers them (see the module docstring)."""
         h, w = int(shape[0]), int(shape[1])
-        pad = int(math.ceil(EXCLUDE_PAD * image_scale(shape)))
-        kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
+        pad, kernel = _margin(shape)
         mask = np.zeros((h, w), np.uint8)
         boxes = [b for _, b in self.network.monitored_boxes(exclude=self.name)]
         boxes += [r.bbox for r in self.regions if r.expected or not r.still]
@@ -1010,6 +1005,14 @@ class SceneBackground(Schema):
                     "learned": len(self.network.mirror.appearance.learned),
                     "structure_held": self.structure_held})
         return out
+
+
+def _margin(shape: tuple[int, ...]) -> tuple[int, NDArray[np.uint8]]:
+    """:data:`EXCLUDE_PAD` in pixels of a frame of ``shape``, and the disc that dilates a
+    mask by it."""
+    pad = int(math.ceil(EXCLUDE_PAD * image_scale(shape)))
+    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * pad + 1, 2 * pad + 1))
+    return pad, np.asarray(kernel, np.uint8)
 
 
 def _floor_of(bbox: BBox, h_inv: NDArray[np.float64], camera: "Camera"

@@ -128,27 +128,27 @@ def colour_like(pixels: NDArray[np.uint8], colors: Sequence[tuple[int, int, int]
     out = np.zeros(len(pixels), bool)
     if not len(pixels):
         return out
-    rgb = np.asarray(pixels, np.float32)[:, ::-1]
-    power = np.einsum("ij,ij->i", rgb, rgb)
+    rgb = np.asarray(pixels, float)[:, ::-1]
     for color in colors:
-        lit = np.asarray(color, np.float32)
-        gain = np.clip(rgb @ lit / np.maximum(power, 1e-6), 1.0 / LOOKS_LIKE_LIGHT,
-                       LOOKS_LIKE_LIGHT)
-        gain[power <= 0.0] = 1.0
-        d = gain[:, None] * rgb - lit
-        out |= np.einsum("ij,ij->i", d, d) <= LOOKS_LIKE_COLOR ** 2
+        out |= _lit_distances(rgb, color) <= LOOKS_LIKE_COLOR
     return out
 
 
 def _lit_distance(color: tuple[int, int, int], declared: tuple[int, int, int]) -> float:
     """How far ``color`` is from ``declared`` (RGB) under the light, within
     :data:`LOOKS_LIKE_LIGHT` either way, that brings it nearest."""
-    seen = np.asarray(color, float)
+    return float(_lit_distances(np.asarray([color], float), declared)[0])
+
+
+def _lit_distances(seen: NDArray[np.float64], declared: tuple[int, int, int]
+                   ) -> NDArray[np.float64]:
+    """:func:`_lit_distance` of each row of ``seen`` (``(N, 3)`` RGB)."""
     lit = np.asarray(declared, float)
-    power = float(seen @ seen)
-    gain = 1.0 if power <= 0.0 else float(np.clip(float(seen @ lit) / power,
-                                                  1.0 / LOOKS_LIKE_LIGHT, LOOKS_LIKE_LIGHT))
-    return float(np.linalg.norm(gain * seen - lit))
+    power = np.einsum("ij,ij->i", seen, seen)
+    gain = np.clip(seen @ lit / np.where(power > 0.0, power, 1.0), 1.0 / LOOKS_LIKE_LIGHT,
+                   LOOKS_LIKE_LIGHT)
+    gain[power <= 0.0] = 1.0
+    return np.asarray(np.linalg.norm(gain[:, None] * seen - lit, axis=1), float)
 
 
 class AppearanceStage(enum.Enum):
