@@ -85,6 +85,7 @@ from adapt.schemas.silhouette import (
     fit_ball,
     fit_small_ball,
     image_area,
+    limb_points,
     silhouette_length,
     visible_area,
 )
@@ -134,6 +135,13 @@ LENGTH_SLACK_PX = 2.0
 #: A blob at most this many pixels across whose outline is too short to fit is placed by
 #: its centroid (:func:`~adapt.schemas.silhouette.fit_small_ball`).
 SMALL_BLOB = 8
+#: A ball cut by the frame's side is placed only where its image's top and uncut side are
+#: within this share of its image's width (and a pixel) of the blob's.
+CUT_EDGE_SHARE = 0.15
+#: ... and only within this many radii (and 3 sigma) of where its track goes.
+CUT_REACH_RADII = 2.0
+#: The rows of an image whose bottom edge is not counted (:meth:`ForegroundObject._ball_shaped`).
+UNBOUNDED_ROWS = 1 << 20
 #: An object is created in the imagination only once its estimated speed is below this (m/s):
 #: faster is a filter started on bad sightings.
 MAX_SPEED = 20.0
@@ -590,11 +598,26 @@ class ForegroundObject(Schema):
         bx, by, bw, bh = blob.bbox
         mask = blob.silhouette
         bbox = (bx + x0, by + y0, bw, bh)
-        if bbox[0] == 0 or bbox[1] == 0 or bbox[0] + bw >= w:
-            return False  # cut by the image's edge: its outline would mislead the fit
+        if bbox[1] == 0:
+            return False  # cut by the image's top: its upper outline is the image's edge
+        # cut by a side of the image: the upper outline of the columns that show is the
+        # object's still; a ball of known size is fitted to it, and counted by what of its
+        # image the frame holds (an object of unknown size is not: a part would fit a
+        # smaller one)
+        cut = bbox[0] == 0 or bbox[0] + bw >= w
+        if cut and (self.ball is None or self.misses > 0 or self.last is None
+                    or not self.kf.initialised):
+            return False  # only an object followed up to the frame before, of known size
         cam = self.network.mirror.camera
         known = None if self.ball is None else self.ball.radius
         fit = fit_ball(mask, (bx + x0, by + y0), cam, radius=known, to_camera=bg.to_synthetic)
+        if fit is not None and cut and not (self._fits_cut(fit, bg, bbox, w)
+                                            and self._continues(fit.position, frame.time)):
+            # less than about half of it shows, the fit strays from the blob's uncut edges
+            # (an arc this short fits a ball deeper and off to the side as well), or it is
+            # not where the track goes (a fragment by the frame's side: a camera on the
+            # robot out of step shows many)
+            return False
         if fit is None and known is not None and max(bw, bh) <= SMALL_BLOB:
             # too few columns for an outline: a ball a few pixels across is where its
             # centroid is (its area is still tested below)
@@ -607,7 +630,7 @@ class ForegroundObject(Schema):
                 # a misfit (a blob near the horizon fits a sphere kilometres wide, and a
                 # radius that large would pass any test of where it stands)
                 return True
-        elif not self._ball_shaped(blob, fit, bg, hidden, offset):
+        elif not self._ball_shaped(blob, fit, bg, hidden, offset, width=w if cut else None):
             # not the ball's image (a fragment, something else's, the ball merged with
             # something else): do not let it move the estimate
             return False
@@ -631,21 +654,25 @@ class ForegroundObject(Schema):
         return Sighting(frame.index, frame.time, bbox, centre, blob.area, fit.position)
 
     def _ball_shaped(self, blob: Region, fit: BallFit, bg: BackgroundPercept,
-                     hidden: np.ndarray | None, offset: tuple[int, int]) -> bool:
+                     hidden: np.ndarray | None, offset: tuple[int, int],
+                     width: int | None = None) -> bool:
         """Whether ``blob``, whose upper outline ``fit`` fitted with the known radius, is that
         ball's image: of the area its image can show there (:data:`AREA_RANGE`; less what
-        the imagined robot and other objects hide, ``hidden`` at ``offset``, and at least
-        :data:`MIN_SHOWN` of it), no longer than a ball's image (:data:`MAX_LENGTH`), and
-        with an outline that fits it (:data:`OUTLINE_RMS_PX`, :data:`OUTLINE_RMS_SHARE`; a
-        blob placed by its centroid has none, and is tested by its area and length only)."""
+        the imagined robot and other objects hide, ``hidden`` at ``offset``, and what is
+        beyond the sides of a frame ``width`` pixels wide when given -- a blob cut by one --
+        and at least :data:`MIN_SHOWN` of it), no longer than a ball's image
+        (:data:`MAX_LENGTH`), and with an outline that fits it (:data:`OUTLINE_RMS_PX`,
+        :data:`OUTLINE_RMS_SHARE`; a blob placed by its centroid has none, and is tested by
+        its area and length only)."""
         cam = self.network.mirror.camera
         centre = (fit.position[0], fit.position[1], fit.radius)
         whole = image_area(cam, centre, fit.radius)
         if not math.isfinite(whole):
             return False
-        # the frame's edges are not counted: a fragment by the frame's bottom edge would fit
-        # a ball mostly below it (its side edges refuse a blob before: _sighting)
-        area = visible_area(cam, centre, fit.radius, hidden=hidden, hidden_at=offset,
+        # the frame's bottom edge is not counted: a fragment by it would fit a ball mostly
+        # below it (a blob cut by the top is refused before: _sighting)
+        size = None if width is None else (width, UNBOUNDED_ROWS)
+        area = visible_area(cam, centre, fit.radius, size, hidden=hidden, hidden_at=offset,
                             to_camera=bg.to_synthetic)
         if area < MIN_SHOWN * whole or not AREA_RANGE[0] * area <= blob.area <= AREA_RANGE[1] * area:
             return False
@@ -658,6 +685,35 @@ class ForegroundObject(Schema):
             return True  # placed by its centroid: no outline to test
         rms_px = math.radians(fit.rms_deg) * cam.fx
         return rms_px <= max(OUTLINE_RMS_PX, OUTLINE_RMS_SHARE * math.sqrt(whole / math.pi))
+
+    def _continues(self, at: tuple[float, float], time: float) -> bool:
+        """Whether ``at`` is within :data:`CUT_REACH_RADII` radii and 3 sigma of where the
+        track, which followed the object up to its last sighting, puts it at ``time``."""
+        assert self.last is not None
+        ahead = self.kf.predict_position(max(time - self.last.time, 0.0))
+        reach = CUT_REACH_RADII * self._radius() + 3.0 * self.kf.position_sigma
+        return math.dist(at, ahead) <= reach
+
+    def _fits_cut(self, fit: BallFit, bg: BackgroundPercept, bbox: BBox, width: int) -> bool:
+        """Whether the ball ``fit`` places, in a frame ``width`` pixels wide whose side cuts
+        the blob ``bbox`` (frame pixels), has its centre in view (about half of its image,
+        or more) and its image's top and uncut side where the blob's are (within
+        :data:`CUT_EDGE_SHARE` of its image's width, and a pixel)."""
+        cam = self.network.mirror.camera
+        centre = np.array([fit.position[0], fit.position[1], fit.radius])
+        limb = limb_points(cam.position, centre, fit.radius)
+        if limb is None or not (cam.to_camera(np.vstack([centre, limb]))[:, 2] > 0.0).all():
+            return False
+        pix = cam.project(np.vstack([centre, limb]))
+        real = np.array([bg.to_real((float(u), float(v))) for u, v in pix])
+        if not np.isfinite(real).all() or not 0.0 <= real[0, 0] <= width - 1.0:
+            return False
+        left, right = float(real[1:, 0].min()), float(real[1:, 0].max())
+        top = float(real[1:, 1].min())
+        bx, by, bw, _ = bbox
+        side = bx + bw - 1.0 - right if bx == 0 else bx - left
+        tolerance = CUT_EDGE_SHARE * (right - left) + 1.0
+        return abs(by - top) <= tolerance and abs(side) <= tolerance
 
     def _follow(self, seen: Sighting) -> None:
         """Take ``seen`` into the track: the filter, and whether the object has moved

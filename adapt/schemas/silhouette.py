@@ -42,7 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 from adapt.geometry import Camera
 
 __all__ = ["BallFit", "fit_ball", "fit_small_ball", "upper_outline", "silhouette_circle",
-           "image_area", "visible_area", "silhouette_length"]
+           "image_area", "visible_area", "silhouette_length", "limb_points"]
 
 FloatArray = NDArray[np.float64]
 
@@ -244,6 +244,37 @@ def fit_small_ball(centroid: tuple[float, float], camera: Camera, radius: float,
     if not np.isfinite(at).all():
         return None
     return BallFit((float(at[0]), float(at[1])), float(radius), 0.0, 0)
+
+
+def limb_points(eye: ArrayLike, centre: ArrayLike, radius: float, n: int = 32) -> FloatArray | None:
+    """``n`` points (world, ``(n, 3)``) of the outline a sphere of ``radius`` centred at
+    ``centre`` shows to an eye at ``eye``: the circle where the rays from the eye touch it.
+    Their images bound the sphere's image. None when the eye is inside the sphere.
+
+    Examples
+    --------
+    >>> pts = limb_points((0, 0, 0), (0, 5, 0), 1.0)
+    >>> bool(np.allclose(np.linalg.norm(pts - (0, 5, 0), axis=1), 1.0))  # on the sphere
+    True
+    >>> bool(np.allclose(np.einsum("ij,ij->i", pts - (0, 5, 0), pts), 0.0))  # rays touch it
+    True
+    >>> limb_points((0, 0, 0), (0, 0.5, 0), 1.0) is None                 # inside it
+    True
+    """
+    o = np.asarray(eye, float).reshape(3)
+    c = np.asarray(centre, float).reshape(3)
+    d = float(np.linalg.norm(c - o))
+    if not d > radius:
+        return None
+    w = (c - o) / d
+    # the circle's centre and radius: (d^2 - r^2) / d from the eye, r sqrt(d^2 - r^2) / d
+    middle = o + w * (d * d - radius * radius) / d
+    size = radius * math.sqrt(d * d - radius * radius) / d
+    a = np.cross(w, (0.0, 0.0, 1.0) if abs(w[2]) < 0.9 else (1.0, 0.0, 0.0))
+    a /= np.linalg.norm(a)
+    b = np.cross(w, a)
+    t = np.linspace(0.0, 2.0 * math.pi, n, endpoint=False)
+    return middle + size * (np.outer(np.cos(t), a) + np.outer(np.sin(t), b))
 
 
 def image_area(camera: Camera, centre: ArrayLike, radius: float) -> float:
