@@ -618,9 +618,9 @@ class ForegroundObject(Schema):
             # not where the track goes (a fragment by the frame's side: a camera on the
             # robot out of step shows many)
             return False
-        if fit is None and known is not None and max(bw, bh) <= SMALL_BLOB:
+        if fit is None and known is not None and max(bw, bh) <= SMALL_BLOB and not cut:
             # too few columns for an outline: a ball a few pixels across is where its
-            # centroid is (its area is still tested below)
+            # centroid is (its area is still tested below; a cut one's centroid is not)
             fit = fit_small_ball((blob.centroid[0] + x0, blob.centroid[1] + y0), cam, known,
                                  to_camera=bg.to_synthetic)
         if fit is None:
