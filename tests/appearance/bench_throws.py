@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib.util
+import math
 from pathlib import Path
 from typing import Any
 
@@ -57,3 +58,16 @@ def replay(seed: int, duration: float) -> tuple[Scenario, list[dict[str, Any]]]:
     rows.truth = runner.truth
     runner.run()
     return sc, rows.rows
+
+
+#: A sighting within this many of the ball's radii of the truth is on it.
+ON_RADII = 2.0
+
+
+def sightings(sc: Scenario, rows: list[dict[str, Any]]) -> tuple[list[int], list[int]]:
+    """The frames (indices into ``rows``) in which the ball was sighted, and those of them
+    whose sighting was within :data:`ON_RADII` of the ball's radii of the truth."""
+    radius = sc.model("ball").ball.radius
+    seen = [i for i, r in enumerate(rows) if r["observed"] is not None]
+    on = [i for i in seen if math.dist(rows[i]["observed"], rows[i]["truth"]) < ON_RADII * radius]
+    return seen, on

@@ -13,11 +13,9 @@ counts where the frame is flat over the look's texture
 
 from __future__ import annotations
 
-import math
-
 import pytest
 
-from .bench_throws import replay
+from .bench_throws import replay, sightings
 
 pytest.importorskip("pybullet")
 
@@ -25,9 +23,7 @@ pytest.importorskip("pybullet")
 def test_a_ball_the_colour_of_the_gravel_is_followed_and_its_pieces_are_not_objects() -> None:
     sc, rows = replay(50, 2.0)
     assert set().union(*(r["names"] for r in rows)) == {"ball"}
-    radius = sc.model("ball").ball.radius
-    seen = [r for r in rows if r["observed"] is not None]
-    on = [r for r in seen if math.dist(r["observed"], r["truth"]) < 2 * radius]
+    seen, on = sightings(sc, rows)
     # before: no sighting at all in the 6 s; now 12 in 2 s (the camera on the robot falls out
     # of step as the robot sets off, and the ball with it), one of them 3.1 radii off
     assert len(on) >= 10 and len(seen) - len(on) <= 1

@@ -16,7 +16,7 @@ import math
 
 import pytest
 
-from .bench_throws import replay
+from .bench_throws import replay, sightings
 
 pytest.importorskip("pybullet")
 
@@ -24,9 +24,7 @@ pytest.importorskip("pybullet")
 def test_a_robot_that_lost_sight_of_the_ball_turns_round_and_follows_it() -> None:
     sc, rows = replay(5, 3.5)
     assert set().union(*(r["names"] for r in rows)) == {"ball"}
-    radius = sc.model("ball").ball.radius
-    seen = [i for i, r in enumerate(rows) if r["observed"] is not None]
-    on = [i for i in seen if math.dist(rows[i]["observed"], rows[i]["truth"]) < 2 * radius]
+    seen, on = sightings(sc, rows)
     # found after the search's second of waiting and its turn (frame 66 of 105 when
     # written), then followed: 39 sightings, all within 1.1 radii
     assert seen and seen[0] <= 80 and len(on) >= 25 and len(seen) == len(on), seen

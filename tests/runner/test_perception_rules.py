@@ -17,6 +17,8 @@ import pytest
 from adapt.engine import Agent, OutputView
 from adapt.engine.interface import InputLink
 
+from .scripted import ScriptedNetwork, add_all
+
 RULES = Path(__file__).resolve().parents[2] / "rules" / "mirror" / "perception.soar"
 
 #: A region's attributes as the Scene Background writes them (the ones the rules read).
@@ -26,23 +28,19 @@ BALL = {"id": 2, "expected": True, "monitored-by": "foreground-object-1", "age":
         "size": 0.22, "still": False, "unseen": False, "at-edge": False, "looks-like": "ball"}
 
 
-class Network:
+class Network(ScriptedNetwork):
     """Writes the input-link from :attr:`schemas` and :attr:`regions` in each input phase
     and carries out ``^remove`` and ``^instantiate`` (a region's new owner)."""
 
     def __init__(self, schemas: dict[str, dict[str, Any]], regions: list[dict[str, Any]],
                  camera_moving: bool = False):
+        super().__init__()
         self.schemas = schemas
         self.regions = regions
         self.camera_moving = camera_moving
-        self.done: list[tuple[str, dict[str, Any]]] = []
-        self._pending: list[Any] = []
-        self._answered: set[Any] = set()
 
     def write(self, w: InputLink) -> None:
-        for cid in self._pending:
-            w.add(cid, "status", "complete")
-        self._pending.clear()
+        self.acknowledge(w)
         w.clear(w.input_link, "schema")
         w.clear(w.input_link, "goal")
         goal = w.new_id("G")
@@ -51,31 +49,19 @@ class Network:
         w.add(goal, "object", "ball")
         bg = w.new_id("B")
         w.add(w.input_link, "schema", bg)
-        for key, value in {"name": "background", "type": "scene-background",
-                           "kind": "perceptual", "pixel-error": 0.2,
-                           "camera-moving": "yes" if self.camera_moving else "no"}.items():
-            w.add(bg, key, value)
+        add_all(w, bg, {"name": "background", "type": "scene-background", "kind": "perceptual",
+                        "pixel-error": 0.2, "camera-moving": self.camera_moving})
         for region in self.regions:
             r = w.new_id("R")
             w.add(bg, "region", r)
-            for key, value in region.items():
-                w.add(r, key, ("yes" if value else "no") if isinstance(value, bool) else value)
+            add_all(w, r, region)
         for name, attrs in self.schemas.items():
             s = w.new_id("S")
             w.add(w.input_link, "schema", s)
-            for key, value in {"name": name, **attrs}.items():
-                w.add(s, key, ("yes" if value else "no") if isinstance(value, bool) else value)
+            add_all(w, s, {"name": name, **attrs})
 
     def read(self, view: OutputView) -> None:
-        for verb, cid in view.commands():
-            if cid in self._answered or view.values(cid, "status"):  # type: ignore[arg-type]
-                continue
-            self._answered.add(cid)
-            attrs = {str(a): v for a in ("name", "type", "region", "object")
-                     for v in view.values(cid, a)}  # type: ignore[arg-type]
-            attrs = {k: (v if isinstance(v, (int, float)) else str(v)) for k, v in attrs.items()}
-            self.done.append((str(verb), attrs))
-            self._pending.append(cid)
+        for verb, attrs in self.commands(view):
             if verb == "remove":
                 self.schemas.pop(str(attrs["name"]), None)
                 for region in self.regions:   # nobody monitors its region now

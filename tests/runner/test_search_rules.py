@@ -13,25 +13,23 @@ import pytest
 from adapt.engine import Agent, OutputView
 from adapt.engine.interface import InputLink
 
+from .scripted import ScriptedNetwork, add_all
+
 RULES = Path(__file__).resolve().parents[2] / "rules" / "mirror"
 
 
-class Network:
+class Network(ScriptedNetwork):
     """Writes a goal (intercept the ball), a robot, the Scene Background and :attr:`schemas`
     in each input phase and carries out ``^instantiate`` and ``^remove``."""
 
     def __init__(self, mounted: bool = True, appearance: str = "learned") -> None:
+        super().__init__()
         self.mounted = mounted
         self.appearance = appearance
         self.schemas: dict[str, dict[str, Any]] = {}
-        self.done: list[tuple[str, dict[str, Any]]] = []
-        self._pending: list[Any] = []
-        self._answered: set[Any] = set()
 
     def write(self, w: InputLink) -> None:
-        for cid in self._pending:
-            w.add(cid, "status", "complete")
-        self._pending.clear()
+        self.acknowledge(w)
         for attr in ("schema", "goal", "robot"):
             w.clear(w.input_link, attr)
         goal = w.new_id("G")
@@ -43,26 +41,16 @@ class Network:
         w.add(robot, "x", 0.0)
         bg = w.new_id("B")
         w.add(w.input_link, "schema", bg)
-        for key, value in {"name": "background", "type": "scene-background",
-                           "kind": "perceptual", "pixel-error": 0.2, "camera-moving": "no",
-                           "mounted": "yes" if self.mounted else "no",
-                           "appearance": self.appearance}.items():
-            w.add(bg, key, value)
+        add_all(w, bg, {"name": "background", "type": "scene-background", "kind": "perceptual",
+                        "pixel-error": 0.2, "camera-moving": False, "mounted": self.mounted,
+                        "appearance": self.appearance})
         for name, attrs in self.schemas.items():
             s = w.new_id("S")
             w.add(w.input_link, "schema", s)
-            for key, value in {"name": name, **attrs}.items():
-                w.add(s, key, value)
+            add_all(w, s, {"name": name, **attrs})
 
     def read(self, view: OutputView) -> None:
-        for verb, cid in view.commands():
-            if cid in self._answered or view.values(cid, "status"):  # type: ignore[arg-type]
-                continue
-            self._answered.add(cid)
-            attrs = {str(a): str(v) for a in ("name", "type", "object")
-                     for v in view.values(cid, a)}  # type: ignore[arg-type]
-            self.done.append((str(verb), attrs))
-            self._pending.append(cid)
+        for verb, attrs in self.commands(view):
             if verb == "remove":
                 self.schemas.pop(attrs["name"], None)
             elif verb == "instantiate":
