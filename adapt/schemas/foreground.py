@@ -702,9 +702,12 @@ class ForegroundObject(Schema):
         cam = self.network.mirror.camera
         centre = np.array([fit.position[0], fit.position[1], fit.radius])
         limb = limb_points(cam.position, centre, fit.radius)
-        if limb is None or not (cam.to_camera(np.vstack([centre, limb]))[:, 2] > 0.0).all():
+        if limb is None:
             return False
-        pix = cam.project(np.vstack([centre, limb]))
+        points = np.vstack([centre, limb])
+        if not (cam.to_camera(points)[:, 2] > 0.0).all():
+            return False
+        pix = cam.project(points)
         real = np.array([bg.to_real((float(u), float(v))) for u, v in pix])
         if not np.isfinite(real).all() or not 0.0 <= real[0, 0] <= width - 1.0:
             return False
