@@ -9,7 +9,10 @@ towards the middle of the floor (the side where more of the room lies), and
 on round, for as long as it runs -- but holds still while a difference region
 looks like the object (its colour and size, on the ``regions`` port): a
 turning camera's difference holds its motion's errors and is rarely in step
-enough for the rules to spawn a schema for it.  The rules (``rules/mirror/intercept.soar``)
+enough for the rules to spawn a schema for it.  A region that looks like the object but
+is cut by the frame's left or right side holds nothing (the rules spawn no schema for a
+region at the frame's edge): the robot turns towards where it stands on the floor, which
+brings it into the view.  The rules (``rules/mirror/intercept.soar``)
 put it in place for a goal's object that no perceptual schema follows (none
 monitors it, or the one that does lost it before the imagination had it), seen
 from a camera on the robot, and remove it once one does: the intercept schema
@@ -92,10 +95,17 @@ class Search(Schema):
             self.direction = turn_direction((x, y), heading, self._middle((x, y)))
             self.status = Status.EXECUTING
         bg = self.network.percept(self, "regions", BackgroundPercept)
-        self.holding = bg is not None and any(r.looks_like == self.object_name
-                                              for r in bg.regions)
+        looks = [] if bg is None else [r for r in bg.regions if r.looks_like == self.object_name]
+        width = 0 if bg is None else bg.camera_before.width
+        cut = [r for r in looks if r.bbox[0] <= 0 or r.bbox[0] + r.bbox[2] >= width]
+        self.holding = len(looks) > len(cut)
+        turn = 0.0 if self.holding else self.direction * rate
+        if not self.holding and cut and cut[0].floor is not None:
+            # only cut by the view's side: turn towards it, which brings it into the view
+            # (the rules spawn no schema for a region at the frame's edge)
+            turn = turn_direction((x, y), heading, cut[0].floor) * rate
         # every frame: another motor schema (the intercept's gaze) may have stopped the turn
-        self.network.command_robot((0.0, 0.0), 0.0 if self.holding else self.direction * rate)
+        self.network.command_robot((0.0, 0.0), turn)
 
     def _middle(self, here: tuple[float, float]) -> tuple[float, float]:
         """The middle of the floor (where the robot is, on a floor without bounds)."""

@@ -367,3 +367,34 @@ def test_the_search_schema_holds_still_while_a_region_looks_like_its_object() ->
         net.act(0.0)
         assert s.holding is (not turning)
         assert (mirror.world.robot_command[2] != 0.0) is turning
+
+
+@pytest.mark.parametrize("side", [-1.0, 1.0])
+def test_the_search_schema_turns_towards_a_region_like_its_object_cut_by_the_frames_side(
+        side: float) -> None:
+    import math
+
+    from adapt.schemas.percepts import BackgroundPercept, RegionReport
+
+    # robot camera 17 of bench/foreign.py: the ball came into view at the frame's side and
+    # the robot held still with it cut there, where the rules spawn no schema for it
+    scene = SceneSpec(robot=RobotSpec(position=(0.0, -1.0), max_speed=1.0, max_accel=2.0))
+    mirror = Mirror(scene, CAM)
+    net = SchemaNetwork(mirror)
+    bg = net.instantiate("scene-background", parameters={"appearance": "off"})
+    s = net.instantiate("search", parameters={"object": "ball", "delay": 0.0, "turn_rate": 1.0})
+    # a region half a radian to the robot's left is counter-clockwise (+1), to its right not
+    (x, y), heading = mirror.robot_pose()  # type: ignore[misc]
+    floor = (x + math.cos(heading + side * 0.5), y + math.sin(heading + side * 0.5))
+    left = side > 0
+    bbox = (0, 10, 8, 8) if left else (CAM.width - 8, 10, 8, 8)
+    cut = RegionReport(7, bbox, (4.0, 14.0), 50, 4, False, None, floor, 0.2, at_edge=True,
+                       looks_like="ball")
+    inside = RegionReport(8, (40, 10, 8, 8), (44.0, 14.0), 50, 4, False, None, floor, 0.2,
+                          looks_like="ball")
+    for regions, holding, turn in (((cut,), False, side), ((cut, inside), True, 0.0)):
+        net.publish(bg, BackgroundPercept(frame=0, time=0.0, camera_before=CAM,
+                                          camera_after=CAM, regions=regions))
+        net.act(0.0)
+        assert s.holding is holding
+        assert mirror.world.robot_command[2] == pytest.approx(turn)
