@@ -58,6 +58,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any, Mapping
 
+import cv2
 import numpy as np
 
 from adapt.errors import SchemaError
@@ -76,6 +77,7 @@ from adapt.schemas.percepts import (
     BackgroundPercept,
     ObjectPercept,
     Sighting,
+    colour_like,
     looks_like,
     mean_color,
 )
@@ -525,9 +527,29 @@ class ForegroundObject(Schema):
             if found is not None:
                 return found
             refused = refused or refused_here
+            if not flat and self.ball is not None:
+                # the object merged with a difference beside it -- its ghost, the look's error
+                # where it stood or rolled while the look was first learned, which shows the
+                # floor in the frame -- is apart in the pixels of its own colour
+                found, refused_here = self._search(frame, bg, self._own_colour(frame, d, window),
+                                                   (x0, y0), hidden, (cx, cy))
+                if found is not None:
+                    return found
+                refused = refused or refused_here
         if refused:
             self.refused += 1
         return None
+
+    def _own_colour(self, frame: "Frame", d: np.ndarray, window: BBox) -> np.ndarray:
+        """The difference ``d`` of ``window`` where the frame could show the declared
+        object's colour (:func:`~adapt.schemas.percepts.colour_like`, a pixel around it:
+        its outline blurs into what lies behind), nothing elsewhere."""
+        assert self.ball is not None
+        x0, y0, ww, wh = window
+        pixels = frame.image[y0:y0 + wh, x0:x0 + ww].reshape(-1, 3)
+        like = colour_like(pixels, [self.ball.color]).reshape(wh, ww).view(np.uint8)
+        near = cv2.dilate(like, np.ones((3, 3), np.uint8)) > 0
+        return np.where(near, d, 0)
 
     def _hidden(self, frame: "Frame", bg: BackgroundPercept, window: BBox) -> np.ndarray | None:
         """The pixels of ``window`` other imagined objects and the imagined robot explain."""
