@@ -888,7 +888,7 @@ class SceneBackground(Schema):
                                     owner, floor, size, percept.imagined_in(r), edge,
                                     owner is None and self._still(r.bbox), color,
                                     looks_like(color, size, self._looks),
-                                    owner is None and self._unseen(r)))
+                                    owner is None and self._unseen(r, frame.image)))
         return out
 
     def _still(self, bbox: BBox) -> bool:
@@ -901,7 +901,7 @@ class SceneBackground(Schema):
         changed = held.size - int(np.count_nonzero(held))
         return changed < max(STILL_SHARE * held.size, STILL_PIXELS)
 
-    def _unseen(self, region: Region) -> bool:
+    def _unseen(self, region: Region, image: NDArray[np.uint8]) -> bool:
         """Whether at least :data:`UNSEEN_SHARE` of ``region``'s pixels are where the look
         is the scenario's guess, not the scene's, and held still over the last
         :data:`STILL_REGION_FRAMES` frames: where imagined bodies hid the surfaces from a
@@ -910,7 +910,10 @@ class SceneBackground(Schema):
         (:meth:`~adapt.mirror.appearance.AppearanceModel.hidden`: a ball rolling through
         it).  The look's ignorance there, whether its texels are still
         unlearned or were learned from the real body's rim past the imagined outline (see
-        the module docstring)."""
+        the module docstring) -- unless what changed in it over those frames shows a
+        declared object's colour in ``image`` (the frame) in ``min_area`` pixels or more:
+        that object, moving on from where it stood while the look was learned (the two
+        differences make one region)."""
         labels = self.labels
         if self.stage is not AppearanceStage.LEARNED or labels is None \
                 or len(self.history) < STILL_REGION_FRAMES:
@@ -933,7 +936,15 @@ class SceneBackground(Schema):
         # from the real one (a pose a little off, another shape: a dark rim of it once it
         # has driven off)
         mine = still & mask & left
-        return int(np.count_nonzero(mine)) >= UNSEEN_SHARE * max(int(mask.sum()), 1)
+        if int(np.count_nonzero(mine)) < UNSEEN_SHARE * max(int(mask.sum()), 1):
+            return False
+        moving = mask & ~still
+        if not moving.any() or not self._looks:
+            return True
+        pixels = image[y:y + h, x:x + w][moving]
+        like = colour_like(pixels, [c for c, _ in self._looks.values()])
+        scale = image_scale(image.shape)
+        return int(np.count_nonzero(like)) < float(self.parameters["min_area"]) * scale * scale
 
     def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:
         """The robot's own body in the real frame: the robot knows where it is, so a
