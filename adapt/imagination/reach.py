@@ -31,12 +31,16 @@ from adapt.imagination.footprint import Footprint, path_length
 from adapt.imagination.predict import Trajectory, time_to_reach
 from adapt.imagination.scene import RobotSpec, SceneSpec, Vec2
 
-__all__ = ["Meeting", "standing_point", "meet", "APPROACH"]
+__all__ = ["Meeting", "standing_point", "meet", "APPROACH", "FARTHER"]
 
 #: The robot plans to stop this fraction of the reach short of the object's centre: well
 #: inside it, so that a few centimetres of error in where it sees the object and in its
 #: own odometry still leave the bodies touching (0.9 left 5 cm gaps on PyBullet realities).
 APPROACH = 0.75
+#: Where there is no room at :data:`APPROACH` of the reach (an object against a wall, in a gap
+#: behind an obstacle), the robot stands farther off, at these fractions of it, before it
+#: gives the object up: a tighter meeting is still one.
+FARTHER = (0.85, 0.95)
 #: Standing points this close (m) share one way round what is in the robot's way.
 ROUTE_CELL = 0.02
 #: Directions tried around the object for standing room.
@@ -63,8 +67,9 @@ def standing_point(scene: SceneSpec, robot: RobotSpec, target: Sequence[float], 
                    approach_from: Sequence[float], *,
                    footprint: Footprint | None = None) -> Vec2 | None:
     """Where the robot's centre can stand within ``reach`` of ``target`` (at
-    :data:`APPROACH` of it), clear of the walls and obstacles and on the floor,
-    preferring the side it comes from; None when there is no room.
+    :data:`APPROACH` of it, or where there is no room for that at :data:`FARTHER`
+    of it), clear of the walls and obstacles and on the floor, preferring the side
+    it comes from; None when there is no room.
 
     A robot already within reach of the target stays where it is. ``footprint`` is the
     robot's in ``scene``, built when not given.
@@ -79,15 +84,16 @@ def _standing_point(fp: Footprint, target: Sequence[float], reach: float,
     fx, fy = float(approach_from[0]), float(approach_from[1])
     if math.hypot(fx - tx, fy - ty) <= reach and fp.clear((fx, fy)):
         return (fx, fy)
-    d = APPROACH * reach
     base = math.atan2(fy - ty, fx - tx)
-    for k in range(DIRECTIONS):
-        # 0, +1, -1, +2, -2, ... steps away from the approach direction
-        step = (k + 1) // 2 * (1 if k % 2 else -1)
-        a = base + step * 2.0 * math.pi / DIRECTIONS
-        p = (tx + d * math.cos(a), ty + d * math.sin(a))
-        if fp.clear(p):
-            return p
+    for share in (APPROACH, *FARTHER):
+        d = share * reach
+        for k in range(DIRECTIONS):
+            # 0, +1, -1, +2, -2, ... steps away from the approach direction
+            step = (k + 1) // 2 * (1 if k % 2 else -1)
+            a = base + step * 2.0 * math.pi / DIRECTIONS
+            p = (tx + d * math.cos(a), ty + d * math.sin(a))
+            if fp.clear(p):
+                return p
     return None
 
 

@@ -417,11 +417,15 @@ class Evaluation:
         knowing the object's whole true path: is there a point of it the robot
         could drive to in time (straight, or round what is in its way) and stand at (room for its body clear
         of walls and obstacles)?  (:func:`adapt.imagination.reach.meet` on the
-        true path.)
+        true path.)  A robot that met it -- the real one or a baseline's -- is the proof that
+        one could: and the true path after the real robot met it is the robot's doing, which
+        may have pushed it where no robot could reach it in time.
         """
         robot = self.scenario.scene.robot
         if self._appeared is None or robot is None or self.reach is None or not self._path:
             return None
+        if self.caught is not None or any(t is not None for t in self.baselines_caught.values()):
+            return True
         t0, start = self._appeared
         path = np.array(self._path)
         true_path = Trajectory(self.target or "", path[:, 0], path[:, 1:3],

@@ -48,3 +48,32 @@ def test_standing_points_a_few_mm_apart_share_one_way_round(
     assert math.dist(shared.stand, each.stand) < 0.02
     assert shared.travel == pytest.approx(each.travel, abs=0.03)
     assert shared.travel > math.dist((0.0, 0.0), shared.stand) + 0.05   # it went round
+
+
+def test_no_room_at_the_approach_stands_farther_within_reach() -> None:
+    """A ball resting in the gap between a wall and an obstacle's corner (bench/mirror.py's
+    throw 11): no room for the robot's body at APPROACH of the reach all round it, room
+    farther off but still within reach -- a meeting, not "cannot reach"."""
+    from adapt.imagination import Wall
+    from adapt.imagination.reach import APPROACH, FARTHER, standing_point
+
+    wedge = Obstacle("wedge", ((0.35, 2.6), (0.95, 2.75), (0.55, 2.25)), 0.3)
+    scene = SceneSpec(walls=(Wall("north", (-2.5, 3.0), (2.5, 3.0)),), obstacles=(wedge,))
+    robot = RobotSpec(radius=0.25, max_speed=0.8, max_accel=1.5)
+    fp = Footprint(scene, robot.outer_radius)
+    ball, reach, start = (0.389, 2.879), 0.36, (0.045, 0.8)
+    ring = [(ball[0] + APPROACH * reach * math.cos(a), ball[1] + APPROACH * reach * math.sin(a))
+            for a in np.linspace(0.0, 2.0 * math.pi, 360, endpoint=False)]
+    assert not any(fp.clear(p) for p in ring)              # no room where it used to look
+    stand = standing_point(scene, robot, ball, reach, start)
+    assert stand is not None and fp.clear(stand)
+    assert APPROACH * reach < math.dist(stand, ball) <= max(FARTHER) * reach + 1e-9
+    path = Trajectory("ball", np.array([0.0, 10.0]), np.array([ball, ball]),
+                      np.zeros((2, 2)), ())
+    met = meet(path, scene, robot, start, reach=reach, start=0.0)
+    assert met is not None and math.dist(met.stand, ball) <= reach
+    # against the wall itself, with the obstacle's corner at the robot's side: no room at all
+    tight = SceneSpec(walls=(Wall("north", (-2.5, 3.0), (2.5, 3.0)),),
+                      obstacles=(Obstacle("box", ((-0.5, 2.3), (0.5, 2.3), (0.5, 2.62),
+                                                  (-0.5, 2.62)), 0.3),))
+    assert standing_point(tight, robot, (0.0, 2.89), reach, start) is None
