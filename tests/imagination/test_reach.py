@@ -72,7 +72,7 @@ def test_no_room_at_the_approach_stands_farther_within_reach() -> None:
                       np.zeros((2, 2)), ())
     met = meet(path, scene, robot, start, reach=reach, start=0.0)
     assert met is not None and math.dist(met.stand, ball) <= reach
-    # against the wall itself, with the obstacle's corner at the robot's side: no room at all
+    # a box whose edge is 38 cm from the wall: no room for the 25 cm body anywhere within reach
     tight = SceneSpec(walls=(Wall("north", (-2.5, 3.0), (2.5, 3.0)),),
                       obstacles=(Obstacle("box", ((-0.5, 2.3), (0.5, 2.3), (0.5, 2.62),
                                                   (-0.5, 2.62)), 0.3),))
