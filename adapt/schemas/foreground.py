@@ -51,6 +51,12 @@ imagination (paper section 4.4, Figure 6):
   pull is no more than half what the robot's drive holds (:data:`ROBOT_PUSH`),
   and across the robot there is none: the imagined robot is where the robot
   believes it stands, and a target beyond it must not shove it away.
+* **when the imagination has lost it.**  A frame in which the object is not
+  found while its imagined body shows in the view (half of its image or more,
+  clear of what the search leaves out, away from the imagined robot) is
+  evidence against the body; more than ``lost_after`` of them since the last
+  sighting and the body is ``doubted`` (:data:`DOUBT_SHOWN`): the intercept
+  schema's ``^caught`` does not take it.
 """
 
 from __future__ import annotations
@@ -172,8 +178,18 @@ SEARCH_SIGMAS = 3.0
 SEARCH_SPEED = 4.0
 #: A track holds its object (``_reaches``) once it has followed it this many radii without
 #: the filter restarting: before, it may be on a ghost, which stays put or jumps between
-#: fragments, and the object is taken wherever it shows.
+#: fragments, and the object is taken wherever it shows.  A restart on a jump this long from
+#: where the filter had the object lets it go again; a restart on a shorter one does not.
 MOVED_RADII = 3.0
+#: The imagined body is doubted (:attr:`ObjectPercept.doubted`) once, since the object was last
+#: seen, it showed at least this share of its image in the view -- clear of what the search
+#: leaves out there, and farther than :data:`DOUBT_CLEAR` from the imagined robot, where the
+#: ball's image merges with the robot's -- in more than ``lost_after`` frames, and the object was
+#: not found there: the imagination has lost it.
+DOUBT_SHOWN = 0.5
+#: How far beyond touching the imagined robot a ball's imagined body must be for a frame in which
+#: it shows and is not found to count against it (m).
+DOUBT_CLEAR = 0.1
 
 
 class ForegroundObject(Schema):
@@ -208,9 +224,12 @@ class ForegroundObject(Schema):
         self._hooked = False
         self._radii: list[float] = []
         #: where the filter's current run (since it last restarted) began, its restarts then,
-        #: and whether the object has moved away from there since (see ``_reaches``)
+        #: and whether the track holds its object: it moved away from where a run began, and
+        #: no restart since was on a jump that long (see ``_follow`` and ``_reaches``)
         self._run: tuple[tuple[float, float], int] | None = None
         self._moved = False
+        #: frames since the last sighting in which the imagined body showed and was not found
+        self.unexplained = 0
         self.model = model
         self.estimator: ParameterEstimator | None = None
         self.identifier: Identifier | None = None
@@ -385,6 +404,8 @@ class ForegroundObject(Schema):
         obs = self._observe(frame)
         if obs is None:
             self.misses += 1
+            if self._shows(frame):
+                self.unexplained += 1
             self.kf.step(frame.time, None)
             if self.sightings == 0:
                 self.status = Status.WAITING
@@ -393,6 +414,7 @@ class ForegroundObject(Schema):
         else:
             self.sightings += 1
             self.misses = 0
+            self.unexplained = 0
             self.status = Status.RUNNING
             self._follow(obs)
             if self.ball is not None and self.estimator is None:
@@ -411,6 +433,41 @@ class ForegroundObject(Schema):
             self.prediction = self._predict()
         self._publish(frame.index, frame.time)
 
+    @property
+    def doubted(self) -> bool:
+        """Whether the imagined body has lost the object: it showed in more than
+        ``lost_after`` frames since the last sighting and the object was not found there
+        (:data:`DOUBT_SHOWN`)."""
+        return self.unexplained > int(self.parameters["lost_after"])
+
+    def _shows(self, frame: "Frame") -> bool:
+        """Whether the imagined body shows at least :data:`DOUBT_SHOWN` of its image in
+        ``frame`` clear of what the search leaves out there (the imagined robot's margin,
+        other imagined objects), away from the imagined robot (:data:`DOUBT_CLEAR`)."""
+        bg = self._background()
+        box = self._imagined_real_box()
+        label = None if bg is None else bg.drawn.get(self.body)
+        if bg is None or not bg.trusted or box is None or label is None:
+            return False
+        pose = self.network.robot_pose()
+        robot = self.network.robot
+        if pose is not None and robot is not None:
+            here = self.network.mirror.world.position(self.body)
+            if math.dist(here, pose[0]) <= robot.outer_radius + self._radius() + DOUBT_CLEAR:
+                return False
+        mask = bg.imagined_mask(label)
+        (cx, cy), r = box
+        h, w = frame.image.shape[:2]
+        x0, y0 = max(int(cx - r) - 2, 0), max(int(cy - r) - 2, 0)
+        x1, y1 = min(int(cx + r) + 3, w), min(int(cy + r) + 3, h)
+        if mask is None or x0 >= x1 or y0 >= y1 or mask.shape != (h, w):
+            return False
+        mine = mask[y0:y1, x0:x1]
+        hidden = self._hidden(frame, bg, (x0, y0, x1 - x0, y1 - y0))
+        if hidden is not None:
+            mine = mine & ~hidden
+        return int(np.count_nonzero(mine)) >= DOUBT_SHOWN * math.pi * r * r
+
     def _publish(self, index: int, time: float) -> None:
         """What it perceives of its object, on its ``object`` port."""
         est = self.kf.initialised
@@ -420,7 +477,7 @@ class ForegroundObject(Schema):
             ball=self.ball, sighting=self.last if seen else None,
             position=self.kf.position if est else None,
             velocity=self.kf.velocity if est else None, imagined=self.imagined(),
-            prediction=self.prediction,
+            doubted=self.doubted, prediction=self.prediction,
             estimates=self.estimate_records(),
             rollouts=(self.predictor.simulated_s, self.predictor.wall_s)))
 
@@ -742,11 +799,19 @@ class ForegroundObject(Schema):
 
     def _follow(self, seen: Sighting) -> None:
         """Take ``seen`` into the track: the filter, and whether the object has moved
-        :data:`MOVED_RADII` radii since the filter's current run began."""
+        :data:`MOVED_RADII` radii in a run of the filter -- held until a restart on a jump
+        that long from where the filter had it (a restart on a smaller one, a bounce or a
+        sighting's noise, keeps it: a camera on the robot near the ball restarts the filter
+        every few frames)."""
         self.last = seen
+        ahead = None
+        if self.kf.initialised and self.kf.time is not None:
+            ahead = self.kf.predict_position(max(seen.time - self.kf.time, 0.0))
         self.kf.step(seen.time, seen.position)
         if self._run is None or self._run[1] != self.kf.restarts:
-            self._run, self._moved = (seen.position, self.kf.restarts), False
+            self._run = (seen.position, self.kf.restarts)
+            if ahead is None or math.dist(seen.position, ahead) > MOVED_RADII * self._radius():
+                self._moved = False
         elif math.dist(seen.position, self._run[0]) > MOVED_RADII * self._radius():
             self._moved = True
 
@@ -908,6 +973,7 @@ class ForegroundObject(Schema):
         node.set("imagined", imagined is not None)
         node.set("imagined-x", None if imagined is None else round(imagined[0], 4))
         node.set("imagined-y", None if imagined is None else round(imagined[1], 4))
+        node.set("doubted", self.doubted)
         error = None
         if imagined is not None and est:
             error = round(math.dist(imagined, self.kf.position), 4)

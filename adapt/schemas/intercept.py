@@ -23,7 +23,8 @@ most ``turn_rate``, to face the object (its sighting, else the imagined
 body), so that the object stays in view while the robot drives (the robot
 is holonomic: turning does not change where it goes).  The object is
 ``^caught`` when the robot touches it (the sighting or the imagined body
-within the catch reach).
+within the catch reach; not an imagined body that is doubted: it showed in the
+view since the object was last seen, and the object was not there).
 """
 
 from __future__ import annotations
@@ -196,12 +197,14 @@ class Intercept(Drive):
 
     def object_distance(self) -> float | None:
         """How far the robot is from the object: the sighting when there is one this frame,
-        else the imagined body (a ball at the robot's feet is below its camera's view)."""
+        else the imagined body (a ball at the robot's feet is below its camera's view) unless
+        it is doubted (it showed in the view since the last sighting, and the object was not
+        there: a catch of it would be a catch of the imagination's error)."""
         obj = self.watched()
         pose = self.network.mirror.robot_pose()
         if obj is None or pose is None:
             return None
-        where = obj.observed or obj.imagined
+        where = obj.observed or (None if obj.doubted else obj.imagined)
         return None if where is None else math.dist(where, pose[0])
 
     def summary(self) -> dict[str, Any]:

@@ -537,6 +537,10 @@ class ObjectPercept:
         sighting).
     imagined : (x, y) or None
         The imagined body's position (None while the imagination has no body).
+    doubted : bool
+        The imagined body has lost the object: since the object was last seen it
+        showed in the view in more than ``lost_after`` frames, and the object was not
+        found there (:data:`adapt.schemas.foreground.DOUBT_SHOWN`).
     prediction : Prediction or None
         The latest prediction.
     estimates : mapping of str to Estimate
@@ -555,6 +559,7 @@ class ObjectPercept:
     position: Vec2 | None = None
     velocity: Vec2 | None = None
     imagined: Vec2 | None = None
+    doubted: bool = False
     prediction: "Prediction | None" = None
     estimates: Mapping[str, "Estimate"] = field(default_factory=lambda: MappingProxyType({}))
     rollouts: tuple[float, float] = (0.0, 0.0)

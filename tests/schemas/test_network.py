@@ -398,3 +398,29 @@ def test_the_search_schema_turns_towards_a_region_like_its_object_cut_by_the_fra
         net.act(0.0)
         assert s.holding is holding
         assert mirror.world.robot_command[2] == pytest.approx(turn)
+
+
+def test_a_doubted_imagined_body_is_never_caught() -> None:
+    # bench/foreign.py's throw 50 (a camera on the robot): the ball lost, its imagined body in
+    # view for frames and not found there, the robot drove to it and the agent said "caught"
+    # 1 m from the ball; the intercept schema's ^caught takes the imagined body only while
+    # the ball's schema does not doubt it
+    from adapt.schemas.intercept import Intercept
+    from adapt.schemas.percepts import ObjectPercept, Sighting
+
+    net = network()
+    ic = net.instantiate("intercept", parameters={"object": "ball"})
+    assert isinstance(ic, Intercept)
+    ball = Ball("ball", radius=0.1)
+
+    def sees(**kw: object) -> None:
+        ic.watched = lambda: ObjectPercept(frame=0, time=0.0, object="ball", ball=ball,  # type: ignore[method-assign]
+                                           **kw)  # type: ignore[arg-type]
+
+    sees(imagined=(0.0, -0.7))  # at the robot's feet, below its camera: caught
+    assert ic.object_distance() == pytest.approx(0.3)
+    sees(imagined=(0.0, -0.7), doubted=True)  # the imagination's error: no distance, no catch
+    assert ic.object_distance() is None
+    seen = Sighting(0, 0.0, (0, 0, 1, 1), (0.0, 0.0), 1, (0.0, -0.75))
+    sees(imagined=(0.0, -0.7), doubted=True, sighting=seen, position=(0.0, -0.75))
+    assert ic.object_distance() == pytest.approx(0.25)  # seen: the sighting, doubted or not
