@@ -1,7 +1,7 @@
 """The mirror on realities it did not write: randomized PyBullet realities (issue 20).
 
-Run ``python bench/foreign.py`` (50 throws at 640x480, 6 s each; about 13 minutes with
-``--jobs 2`` on 2 quiet cores, most of it PyBullet's CPU renderer; ``--small``, 320x240:
+Run ``python bench/foreign.py`` (50 throws at 640x480, 6 s each; 13-20 minutes with
+``--jobs 2`` on 2 cores, most of it PyBullet's CPU renderer; ``--small``, 320x240:
 about 6 minutes) or quicker with ``--throws 10 --small --duration 4``.  Needs ``pip install 'adapt[bullet]'``.
 
 Each throw is its own arena, drawn from its seed here (never tuned to one reality):
@@ -39,7 +39,9 @@ Figures, each a median over throws of each throw's value (ratios taken per throw
   of the mirror, the Kalman baseline and the map-aware baseline, and the ratios;
 * **confidence**: the share of frames after the first contact with a 1 s prediction of
   confidence >= 0.7, and the share of those within the catch reach;
-* **interception** of reachable throws by the robot and by both baselines' robots;
+* **interception** of reachable throws by the robot and by both baselines' robots, and
+  whether the agent's own ``^caught`` (its rules' "caught ball at t=..." write) agrees with
+  the evaluation's (the true bodies met), as ``bench/mirror.py`` reports it;
 * **frames/s** of the loop without the reality's own cost (PyBullet's physics, its
   renderer and the sensor), and that cost, as ``bench/runner.py`` reports it.
 """
@@ -50,6 +52,7 @@ import argparse
 import json
 import math
 import os
+import re
 import statistics
 import sys
 import time
@@ -259,8 +262,10 @@ def one(seed: int, small: bool, duration: float, extra: tuple[str, ...]) -> dict
                             overrides=list(extra))
         quiet = OutputSettings(report=False, trace=False, video=False, figures=False)
         recording = Recording(sc)
+        said: list[str] = []  # the rules' writes: "caught ball at t=..." is the agent's own ^caught
         started = time.perf_counter()
-        runner = Runner(sc, out=None, seed=seed, outputs=quiet, listeners=(recording,))
+        runner = Runner(sc, out=None, seed=seed, outputs=quiet, listeners=(recording,),
+                        on_write=said.append)
         recording.truth = runner.truth
         summary = runner.run().summary
         out["wall_s"] = time.perf_counter() - started
@@ -270,6 +275,8 @@ def one(seed: int, small: bool, duration: float, extra: tuple[str, ...]) -> dict
         return {**out, "error": f"{type(exc).__name__}: {exc}",
                 "where": traceback.format_exc(limit=-4)}
     out.update(_figures(summary, recording.frames, sc))
+    caught = re.search(r"caught ball at t=([0-9.]+)", "".join(said))
+    out["agent_caught_t"] = float(caught.group(1)) if caught else None
     return out
 
 
@@ -466,6 +473,15 @@ def report(runs: list[dict[str, Any]]) -> None:
     print(f"interception of reachable throws: robot {caught('intercept')} (target >= 95% and at "
           f"least the map-aware robot's); Kalman robot {caught('baseline')}; map-aware robot "
           f"{caught('mapaware')}; {len(ok) - n} throws out of reach")
+    agree = [r for r in ok if (r.get("agent_caught_t") is not None)
+             == bool((r["intercept"] or {}).get("caught"))]
+    said = [r["seed"] for r in ok if r.get("agent_caught_t") is not None
+            and not (r["intercept"] or {}).get("caught")]
+    print(f"  caught, the agent's own ^caught against the evaluation's (the true bodies met): "
+          f"agree in {len(agree)}/{len(ok)} throws; said caught but not in seeds "
+          + (", ".join(map(str, said)) or "none") + "; caught but not said in seeds "
+          + (", ".join(str(r["seed"]) for r in ok if r not in agree and r["seed"] not in said)
+             or "none"))
     loop = [r["loop_ms"] for r in ok if r.get("loop_ms")]
     real = [r["reality_ms"] for r in ok if r.get("reality_ms")]
     if loop:
