@@ -226,6 +226,8 @@ class SceneBackground(Schema):
         self.tracker = RegionTracker()
         #: the declared objects' colours and radii, for what a region looks like
         self._looks = {name: (m.ball.color, m.ball.radius) for name, m in network.models.items()}
+        #: ... and their colours alone, for the pixels that could show one
+        self._colours = [c for c, _ in self._looks.values()]
         self.result: MMDResult | None = None
         self.synthetic: NDArray[np.uint8] | None = None
         self.background_image: NDArray[np.uint8] | None = None
@@ -704,7 +706,7 @@ class SceneBackground(Schema):
         # object itself, seen where nothing follows it yet, is never learned
         ys, xs = np.nonzero(new)
         like = np.zeros((h, w), np.uint8)
-        like[ys, xs] = colour_like(frame.image[ys, xs], [c for c, _ in self._looks.values()])
+        like[ys, xs] = colour_like(frame.image[ys, xs], self._colours)
         # only there (a pixel around it: a texel straddles pixels): what was learned stays
         near = np.asarray(cv2.dilate(new.view(np.uint8), np.ones((3, 3), np.uint8)), np.uint8)
         mask = (near ^ 1) | np.asarray(cv2.dilate(like, kernel), np.uint8)
@@ -851,10 +853,9 @@ class SceneBackground(Schema):
         if res is None or not res.aligned:
             self.tracker.update([], frame.index)
             return []
-        scale = image_scale(res.difference.shape)
         found = to_input(find_regions(res.difference, threshold=self.parameters["threshold"],
-                                      min_area=max(1, int(round(self.parameters["min_area"]
-                                                               * scale * scale)))),
+                                      min_area=max(1, int(round(self._min_area(
+                                          res.difference.shape))))),
                          res.frame)
         tracks = self.tracker.update(found, frame.index)
         claims = self.network.claims()
@@ -942,9 +943,13 @@ class SceneBackground(Schema):
         if not moving.any() or not self._looks:
             return True
         pixels = image[y:y + h, x:x + w][moving]
-        like = colour_like(pixels, [c for c, _ in self._looks.values()])
-        scale = image_scale(image.shape)
-        return int(np.count_nonzero(like)) < float(self.parameters["min_area"]) * scale * scale
+        like = colour_like(pixels, self._colours)
+        return int(np.count_nonzero(like)) < self._min_area(image.shape)
+
+    def _min_area(self, shape: tuple[int, ...]) -> float:
+        """``min_area`` (given at 640x480) for an image of ``shape``, in pixels."""
+        scale = image_scale(shape)
+        return float(self.parameters["min_area"]) * scale * scale
 
     def _own_robot(self, res: MMDResult) -> tuple[str, BBox] | None:
         """The robot's own body in the real frame: the robot knows where it is, so a
