@@ -404,7 +404,7 @@ class ForegroundObject(Schema):
         obs = self._observe(frame)
         if obs is None:
             self.misses += 1
-            if self._shows(frame):
+            if not self.doubted and self._shows(frame):  # (doubted until the next sighting)
                 self.unexplained += 1
             self.kf.step(frame.time, None)
             if self.sightings == 0:
@@ -445,16 +445,16 @@ class ForegroundObject(Schema):
         ``frame`` clear of what the search leaves out there (the imagined robot's margin,
         other imagined objects), away from the imagined robot (:data:`DOUBT_CLEAR`)."""
         bg = self._background()
-        box = self._imagined_real_box()
+        here = self.imagined()
+        box = None if here is None else self._in_image(here)
         label = None if bg is None else bg.drawn.get(self.body)
-        if bg is None or not bg.trusted or box is None or label is None:
+        if bg is None or not bg.trusted or here is None or box is None or label is None:
             return False
         pose = self.network.robot_pose()
         robot = self.network.robot
-        if pose is not None and robot is not None:
-            here = self.network.mirror.world.position(self.body)
-            if math.dist(here, pose[0]) <= robot.outer_radius + self._radius() + DOUBT_CLEAR:
-                return False
+        if pose is not None and robot is not None and \
+                math.dist(here, pose[0]) <= robot.outer_radius + self._radius() + DOUBT_CLEAR:
+            return False
         mask = bg.imagined_mask(label)
         (cx, cy), r = box
         h, w = frame.image.shape[:2]
