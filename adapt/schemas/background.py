@@ -56,7 +56,10 @@ look (:mod:`adapt.mirror.appearance`) in two stages:
    schema monitors the image, where an unexpected region moves, where a
    pixel changed over the last ``still_s`` seconds (a moving object is never
    learned), or where the MMD differs -- unless the pixel held still there
-   for the whole ``still_s`` outside every monitored box: that is background
+   for the whole ``still_s`` outside every monitored box and every region that
+   looks like a declared object on texels the look learned (one at rest that
+   nothing follows is not learned into the look, where no schema could find it
+   again): that is background
    the look has wrong or never saw (a ghost of an object learned at rest that
    has left, what a ball covered at the first look), learned afresh there.
    An unexpected region whose pixels have not changed over its last
@@ -790,7 +793,7 @@ class SceneBackground(Schema):
                    repair: bool = False, labels: NDArray[np.int32] | None = None
                    ) -> tuple[NDArray[np.bool_], NDArray[np.bool_] | None]:
         """Frame pixels never to learn -- every monitored box, every region that is not
-        still, every pixel that changed over the history (``still`` False) and every pixel
+        still or looks like a declared object (but for one on unlearned texels: ``unseen``), every pixel that changed over the history (``still`` False) and every pixel
         the MMD finds different, each with a margin -- and, with ``repair``, the pixels to
         learn afresh: different from the look but still for the whole history, outside
         every monitored box and moving region, or (given the render's ``labels``) where the
@@ -800,7 +803,11 @@ class SceneBackground(Schema):
         pad, kernel = _margin(shape)
         mask = np.zeros((h, w), np.uint8)
         boxes = [b for _, b in self.network.monitored_boxes(exclude=self.name)]
-        boxes += [r.bbox for r in self.regions if r.expected or not r.still]
+        # (a still region that looks like a declared object, on texels the look learned, may
+        # be one at rest that nothing follows: never learned into the look, where no schema
+        # could find it again; on texels the look never learned it is the look's error)
+        boxes += [r.bbox for r in self.regions
+                  if r.expected or not r.still or (r.looks_like is not None and not r.unseen)]
         for x, y, bw, bh in boxes:
             mask[max(0, y - pad):max(0, y + bh + pad), max(0, x - pad):max(0, x + bw + pad)] = 1
         moved = None

@@ -47,10 +47,15 @@ from adapt.schemas.spec import Parameter, Port, SchemaKind, SchemaSpec
 if TYPE_CHECKING:  # pragma: no cover
     from adapt.schemas.network import SchemaNetwork
 
-__all__ = ["Intercept", "INTERCEPT", "Plan", "Reachable", "GAZE_GAIN"]
+__all__ = ["Intercept", "INTERCEPT", "Plan", "Reachable", "GAZE_GAIN", "GAZE_START_STOP"]
 
 #: Turn rate per radian of heading error when facing the object (1/s).
 GAZE_GAIN = 4.0
+#: Heading errors (degrees) at which the robot starts turning to face the object, and at
+#: which it stops: a camera on it facing the object within a degree or two holds still
+#: rather than creep after it at a vanishing turn rate for ever (a camera turned at all
+#: is a moving camera, whose view is another every frame).
+GAZE_START_STOP = (2.0, 0.5)
 
 
 class Reachable(enum.Enum):
@@ -117,7 +122,9 @@ class Intercept(Drive):
             if math.dist(where, (x, y)) > 1e-6:
                 error = math.atan2(where[1] - y, where[0] - x) - heading
                 error = (error + math.pi) % (2.0 * math.pi) - math.pi
-                turn = max(-limit, min(limit, GAZE_GAIN * error))
+                start, stop = GAZE_START_STOP
+                if abs(error) > math.radians(stop if self._turn else start):
+                    turn = max(-limit, min(limit, GAZE_GAIN * error))
         if turn != self._turn:
             self._send(self._velocity, turn)
 

@@ -3,6 +3,7 @@ statuses on the input-link, events."""
 
 from __future__ import annotations
 
+import math
 from types import MappingProxyType
 
 import pytest
@@ -424,3 +425,35 @@ def test_a_doubted_imagined_body_is_never_caught() -> None:
     seen = Sighting(0, 0.0, (0, 0, 1, 1), (0.0, 0.0), 1, (0.0, -0.75))
     sees(imagined=(0.0, -0.7), doubted=True, sighting=seen, position=(0.0, -0.75))
     assert ic.object_distance() == pytest.approx(0.25)  # seen: the sighting, doubted or not
+
+
+def test_the_robot_turns_to_face_its_object_and_holds_still_once_it_does() -> None:
+    # bench/foreign.py's throw 23 (a camera on the robot): the gaze's turn rate decayed with
+    # the heading error and never reached zero, so the camera was "moving" (its history
+    # restarted, no lost object found again) for two seconds while it faced the ball; now it
+    # starts past GAZE_START_STOP[0] degrees and stops within GAZE_START_STOP[1]
+    from adapt.schemas.intercept import GAZE_GAIN, GAZE_START_STOP, Intercept
+    from adapt.schemas.percepts import ObjectPercept
+
+    net = network()  # the robot at (0, -1), heading +x
+    ic = net.instantiate("intercept", parameters={"object": "ball", "turn_rate": 1.5})
+    assert isinstance(ic, Intercept)
+    ball = Ball("ball", radius=0.1)
+
+    def bearing(deg: float) -> float:
+        """The gaze's command for an object ``deg`` degrees to the robot's left, 2 m away."""
+        at = (2.0 * math.cos(math.radians(deg)), -1.0 + 2.0 * math.sin(math.radians(deg)))
+        ic.watched = lambda: ObjectPercept(frame=0, time=0.0, object="ball", ball=ball,  # type: ignore[method-assign]
+                                           imagined=at)
+        ic._gaze()
+        return net.mirror.world.robot_command[2]
+
+    start, stop = GAZE_START_STOP
+    assert bearing(0.8 * start) == 0.0  # facing it well enough: no turn
+    assert bearing(1.5 * start) == pytest.approx(GAZE_GAIN * math.radians(1.5 * start), rel=1e-3)
+    # once turning it turns on down to the stop, then holds still; to the right likewise
+    assert bearing(0.8 * start) == pytest.approx(GAZE_GAIN * math.radians(0.8 * start), rel=1e-3)
+    assert bearing(2.0 * stop) > 0.0
+    assert bearing(0.5 * stop) == 0.0
+    assert bearing(0.8 * start) == 0.0
+    assert bearing(-30.0) == pytest.approx(-1.5)  # at most turn_rate
