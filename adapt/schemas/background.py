@@ -210,6 +210,9 @@ HELD_IN_STEP = 3.0
 #: A camera on the robot has moved (its frame history restarts) once the robot's odometry
 #: carried it past these (m, degrees) since it last did.
 MOUNT_MOVED = (0.005, 0.3)
+#: A camera on the robot is carried by the odometry: a step whose H_e moves its image by more
+#: than this (pixels at 640x480, about 12 degrees of turn) is a false alignment, synchronised or not.
+MOUNTED_JUMP = 100.0
 
 
 class AppearanceMode(enum.Enum):
@@ -508,11 +511,16 @@ class SceneBackground(Schema):
     def _implausible(self, error: float, frame: "Frame") -> bool:
         """A sudden large jump of a camera that was synchronised is a false alignment
         (repetitive texture filling the view, a fast turn) more often than a real move: it is
-        ignored for up to ``glitches`` frames in a row, then believed."""
+        ignored for up to ``glitches`` frames in a row, then believed.  A camera on the robot
+        is carried by the odometry, synchronised or not: a step that would turn it by more
+        than :data:`MOUNTED_JUMP` pixels is one too."""
         scale = image_scale(frame.image.shape)
         jump = float(self.parameters["max_jump"]) * scale
-        return (self._settled < 2.0 * scale and error > jump
-                and self._glitches < int(self.parameters["glitches"]))
+        if self._glitches >= int(self.parameters["glitches"]):
+            return False
+        if self.network.mirror.mounted and error > MOUNTED_JUMP * scale:
+            return True
+        return self._settled < 2.0 * scale and error > jump
 
     # -- appearance learning ------------------------------------------------------------
 
