@@ -801,7 +801,8 @@ class SceneBackground(Schema):
                    repair: bool = False, labels: NDArray[np.int32] | None = None
                    ) -> tuple[NDArray[np.bool_], NDArray[np.bool_] | None]:
         """Frame pixels never to learn -- every monitored box, every region that is not
-        still or looks like a declared object (but for one on unlearned texels: ``unseen``), every pixel that changed over the history (``still`` False) and every pixel
+        still or looks like a declared object (but for one on unlearned texels: ``unseen``),
+        every pixel that changed over the history (``still`` False) and every pixel
         the MMD finds different, each with a margin -- and, with ``repair``, the pixels to
         learn afresh: different from the look but still for the whole history, outside
         every monitored box and moving region, or (given the render's ``labels``) where the
