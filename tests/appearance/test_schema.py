@@ -225,10 +225,11 @@ def test_a_camera_on_the_robot_is_never_turned_far_by_one_step() -> None:
     # off for 25 frames.  The odometry carries such a camera: a step that far is refused, for
     # up to `glitches` frames in a row, synchronised or not; a fixed camera's filter is as before
     from adapt.schemas.background import MOUNTED_JUMP
+    from adapt.vision.scale import image_scale
 
     sc = load_scenario(C.ROOT / "scenarios" / "bouncing-ball.yaml")
     frame = Frame(0, 0.0, np.zeros((sc.camera.height, sc.camera.width, 3), np.uint8))
-    scale = max(sc.camera.width / 640, sc.camera.height / 480)
+    scale = image_scale(frame.image.shape)
     for mounted in (True, False):
         follows = (lambda p, h: sc.mount.camera_at(sc.camera, p, h)) if mounted else None
         net = SchemaNetwork(Mirror(sc.scene, sc.camera, camera_follows_robot=follows),

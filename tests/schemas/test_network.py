@@ -451,9 +451,9 @@ def test_the_robot_turns_to_face_its_object_and_holds_still_once_it_does() -> No
     start, stop = GAZE_START_STOP
     assert bearing(0.8 * start) == 0.0  # facing it well enough: no turn
     assert bearing(1.5 * start) == pytest.approx(GAZE_GAIN * math.radians(1.5 * start), rel=1e-3)
-    # once turning it turns on down to the stop, then holds still; to the right likewise
+    # once turning it turns on down to the stop, then holds still
     assert bearing(0.8 * start) == pytest.approx(GAZE_GAIN * math.radians(0.8 * start), rel=1e-3)
     assert bearing(2.0 * stop) > 0.0
     assert bearing(0.5 * stop) == 0.0
     assert bearing(0.8 * start) == 0.0
-    assert bearing(-30.0) == pytest.approx(-1.5)  # at most turn_rate
+    assert bearing(-30.0) == pytest.approx(-1.5)  # to the right, at most turn_rate
