@@ -163,7 +163,8 @@ UNKNOWN_RANGES = {"restitution": (0.2, 0.95), "friction": (0.0, 1.0),
                   "rolling_resistance": (0.0, 0.2)}
 
 #: An object seen before and missed this many frames in a row is searched for along its path
-#: (wide), not around its imagined body and last sighting.
+#: (wide), not around its imagined body and last sighting, and found again only by a blob of
+#: its declared colour (not one of its size and outline only).
 FOLLOWING_MISSES = 3
 #: Side of the opening that cleans an object's blob of specks (pixels).
 BLOB_OPEN = 3
@@ -649,8 +650,11 @@ class ForegroundObject(Schema):
                 if self._looks_unlike(frame, blob, offset):
                     # the object's size and outline but not its colour (the look's error
                     # where it rolled while the look was first learned): one of its colour
-                    # further on is taken first
-                    unlike = unlike or found
+                    # further on is taken first, and an object lost is found again only by
+                    # its look (a search along its path spans much of the view: the floor a
+                    # moving robot uncovers, which the look never learned, has a ball's size)
+                    if self.sightings == 0 or self.misses < FOLLOWING_MISSES:
+                        unlike = unlike or found
                     continue
                 return found, refused
             refused = refused or found

@@ -15,19 +15,20 @@ ROOT = Path(__file__).resolve().parents[2]
 QUIET = OutputSettings(report=False, trace=False, video=False, figures=False)
 
 
-def scenario_text(seed: int, duration: float) -> str:
-    """Throw ``seed``'s scenario YAML at 320x240, ``duration`` seconds long."""
+def scenario_text(seed: int, duration: float, small: bool = True) -> str:
+    """Throw ``seed``'s scenario YAML at 320x240 (640x480 unless ``small``), ``duration``
+    seconds long."""
     spec = importlib.util.spec_from_file_location("_bench_foreign", ROOT / "bench" / "foreign.py")
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    return str(module.scenario_text(seed, True, duration)[0])
+    return str(module.scenario_text(seed, small, duration)[0])
 
 
-def throw(seed: int, duration: float, *overrides: str) -> Scenario:
+def throw(seed: int, duration: float, *overrides: str, small: bool = True) -> Scenario:
     """Throw ``seed``'s scenario, read as ``bench/foreign.py`` reads it (with ``--set``
-    style ``overrides``, ``KEY=VALUE``)."""
-    return loads_scenario(scenario_text(seed, duration), file=f"foreign-{seed}.yaml",
+    style ``overrides``, ``KEY=VALUE``; at 640x480 unless ``small``)."""
+    return loads_scenario(scenario_text(seed, duration, small), file=f"foreign-{seed}.yaml",
                           base=ROOT / "scenarios", overrides=list(overrides))
 
 
@@ -50,9 +51,11 @@ class Rows:
                           "observed": None if tracked is None else tracked.observed})
 
 
-def replay(seed: int, duration: float) -> tuple[Scenario, list[dict[str, Any]]]:
-    """Throw ``seed`` run for ``duration`` seconds: its scenario, and its frames' rows."""
-    sc = throw(seed, duration)
+def replay(seed: int, duration: float, small: bool = True
+           ) -> tuple[Scenario, list[dict[str, Any]]]:
+    """Throw ``seed`` run for ``duration`` seconds (at 640x480 unless ``small``): its
+    scenario, and its frames' rows."""
+    sc = throw(seed, duration, small=small)
     rows = Rows()
     runner = Runner(sc, out=None, seed=seed, outputs=QUIET, listeners=(rows,))
     rows.truth = runner.truth
