@@ -964,6 +964,7 @@ class ForegroundObject(Schema):
         node.set("declared", self.declared)
         node.set("seen", self.misses == 0 and self.sightings > 0)
         node.set("frames-seen", self.sightings)
+        node.set("frames-missed", self.misses)
         node.set("moved", self._moved)
         node.set("region", self.region if self.region > 0 else None)
         est = self.kf.initialised

@@ -51,14 +51,14 @@ def test_check_refuses_the_soar_engine_without_the_kernel_at_its_position(
 def test_check_loads_the_rules_into_the_kernel(tmp_path: Path) -> None:
     sc = load_scenario(BALL, overrides=["engine=soar"])
     assert sc.engine is EngineName.SOAR
-    assert [r.productions for r in check_scenario(sc).rules] == [20, 17]
+    assert [r.productions for r in check_scenario(sc).rules] == [22, 17]
     # what the own engine refuses, the kernel reads; what the kernel rejects is an error
     # with the file and line
     learning = tmp_path / "learning.soar"
     learning.write_text("chunk always\n" + (ROOT / "rules/mirror/perception.soar").read_text())
     over = [f"rules=[{learning}]"]
     assert [r.productions for r in check_scenario(load_scenario(BALL, over + ["engine=soar"])
-                                                  ).rules] == [20]
+                                                  ).rules] == [22]
     with pytest.raises(Exception, match="chunking"):
         check_scenario(load_scenario(BALL, over))
     learning.write_text("sp {broken (state <s>) --> (<s> ^a)}\n")
