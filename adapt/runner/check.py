@@ -26,7 +26,7 @@ Examples
 >>> length.fps, length.frames
 (15.0, 36)
 >>> [r.productions for r in check_scenario(load_scenario(root / "scenarios" / "bouncing-ball.yaml")).rules]
-[20, 17]
+[22, 17]
 """
 
 from __future__ import annotations
