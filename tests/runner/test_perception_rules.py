@@ -10,7 +10,7 @@ the real ball, moving, was taken for an object the scenario does not know.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import pytest
 
@@ -121,17 +121,23 @@ def test_nothing_is_recognised_once_the_goals_object_was_seen_or_the_other_looks
                 if v == "remove"]
 
 
-def test_an_object_is_recognised_once() -> None:
-    net = Network(stale_and_other(), [dict(GHOST), dict(BALL)])
+def run_twice(schemas: Callable[[], dict[str, dict[str, Any]]],
+              regions: Callable[[], list[dict[str, Any]]]) -> Network:
+    """One agent run, then the same input-link put back as it was and run again."""
+    net = Network(schemas(), regions())
     agent = Agent()
     agent.load_file(RULES)
     agent.on_input(net.write)
     agent.on_output(net.read)
     agent.run(12)
-    # the ball was spawned on its region; put the ghost's deadlock back as it was
-    net.schemas = stale_and_other()
-    net.regions = [dict(GHOST), dict(BALL)]
+    net.schemas, net.regions = schemas(), regions()
     agent.run(12)
+    return net
+
+
+def test_an_object_is_recognised_once() -> None:
+    # the ball was spawned on its region; then the ghost's deadlock is put back as it was
+    net = run_twice(stale_and_other, lambda: [dict(GHOST), dict(BALL)])
     assert sum(1 for v, _ in net.done if v == "remove") == 2, net.done
 
 
@@ -176,15 +182,7 @@ def test_the_goals_object_never_seen_is_spawned_for_a_region_that_looks_like_it(
 def test_the_goals_object_never_seen_gives_way_once_and_not_to_everything() -> None:
     moving = dict(BALL, **{"expected": False, "monitored-by": "nil", "age": 4})
     # once: the region spawned for it, never seen either, keeps it against the next one
-    net = Network(never_seen(), [dict(GHOST), moving])
-    agent = Agent()
-    agent.load_file(RULES)
-    agent.on_input(net.write)
-    agent.on_output(net.read)
-    agent.run(12)
-    net.schemas = never_seen()
-    net.regions = [dict(GHOST), dict(moving)]
-    agent.run(12)
+    net = run_twice(never_seen, lambda: [dict(GHOST), dict(moving)])
     assert sum(1 for v, _ in net.done if v == "remove") == 1, net.done
     # a schema that has not looked for three frames yet keeps it
     young = never_seen()
