@@ -19,6 +19,7 @@ Examples
 from __future__ import annotations
 
 import math
+from collections import deque
 from typing import Sequence
 
 import numpy as np
@@ -40,14 +41,44 @@ class ConstantVelocityKF:
         Mahalanobis distance beyond which a measurement restarts the filter
         from the last two measurements instead of being blended in (a bounce
         or a re-acquired object); None: never.
+    window : int
+        0: the measurement noise is ``r``.  Else it is estimated from the
+        scatter of the last ``window`` measurements, never below ``r``
+        (see :attr:`noise`): measurements scattered more widely than ``r``
+        widen the gate and the blend instead of restarting the filter on each.
+
+    Examples
+    --------
+    Sightings scattered 3 cm about a straight roll: with the noise fixed at
+    5 mm, 42 of the 60 restart the filter (each with a velocity from two of
+    them, a metre a second off); with the noise estimated from their scatter
+    (2.5 cm), none does.
+
+    >>> rng = np.random.default_rng(0)
+    >>> fixed = ConstantVelocityKF(q=0.3, r=0.005, gate=6.0)
+    >>> adaptive = ConstantVelocityKF(q=0.3, r=0.005, gate=6.0, window=15)
+    >>> for k in range(60):
+    ...     z = (k / 30.0 + rng.normal(0, 0.03), 1.0 + rng.normal(0, 0.03))
+    ...     fixed.step(k / 30.0, z)
+    ...     adaptive.step(k / 30.0, z)
+    >>> fixed.restarts, adaptive.restarts, round(adaptive.noise, 3)
+    (42, 0, 0.025)
     """
 
-    def __init__(self, q: float = 4.0, r: float = 0.01, gate: float | None = None) -> None:
+    def __init__(self, q: float = 4.0, r: float = 0.01, gate: float | None = None,
+                 window: int = 0) -> None:
         if not (q > 0 and r > 0):
             raise ValueError("q and r must be positive")
+        if window < 0:
+            raise ValueError("window must be 0 or positive")
         self.q = float(q)
         self.r = float(r)
         self.gate = gate
+        self.window = int(window)
+        #: the last three measurements, and the last ``window`` scatters (see :attr:`noise`)
+        self._seen: deque[tuple[float, NDArray[np.float64]]] = deque(maxlen=3)
+        self._scatter: deque[float] = deque(maxlen=max(self.window, 1))
+        self._noise = self.r
         self.x: NDArray[np.float64] = np.zeros(4)
         self.P: NDArray[np.float64] = np.eye(4)
         self.time: float | None = None
@@ -70,6 +101,34 @@ class ConstantVelocityKF:
         """Filtered ``(vx, vy)``."""
         return (float(self.x[2]), float(self.x[3]))
 
+    @property
+    def noise(self) -> float:
+        """The measurement noise in use, m: ``r``, or with a ``window`` the larger of ``r``
+        and the scatter of the last ``window`` measurements about straight lines through
+        their neighbours -- each measurement less the interpolation between the one before
+        and the one after, scaled to one measurement's variance; their median squared
+        length over ``2 ln 2`` (a squared length is exponential, of mean twice the variance
+        per axis).  A turn moves one or two of them, a constant velocity none: it measures
+        the sightings, not the filter's model or its state."""
+        return self._noise
+
+    def _learn_noise(self, time: float, z: NDArray[np.float64]) -> None:
+        if not self.window:
+            return
+        seen = self._seen
+        seen.append((time, z))
+        if len(seen) < 3:
+            return
+        (t0, z0), (t1, z1), (t2, z2) = seen[-3], seen[-2], seen[-1]
+        if not t0 < t1 < t2:
+            return
+        w = (t1 - t0) / (t2 - t0)  # z1 ~ (1 - w) z0 + w z2
+        e = z1 - (1.0 - w) * z0 - w * z2
+        self._scatter.append(float(e @ e) / (1.0 + (1.0 - w) ** 2 + w**2))
+        if self._scatter:
+            spread = float(np.median(self._scatter)) / (2.0 * math.log(2.0))
+            self._noise = math.sqrt(max(self.r**2, spread))
+
     def _predict(self, dt: float) -> None:
         if dt <= 0:
             return
@@ -91,6 +150,7 @@ class ConstantVelocityKF:
             self.time = float(time)
             self.updates = 1
             self._last = (float(time), np.array(z[:2], float))
+            self._learn_noise(float(time), self._last[1])
             return
         self._predict(float(time) - self.time)
         self.time = float(time)
@@ -99,7 +159,9 @@ class ConstantVelocityKF:
         zz = np.array([float(z[0]), float(z[1])])
         h = np.zeros((2, 4))
         h[0, 0] = h[1, 1] = 1.0
-        s = h @ self.P @ h.T + np.eye(2) * self.r**2
+        self._learn_noise(float(time), zz)
+        r = self._noise
+        s = h @ self.P @ h.T + np.eye(2) * r**2
         y = zz - h @ self.x
         if self.gate is not None and self._last is not None:
             d = float(np.sqrt(y @ np.linalg.solve(s, y)))
@@ -108,8 +170,8 @@ class ConstantVelocityKF:
                 dt = float(time) - t0
                 v = (zz - z0) / dt if dt > 0 else np.zeros(2)
                 self.x = np.array([zz[0], zz[1], v[0], v[1]])
-                self.P = np.diag([self.r**2, self.r**2, 2 * (self.r / max(dt, 1e-3))**2,
-                                  2 * (self.r / max(dt, 1e-3))**2])
+                self.P = np.diag([r**2, r**2, 2 * (r / max(dt, 1e-3))**2,
+                                  2 * (r / max(dt, 1e-3))**2])
                 self.restarts += 1
                 self.updates += 1
                 self._last = (float(time), zz)
@@ -146,7 +208,10 @@ class ConstantVelocityKF:
 
     def copy(self) -> "ConstantVelocityKF":
         """An independent copy."""
-        out = ConstantVelocityKF(self.q, self.r, self.gate)
+        out = ConstantVelocityKF(self.q, self.r, self.gate, self.window)
         out.x, out.P, out.time = self.x.copy(), self.P.copy(), self.time
         out.updates, out.restarts, out._last = self.updates, self.restarts, self._last
+        out._seen.extend(self._seen)
+        out._scatter.extend(self._scatter)
+        out._noise = self._noise
         return out

@@ -212,7 +212,8 @@ class ForegroundObject(Schema):
         self.ball: Ball | None = model.ball if model is not None else None
         self.kf = ConstantVelocityKF(q=float(parameters["process_noise"]),
                                      r=float(parameters["measurement_noise"]),
-                                     gate=float(parameters["gate"]))
+                                     gate=float(parameters["gate"]),
+                                     window=int(parameters["noise_window"]))
         self.last: Sighting | None = None
         self.sightings = 0
         self.misses = 0
@@ -1086,6 +1087,8 @@ FOREGROUND_OBJECT = SchemaSpec(
                   unit="m^2/s^3", low=0.0, high=1.0e4, low_open=True),
         Parameter("measurement_noise", float, 0.005, "Kalman position noise", unit="m",
                   low=0.0, high=10.0, low_open=True),
+        Parameter("noise_window", int, 15, "sightings whose scatter estimates the Kalman "
+                  "position noise (never below measurement_noise; 0: fixed)", low=0, high=1000),
         Parameter("gate", float, 6.0, "innovation (sigmas) beyond which the filter restarts "
                   "from the last two sightings (a bounce)", low=0.0, high=1000.0, low_open=True),
         Parameter("adapt", bool, True, "estimate restitution, friction and rolling resistance "
