@@ -125,9 +125,8 @@ class ConstantVelocityKF:
         w = (t1 - t0) / (t2 - t0)  # z1 ~ (1 - w) z0 + w z2
         e = z1 - (1.0 - w) * z0 - w * z2
         self._scatter.append(float(e @ e) / (1.0 + (1.0 - w) ** 2 + w**2))
-        if self._scatter:
-            spread = float(np.median(self._scatter)) / (2.0 * math.log(2.0))
-            self._noise = math.sqrt(max(self.r**2, spread))
+        spread = float(np.median(self._scatter)) / (2.0 * math.log(2.0))
+        self._noise = math.sqrt(max(self.r**2, spread))
 
     def _predict(self, dt: float) -> None:
         if dt <= 0:
