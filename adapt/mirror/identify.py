@@ -188,7 +188,9 @@ class Identifier:
     every : int
         Frames with a sighting between two fits (the others only keep the sighting).
     noise : float
-        The sightings' noise, metres (standard deviation).
+        The sightings' noise, metres (standard deviation); the attribute ``noise`` may
+        change between sightings (the object schema gives it their measured scatter) and
+        counts from the next fit on.
     dt : float, optional
         The rollouts' physics step (default the scene's).
     """
