@@ -892,6 +892,34 @@ class World:
             )
         return WorldState(self.time, self._steps, tuple(bodies), self._command)
 
+    def set_velocity(self, name: str, velocity: Sequence[float],
+                     slip: Sequence[float] | None = None) -> None:
+        """Give a body a new velocity where it stands, at once (no force, no contact).
+
+        A spinning ball's spin moves with it: its ``slip`` is kept, or set to the one
+        given (ignored for a body without spin).
+
+        Examples
+        --------
+        >>> w = World(SceneSpec(balls=(Ball("b", velocity=(1.0, 0.0), floor_friction=0.3),)))
+        >>> w.set_velocity("b", (0.0, 0.5))
+        >>> w.velocity("b"), w.slip("b")
+        ((0.0, 0.5), (0.0, 0.0))
+        >>> w.run(1.0)
+        >>> [round(c, 3) for c in w.position("b")]
+        [0.0, 0.5]
+        """
+        body = self.body(name)
+        vx, vy = float(velocity[0]), float(velocity[1])
+        if not (math.isfinite(vx) and math.isfinite(vy)):
+            raise ImaginationError(f"velocity: expected two finite numbers, got {tuple(velocity)!r}")
+        kept = self.slip(name) if slip is None else (float(slip[0]), float(slip[1]))
+        body.velocity = (vx, vy)
+        spin = self._spins.get(name)
+        if spin is not None:
+            spin[0].velocity = (vx + kept[0], vy + kept[1])
+        self._calm = False
+
     def set_state(self, state: WorldState) -> None:
         """Put the bodies into a snapshot's state (positions, velocities, time).
 

@@ -406,6 +406,8 @@ class ForegroundObject(Schema):
         obs = self._observe(frame)
         if obs is None:
             self.misses += 1
+            if self.misses == 1:
+                self._let_go()
             if not self.doubted and self._shows(frame):  # (doubted until the next sighting)
                 self.unexplained += 1
             self.kf.step(frame.time, None)
@@ -532,16 +534,38 @@ class ForegroundObject(Schema):
         """``(mean, std)`` of each estimated parameter (the model's values before any)."""
         return {name: (e.mean, e.std) for name, e in self.estimate_records().items()}
 
+    def _fitted(self, age: float = FIT_AGE) -> tuple[Fit, float] | None:
+        """The identification's answer and how long ago it was, when it may stand for the
+        object's state: at most ``age`` seconds old and fitting its sightings."""
+        fit = self.fit
+        if fit is None:
+            return None
+        since = self.network.mirror.world.time - fit.time
+        return (fit, since) if -1e-9 <= since <= age and fit.chi2 <= FIT_CHI2 else None
+
+    def _let_go(self) -> None:
+        """The object has just been missed: its imagined body goes on with the object's
+        estimated velocity (the identification's, else the filter's), not with the one the
+        spring gave it -- a correction towards noisy sightings, which would carry it off
+        (a ball at rest, seen by a camera on the robot, left at half a metre a second)."""
+        if not self.in_imagination or not self.kf.initialised or self.parameters["k"] <= 0:
+            return
+        world = self.network.mirror.world
+        found = self._fitted(FIT_AGE + self.network.frame_interval)  # the sighting a frame back
+        if found is not None:
+            world.set_velocity(self.body, found[0].velocity, found[0].slip)
+        else:
+            world.set_velocity(self.body, self.kf.velocity)
+
     def _predict(self) -> Prediction | None:
         """Roll the imagination forward from the object's state (filtered while seen; the
         imagined body's while it is not)."""
         mirror = self.network.mirror
         if not self.in_imagination:
             return None
-        fit = self.fit
-        since = mirror.world.time - fit.time if fit is not None else math.inf
-        if fit is not None and self.misses == 0 and -1e-9 <= since <= FIT_AGE \
-                and fit.chi2 <= FIT_CHI2:
+        found = self._fitted() if self.misses == 0 else None
+        if found is not None:
+            fit, since = found
             # the identified state (its time may be a frame back: identify_every)
             return self.predictor.predict(mirror.world, self.body, fit.position, fit.velocity,
                                           self.estimates(), velocity_std=self.kf.velocity_sigma,
