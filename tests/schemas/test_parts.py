@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pytest
@@ -16,6 +17,10 @@ from adapt.schemas.links import Structure
 from adapt.schemas.silhouette import fit_ball, fit_small_ball, image_area, silhouette_circle, visible_area
 from adapt.schemas.tracks import RegionTracker
 from adapt.vision.regions import Region
+
+if TYPE_CHECKING:
+    from adapt.mirror import Mirror
+    from adapt.schemas.foreground import ForegroundObject
 
 
 def region(x: int, y: int, w: int = 10, h: int = 10) -> Region:
@@ -453,6 +458,23 @@ def test_a_ball_merged_with_its_ghost_is_found_in_the_pixels_of_its_colour(
     assert observe(other) is None
 
 
+def _ball_in_imagination(at: tuple[float, float] = (0.0, 1.0)
+                         ) -> tuple[Mirror, ForegroundObject]:
+    """A mirror with the camera ``CAM`` and a ball's schema whose 10 cm ball is in the
+    imagination at ``at``, at rest: ``(mirror, schema)``."""
+    from adapt.imagination import Ball, SceneSpec
+    from adapt.mirror import Mirror
+    from adapt.schemas import SchemaNetwork
+    from adapt.schemas.foreground import ForegroundObject
+
+    mirror = Mirror(SceneSpec(), CAM)
+    fo = SchemaNetwork(mirror).instantiate("foreground-object")
+    assert isinstance(fo, ForegroundObject)
+    fo.ball = Ball(fo.body, radius=0.1, mass=0.4)
+    mirror.add_ball(fo.ball, at, (0.0, 0.0))
+    return mirror, fo
+
+
 def test_an_imagined_body_in_view_and_not_found_is_doubted_after_lost_after_frames() -> None:
     # bench/foreign.py's throw 50 (a camera on the robot): the ball lost, its imagined body
     # drifted off in full view for seconds, never found there -- and the robot, driving to
@@ -460,19 +482,11 @@ def test_an_imagined_body_in_view_and_not_found_is_doubted_after_lost_after_fram
     from types import MappingProxyType
 
     from adapt.frames import Frame
-    from adapt.imagination import Ball, SceneSpec
-    from adapt.mirror import Mirror
-    from adapt.schemas import SchemaNetwork
-    from adapt.schemas.foreground import DOUBT_SHOWN, ForegroundObject
+    from adapt.schemas.foreground import DOUBT_SHOWN
     from adapt.schemas.percepts import BackgroundPercept
 
-    mirror = Mirror(SceneSpec(), CAM)
-    net = SchemaNetwork(mirror)
-    fo = net.instantiate("foreground-object")
-    assert isinstance(fo, ForegroundObject)
-    fo.ball = Ball(fo.body, radius=0.1, mass=0.4)
+    mirror, fo = _ball_in_imagination()
     fo.sightings = 1  # seen once, lost since
-    mirror.add_ball(fo.ball, (0.0, 1.0), (0.0, 0.0))
     frame = Frame(0, 0.0, np.zeros((CAM.height, CAM.width, 3), np.uint8))
     render = mirror.render()
     label = next(lab for lab, name in render.names.items() if name == fo.body)
@@ -507,18 +521,9 @@ def test_a_lost_ball_goes_on_with_its_estimated_velocity_not_the_springs() -> No
     # second, and when it was lost the body rolled off with that -- to the robot, which said
     # it had the ball 40 cm from where it lay
     from adapt.frames import Frame
-    from adapt.imagination import Ball, SceneSpec
-    from adapt.mirror import Mirror
-    from adapt.schemas import SchemaNetwork
-    from adapt.schemas.foreground import ForegroundObject
     from adapt.schemas.percepts import Sighting
 
-    mirror = Mirror(SceneSpec(), CAM)
-    net = SchemaNetwork(mirror)
-    fo = net.instantiate("foreground-object")
-    assert isinstance(fo, ForegroundObject)
-    fo.ball = Ball(fo.body, radius=0.1, mass=0.4)
-    mirror.add_ball(fo.ball, (0.0, 1.0), (0.0, 0.0))
+    mirror, fo = _ball_in_imagination((0.0, 1.0))
     mirror.add_hook(fo.before_step)
     rng = np.random.default_rng(8)
     kicked = 0.0
