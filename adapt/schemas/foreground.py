@@ -491,7 +491,7 @@ class ForegroundObject(Schema):
         assert self.estimator is not None
         bounce = self.estimator.observe(time, position)
         if self.identifier is not None:
-            self.identifier.noise = max(float(self.parameters["measurement_noise"]), self.kf.noise)
+            self.identifier.noise = self.kf.noise  # never below measurement_noise
             self.fit = self.identifier.observe(time, position)
         if bounce is not None:
             self.bounces_seen += 1
