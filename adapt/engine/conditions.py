@@ -33,7 +33,8 @@ Scope of variables
 * A relational test's variable must be bound by an equality test in its
   scope (:func:`check_scope` raises otherwise).
 * Variables bound only inside a negated condition or a conjunctive negation
-  are local to it.
+  are local to it; a negated condition's relational tests compare only with
+  variables bound outside it (Soar refuses ``-(<s> ^{a < <y>} <y>)``).
 
 Evaluation order
 ----------------
@@ -42,6 +43,8 @@ order and each negation right after the positive condition that binds the
 last variable it shares with them (first, when it shares none).  A relational
 test whose variable is bound later waits in the partial match
 (:class:`Partial`) and is checked by the condition that binds the variable.
+Each relational test on a variable is read as written or turned round as
+Soar's reorderer puts it back in the join order (:func:`turned_round`).
 A match is a partial that passed every step; which step a production's
 partials run out at is what ``adapt trace why --rule`` reports.
 
@@ -63,11 +66,14 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Container, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Final, Literal, Protocol
 
 from adapt.engine.production import (
+    FIELD_ATTR,
+    FIELD_ID,
+    FIELD_VALUE,
     Condition,
     ConditionElement,
     ConjunctiveNegation,
@@ -103,6 +109,9 @@ __all__ = [
     "WmeIndex",
     "match_condition",
     "evaluation_order",
+    "turned_round",
+    "Turned",
+    "JoinOrder",
     "extend",
     "conjunction_matches",
     "exists",
@@ -291,11 +300,21 @@ class WmeIndex:
 
 @dataclass(frozen=True, slots=True)
 class PendingRelation:
-    """A relational test met before its variable was bound: ``value relation <var>``."""
+    """A relational test met before its variable was bound: ``value relation <var>``,
+    checked once ``<var>`` is bound -- as written, or turned round (``<var>`` with the
+    relation reversed against ``value``) when Soar's reorderer reads it so
+    (:func:`turned_round`)."""
 
     relation: str
     value: Symbol
     variable: Variable
+    turned: bool = True
+
+    def holds(self, bound: Symbol) -> bool:
+        """Whether the test holds with its variable bound to ``bound``."""
+        if self.turned:
+            return relation_holds(REVERSED[self.relation], bound, self.value)
+        return relation_holds(self.relation, self.value, bound)
 
 
 @dataclass(frozen=True, slots=True)
@@ -332,31 +351,40 @@ def _bind_field(test: Test | None, value: Symbol, b: Bindings) -> bool:
 _UNBOUND: Final = object()
 
 
-def _relations(test: Test | None, value: Symbol, b: Bindings,
-               pending: list[PendingRelation]) -> bool:
-    """The relational parts of ``test``: checked when their variable is bound,
-    else appended to ``pending``."""
-    for t in simple_tests(test):
+def _relations(test: Test | None, field: int, value: Symbol, b: Bindings,
+               pending: list[PendingRelation], turned: Container[tuple[int, int]]) -> bool:
+    """The relational parts of ``test`` (on ``field``): checked when their variable is
+    bound -- turned round if ``(field, position)`` is in ``turned`` -- else appended to
+    ``pending``."""
+    for k, t in enumerate(simple_tests(test)):
         if isinstance(t, RelationalTest):
             term = t.term
             if isinstance(term, Variable):
+                turn = (field, k) in turned
                 if term in b:
-                    if not relation_holds(t.relation, value, b[term]):
+                    if turn:
+                        if not relation_holds(REVERSED[t.relation], b[term], value):
+                            return False
+                    elif not relation_holds(t.relation, value, b[term]):
                         return False
                 else:
-                    pending.append(PendingRelation(t.relation, value, term))
+                    pending.append(PendingRelation(t.relation, value, term, turn))
             elif not relation_holds(t.relation, value, term):
                 return False
     return True
 
 
-def match_condition(cond: Condition, wme: WME, partial: Partial) -> Partial | None:
+def match_condition(cond: Condition, wme: WME, partial: Partial,
+                    turned: Container[tuple[int, int]] = ()) -> Partial | None:
     """``partial`` extended by matching ``cond`` (its negation ignored) to ``wme``.
 
     Equality tests bind first, so a relational test may use a variable bound
     anywhere in the same condition; relational tests whose variable is still
     unbound wait in the result's ``pending``, and pending tests whose
-    variable this condition binds are checked.  ``None`` when it does not match.
+    variable this condition binds are checked.  ``turned`` holds the
+    ``(field, position)`` of the relational tests Soar reads turned round
+    (:func:`turned_round`; position in :func:`simple_tests` of the field's test).
+    ``None`` when it does not match.
     """
     if wme.acceptable != cond.acceptable:
         return None
@@ -373,13 +401,12 @@ def match_condition(cond: Condition, wme: WME, partial: Partial) -> Partial | No
     waiting: list[PendingRelation] = []
     for p in partial.pending:
         if p.variable in b:
-            # checked at the binding condition, turned round (Soar's reorderer)
-            if not relation_holds(REVERSED[p.relation], b[p.variable], p.value):
+            if not p.holds(b[p.variable]):
                 return None
         else:
             waiting.append(p)
-    if not (_relations(cond.attr, wme.attr, b, waiting)
-            and _relations(cond.value, wme.value, b, waiting)):
+    if not (_relations(cond.attr, FIELD_ATTR, wme.attr, b, waiting, turned)
+            and _relations(cond.value, FIELD_VALUE, wme.value, b, waiting, turned)):
         return None
     return Partial(b, partial.wmes + (wme,), tuple(waiting))
 
@@ -446,6 +473,113 @@ def evaluation_order(elements: Sequence[ConditionElement],
     return order
 
 
+#: The relational tests of a conjunction that Soar reads turned round: for an
+#: element's index, the ``(field, position)`` of each (:func:`turned_round`).
+Turned = Mapping[int, frozenset[tuple[int, int]]]
+
+#: A join order: the indexes of a conjunction's positive conditions in the
+#: order they are joined, given the variables bound outside it
+#: (:func:`adapt.engine.reorder.join_order` with a matcher's hints).
+JoinOrder = Callable[[Sequence[ConditionElement], Iterable[Variable]], Sequence[int]]
+
+
+@dataclass(frozen=True, slots=True)
+class _Slot:
+    """The dummy variable Soar's reorderer gives a field without an equality test."""
+
+    element: int
+    field: int
+
+
+def _is_constant(term: object) -> bool:
+    return not isinstance(term, (Variable, _Slot))
+
+
+def _same_term(a: object, b: object) -> bool:
+    """The same variable or symbol (``2`` and ``2.0`` differ, as in Soar)."""
+    return type(a) is type(b) and a == b
+
+
+def _anchor(test: Test | None, element: int, field: int) -> object:
+    """What Soar indexes a field's other tests by: its (first) equality test's
+    variable or constant, else a dummy variable of the field's own."""
+    for t in simple_tests(test):
+        if isinstance(t, EqualityTest):
+            return t.term
+    return _Slot(element, field)
+
+
+def turned_round(elements: Sequence[ConditionElement], positives: Sequence[int],
+                 outer: Iterable[Variable] = ()) -> dict[int, frozenset[tuple[int, int]]]:
+    """The relational tests on a variable that Soar reads turned round, given the
+    order ``positives`` joins the positive conditions in (``outer`` are bound already).
+
+    Soar's reorderer lifts every relational test of a positive condition out of
+    it, orders the conditions, and puts each test back (``production_reorder.cpp``,
+    ``restore_saved_tests_to_test``) at the first field, in join order, whose
+    equality test is either the test's own field's (its *anchor*: the variable
+    or constant of ``{<y> < <x>}`` or ``{a < <x>}``) while ``<x>`` is bound
+    already -- read as written, ``<y> < <x>`` -- or ``<x>`` itself while the
+    anchor is bound or a constant -- read turned round, ``<x> > <y>``.  With
+    Soar's comparison of values of different types (:func:`soar_compare`) the
+    two readings differ.  So a test anchored on a constant is read turned round
+    whenever the condition binding its variable is joined in this conjunction,
+    wherever that is; one anchored on a variable, when its variable is bound
+    after the anchor -- in a later condition, or a later field of its own.
+    A negated condition's tests stay where they are, read as written.
+
+    Returns, for each element with such tests, the ``(field, position)`` of
+    each (position in :func:`simple_tests` of the field's test).
+
+    Examples
+    --------
+    >>> from adapt.engine.parse import parse_rules
+    >>> p, = parse_rules("sp {r (state <s> ^b <x>) (<s> ^{a > <x>}) --> (write hi)}").productions
+    >>> turned_round(p.conditions, [0, 1])  # 'a' is a constant: turned round at ^b
+    {1: frozenset({(1, 1)})}
+    >>> p, = parse_rules("sp {r (state <s> ^b <x>) (<s> ^a {<y> > <x>}) --> (write hi)}"
+    ...                  ).productions
+    >>> turned_round(p.conditions, [0, 1]), turned_round(p.conditions, [1, 0])
+    ({}, {1: frozenset({(2, 1)})})
+    """
+    marked: set[object] = set(outer)
+    waiting: list[tuple[int, int, int, object, Variable]] = []
+    for i in positives:
+        cond = elements[i]
+        assert isinstance(cond, Condition)
+        for field, test in ((FIELD_ATTR, cond.attr), (FIELD_VALUE, cond.value)):
+            anchor = _anchor(test, i, field)
+            for k, t in enumerate(simple_tests(test)):
+                if isinstance(t, RelationalTest) and isinstance(t.term, Variable):
+                    waiting.append((i, field, k, anchor, t.term))
+    turned: dict[int, set[tuple[int, int]]] = {}
+    for i in positives:
+        if not waiting:
+            break
+        cond = elements[i]
+        assert isinstance(cond, Condition)
+        for field, test in ((FIELD_ID, EqualityTest(cond.id)), (FIELD_ATTR, cond.attr),
+                            (FIELD_VALUE, cond.value)):
+            here = _anchor(test, i, field)
+            left: list[tuple[int, int, int, object, Variable]] = []
+            for entry in waiting:
+                j, f, k, anchor, variable = entry
+                if _same_term(here, anchor) and (variable in marked
+                                                 or _same_term(variable, anchor)):
+                    continue  # as written
+                if _same_term(here, variable) and (_is_constant(anchor) or anchor in marked):
+                    turned.setdefault(j, set()).add((f, k))
+                    continue
+                left.append(entry)
+            waiting = left
+            if isinstance(here, _Slot):
+                marked.add(here)
+            for t in simple_tests(test):
+                if isinstance(t, EqualityTest) and isinstance(t.term, Variable):
+                    marked.add(t.term)
+    return {i: frozenset(tests) for i, tests in turned.items()}
+
+
 def _candidates(cond: Condition, source: WmeSource, b: Bindings) -> Iterable[WME]:
     ident = b.get(cond.id, _UNBOUND)
     if ident is _UNBOUND:
@@ -453,61 +587,82 @@ def _candidates(cond: Condition, source: WmeSource, b: Bindings) -> Iterable[WME
     return source.of(ident)  # type: ignore[arg-type]
 
 
-def extend(element: ConditionElement, partial: Partial, source: WmeSource) -> Iterator[Partial]:
+_NONE_TURNED: Final[frozenset[tuple[int, int]]] = frozenset()
+
+
+def extend(element: ConditionElement, partial: Partial, source: WmeSource,
+           turned: Container[tuple[int, int]] = _NONE_TURNED,
+           order: JoinOrder | None = None) -> Iterator[Partial]:
     """The partials that ``partial`` becomes after one evaluation step.
 
-    A positive condition yields one partial per WME it matches consistently;
+    A positive condition yields one partial per WME it matches consistently
+    (``turned``: its relational tests read turned round, :func:`turned_round`);
     a negated condition or conjunctive negation yields ``partial`` itself when
-    it has no match under its bindings, nothing otherwise.
+    it has no match under its bindings (a conjunctive negation's conditions
+    joined in ``order``), nothing otherwise.
     """
     if _is_positive(element):
         assert isinstance(element, Condition)
         for w in _candidates(element, source, partial.bindings):
-            extended = match_condition(element, w, partial)
+            extended = match_condition(element, w, partial, turned)
             if extended is not None:
                 yield extended
-    elif not exists(element, source, partial.bindings):
+    elif not exists(element, source, partial.bindings, order):
         yield partial
 
 
 def _search(elements: Sequence[ConditionElement], order: Sequence[int], step: int,
-            partial: Partial, source: WmeSource) -> Iterator[Partial]:
+            partial: Partial, source: WmeSource, turned: Turned,
+            join: JoinOrder | None) -> Iterator[Partial]:
     if step == len(order):
         yield partial
         return
-    for p in extend(elements[order[step]], partial, source):
-        yield from _search(elements, order, step + 1, p, source)
+    i = order[step]
+    for p in extend(elements[i], partial, source, turned.get(i, _NONE_TURNED), join):
+        yield from _search(elements, order, step + 1, p, source, turned, join)
 
 
 def conjunction_matches(elements: Sequence[ConditionElement], source: WmeSource,
                         bindings: Bindings | None = None,
                         positives: Sequence[int] | None = None,
+                        order: JoinOrder | None = None,
                         ) -> Iterator[tuple[Bindings, tuple[WME, ...]]]:
     """Every consistent match of a conjunction, given the enclosing bindings.
 
     Yields ``(bindings, wmes)``, ``wmes`` holding one WME per positive
     condition in source order.  Matches come in backtracking order:
-    positive conditions left to right (or in the order ``positives`` gives
-    their indexes: a join order), each one's candidate WMEs in the source's
-    order.  The set of matches does not depend on the order.
+    positive conditions in the order ``positives`` gives their indexes (a
+    join order), else the one ``order`` gives (it also orders every
+    conjunctive negation's conditions), else left to right; each one's
+    candidate WMEs in the source's order.  The set of matches does not
+    depend on the order, but the reading of a relational test between values
+    of different types does (:func:`turned_round`): give the matcher's.
     """
     outer = dict(bindings or {})
-    order = evaluation_order(elements, outer, positives)
+    if positives is None and order is not None:
+        positives = order(elements, outer)
+    steps = evaluation_order(elements, outer, positives)
+    joined = positives if positives is not None else [i for i in steps
+                                                      if _is_positive(elements[i])]
+    turned = turned_round(elements, joined, outer)
     if positives is None:
-        for p in _search(elements, order, 0, Partial(outer), source):
+        for p in _search(elements, steps, 0, Partial(outer), source, turned, order):
             yield p.bindings, p.wmes
         return
     rank = {i: k for k, i in enumerate(positives)}
     written = sorted(positives)
-    for p in _search(elements, order, 0, Partial(outer), source):
+    for p in _search(elements, steps, 0, Partial(outer), source, turned, order):
         yield p.bindings, tuple(p.wmes[rank[i]] for i in written)
 
 
-def exists(element: ConditionElement, source: WmeSource, bindings: Bindings) -> bool:
+def exists(element: ConditionElement, source: WmeSource, bindings: Bindings,
+           order: JoinOrder | None = None) -> bool:
     """Whether a negated condition (read positively) or a conjunctive
-    negation's conjunction has a match under ``bindings``."""
+    negation's conjunction (its conditions joined in ``order``) has a match
+    under ``bindings``."""
     if isinstance(element, ConjunctiveNegation):
-        return any(True for _ in conjunction_matches(element.conditions, source, bindings))
+        return any(True for _ in conjunction_matches(element.conditions, source, bindings,
+                                                     order=order))
     start = Partial(bindings)
     for w in _candidates(element, source, bindings):
         p = match_condition(element, w, start)
@@ -541,8 +696,7 @@ def check_scope(name: str, elements: Sequence[ConditionElement],
         if isinstance(e, ConjunctiveNegation):
             check_scope(name, e.conditions, bound)
             continue
-        local = bound | condition_equality_variables(e) if e.negated else bound
-        unbound = set(relational_variables(e.attr) + relational_variables(e.value)) - local
+        unbound = set(relational_variables(e.attr) + relational_variables(e.value)) - bound
         if unbound:
             var = sorted(v.name for v in unbound)[0]
             raise EngineError(

@@ -22,7 +22,7 @@ this matcher is that module plus the bookkeeping of a
 
 Examples
 --------
->>> from adapt.engine.production import Production, Condition, EqualityTest, Variable
+>>> from adapt.engine.production import ConditionElement, Production, Variable, Condition, EqualityTest, Variable
 >>> from adapt.engine.symbols import Identifier
 >>> from adapt.engine.wme import WME
 >>> s, x = Variable("<s>"), Variable("<x>")
@@ -40,9 +40,11 @@ Examples
 
 from __future__ import annotations
 
-from adapt.engine.conditions import WmeIndex, check_scope, conjunction_matches
+from collections.abc import Iterable, Mapping, Sequence
+
+from adapt.engine.conditions import JoinOrder, WmeIndex, check_scope, conjunction_matches
 from adapt.engine.matcher import Match, MatchKey
-from adapt.engine.production import Production
+from adapt.engine.production import ConditionElement, Production, Variable
 from adapt.engine.reorder import ConstantOrder, join_order
 from adapt.engine.wme import WME
 from adapt.errors import EngineError
@@ -57,6 +59,20 @@ def check_production(production: Production) -> None:
     check_scope(production.name, production.conditions)
 
 
+class _JoinOrder:
+    """Soar's join order with the hints in force when a production was added."""
+
+    __slots__ = ("multi_attributes", "constants")
+
+    def __init__(self, multi_attributes: Mapping[str, int], constants: ConstantOrder) -> None:
+        self.multi_attributes = multi_attributes
+        self.constants = constants
+
+    def __call__(self, elements: Sequence[ConditionElement],
+                 outer: Iterable[Variable]) -> list[int]:
+        return join_order(elements, outer, self.multi_attributes, self.constants)
+
+
 class NaiveMatcher:
     """Brute-force implementation of :class:`adapt.engine.matcher.Matcher`.
 
@@ -64,13 +80,15 @@ class NaiveMatcher:
     all matches of all productions: use it as a reference, not in production.
     """
 
-    __slots__ = ("_productions", "_orders", "_wmes", "_current", "_reported", "_dirty",
+    __slots__ = ("_productions", "_orders", "_joins", "_wmes", "_current", "_reported", "_dirty",
                  "multi_attributes", "constants")
 
     def __init__(self) -> None:
         self._productions: dict[str, Production] = {}
         #: each production's positive conditions in join order (the Rete's)
         self._orders: dict[str, list[int]] = {}
+        #: each production's join order of a conjunctive negation's conditions (the Rete's)
+        self._joins: dict[str, JoinOrder] = {}
         #: ``multi-attributes`` hints for the join order of productions added from now on
         self.multi_attributes: dict[str, int] = {}
         #: the order of constants that breaks the join order's last ties
@@ -89,6 +107,7 @@ class NaiveMatcher:
         self.constants.add_production(production)
         self._orders[production.name] = join_order(production.conditions, (),
                                                    self.multi_attributes, self.constants)
+        self._joins[production.name] = _JoinOrder(dict(self.multi_attributes), self.constants)
         self._dirty = True
 
     def remove_production(self, name: str) -> None:
@@ -97,6 +116,7 @@ class NaiveMatcher:
             raise EngineError(f"no production named {name} in the matcher")
         del self._productions[name]
         del self._orders[name]
+        del self._joins[name]
         self._dirty = True
 
     def add_wme(self, wme: WME) -> None:
@@ -117,7 +137,8 @@ class NaiveMatcher:
         current: dict[MatchKey, Match] = {}
         for production in self._productions.values():
             order = self._orders[production.name]
-            for _, chosen in conjunction_matches(production.conditions, wmes, positives=order):
+            for _, chosen in conjunction_matches(production.conditions, wmes, positives=order,
+                                                 order=self._joins[production.name]):
                 match = Match(production, chosen)
                 current[match.key] = match
         self._current = current

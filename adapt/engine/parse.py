@@ -154,11 +154,22 @@ def _goal_tests_on_roots(conditions: list[ConditionElement]) -> list[ConditionEl
     """Soar keeps the goal test of ``(state <x> ...)`` only where ``<x>`` is a
     *root*: a variable no positive condition has as its value
     (``remove_isa_state_tests_for_non_roots``).  ``(state <s> ^fake <f>)
-    (state <f> ^name fake)`` tests ``<f>`` as a plain identifier."""
+    (state <f> ^name fake)`` tests ``<f>`` as a plain identifier.  When every
+    identifier is a value (``(state <s> ^self <s>)``), the first state test's
+    identifier is the root."""
     values = {equality_variable(c.value) for c in conditions
               if isinstance(c, Condition) and not c.negated}
+    roots = {c.id for c in conditions
+             if isinstance(c, Condition) and not c.negated and c.id not in values}
+    if not roots:
+        # every identifier is some condition's value (``(state <s> ^self <s>)``):
+        # Soar takes the first state test's identifier as the root (``reorder_lhs``)
+        first = next((c.id for c in conditions
+                      if isinstance(c, Condition) and _is_state_test(c)), None)
+        roots = {first} if first is not None else set()
     return [dataclasses.replace(c, goal=False)
-            if isinstance(c, Condition) and c.goal and not c.negated and c.id in values else c
+            if isinstance(c, Condition) and c.goal and not c.negated and c.id not in roots
+            else c
             for c in conditions]
 
 
@@ -638,9 +649,10 @@ class _Parser:
             if isinstance(c, ConjunctiveNegation):
                 self.check_relations(c.conditions, local)
                 continue
-            allowed = local | condition_equality_variables(c) if c.negated else local
+            # a negated condition's own bindings do not count: Soar refuses
+            # -(<s> ^{a < <y>} <y>) ("unbound referent in negated relational test")
             for v in relational_variables(c.attr) + relational_variables(c.value):
-                if v not in allowed:
+                if v not in local:
                     assert c.location is not None
                     where = c.location
                     at: _Located = self.rel_tokens.get((v.name, where.line, where.col), where)

@@ -99,6 +99,7 @@ from adapt.engine.production import (
     Test,
     Variable,
     condition_equality_variables,
+    simple_tests,
 )
 
 __all__ = ["join_order", "ConstantOrder", "MAX_COST", "BRANCHING", "LOOKAHEAD_BUDGET",
@@ -232,22 +233,27 @@ def _referent(test: Test | None) -> _Field:
 
 
 def _constant(test: Test | None) -> object:
-    """The constant of a plain constant equality test (Soar's canonical
-    test), else None."""
-    if isinstance(test, EqualityTest) and not isinstance(test.term, Variable):
-        return test.term
+    """The constant of a constant equality test (Soar's canonical test), else
+    None.  Soar orders the conditions with their other tests lifted out
+    (``simplify_test``), so ``{a > <x>}`` counts as ``a``; a conjunction of two
+    equality tests does not count."""
+    equalities = [t for t in simple_tests(test) if isinstance(t, EqualityTest)]
+    if len(equalities) == 1 and not isinstance(equalities[0].term, Variable):
+        return equalities[0].term
     return None
 
 
 class _Element:
     """What the cost of one element depends on, computed once."""
 
-    __slots__ = ("index", "positive", "ident", "attr", "value", "binds", "needs", "tie",
-                 "cost", "mentions")
+    __slots__ = ("index", "positive", "goal", "ident", "attr", "value", "binds", "needs",
+                 "tie", "cost", "mentions")
 
     def __init__(self, index: int, element: ConditionElement) -> None:
         self.index = index
         self.positive = isinstance(element, Condition) and not element.negated
+        #: a positive condition with the goal test of ``(state <s> ...)``
+        self.goal = self.positive and element.goal  # type: ignore[union-attr]
         self.ident: _Field = None
         self.attr: _Field = None
         self.value: _Field = None
@@ -281,7 +287,7 @@ class _Element:
         else:
             attr_shape = 1  # a number as attribute: no hint
         value_shape = value if value is None or isinstance(value, Variable) else 0
-        return (True, self.ident, attr_shape, value_shape, self.binds, self.tie[1],
+        return (True, self.goal, self.ident, attr_shape, value_shape, self.binds, self.tie[1],
                 self.tie[2])
 
 
@@ -332,11 +338,18 @@ def _cost(e: _Element, bound: set[Variable], roots: frozenset[Variable],
 
 
 def _roots(elements: Sequence[_Element], outer: set[Variable]) -> frozenset[Variable]:
-    """Identifier variables no positive condition's value reaches (Soar's roots)."""
+    """Identifier variables no positive condition's value reaches (Soar's roots);
+    when there is none in a production's conditions (``outer`` empty: not a
+    conjunctive negation's), the first state test's identifier, as in Soar's
+    ``reorder_lhs``."""
     values = {e.value for e in elements if e.positive and isinstance(e.value, Variable)}
-    return frozenset(e.ident for e in elements
-                     if e.positive and isinstance(e.ident, Variable)
-                     and e.ident not in values and e.ident not in outer)
+    roots = frozenset(e.ident for e in elements
+                      if e.positive and isinstance(e.ident, Variable)
+                      and e.ident not in values and e.ident not in outer)
+    if roots or outer:
+        return roots
+    first = next((e.ident for e in elements if e.goal and isinstance(e.ident, Variable)), None)
+    return frozenset() if first is None else frozenset((first,))
 
 
 def _dense(ranks: Iterable[int]) -> dict[int, int]:

@@ -59,6 +59,7 @@ from adapt.engine.production import (
     Variable,
     equality_variable,
 )
+from adapt.engine.reorder import join_order
 from adapt.engine.support import MadePreference
 from adapt.engine.symbols import Identifier, level_of
 from adapt.engine.vocabulary import Support
@@ -344,7 +345,7 @@ class ResultMaker:
         """Whether one of the justification's negations has a match now."""
         wm = self.kernel.wm
         for element, bindings in just.negations:
-            if exists(element, wm, bindings):
+            if exists(element, wm, bindings, join_order):
                 return True
         return False
 

@@ -45,11 +45,13 @@ from dataclasses import dataclass
 from adapt.engine.conditions import (
     Bindings,
     Partial,
+    Turned,
     WmeIndex,
     conjunction_matches,
     evaluation_order,
     extend,
     match_condition,
+    turned_round,
 )
 from adapt.engine.joins import join_orders
 from adapt.engine.parse import RuleFile
@@ -121,7 +123,8 @@ def matches(elements: Sequence[ConditionElement], wmes: Sequence[WME],
     else:
         positives = [i for i in order if isinstance(elements[i], Condition)
                      and not elements[i].negated]  # type: ignore[union-attr]
-    for b, _ in conjunction_matches(elements, WmeIndex(wmes), bindings, positives=positives):
+    for b, _ in conjunction_matches(elements, WmeIndex(wmes), bindings, positives=positives,
+                                    order=join_order):
         yield b
 
 
@@ -155,9 +158,10 @@ class Failure:
 
 
 def _deepest(elements: Sequence[ConditionElement], order: Sequence[int], index: WmeIndex,
-             examples: int) -> tuple[int, list[Partial]]:
+             examples: int, turned: Turned) -> tuple[int, list[Partial]]:
     """The number of evaluation steps some partial passes, and a few partials
-    that got that far (``len(order)`` when the production matches)."""
+    that got that far (``len(order)`` when the production matches); ``turned``:
+    the relational tests read turned round in the matchers' join order."""
     best = -1
     found: list[Partial] = []
 
@@ -169,7 +173,10 @@ def _deepest(elements: Sequence[ConditionElement], order: Sequence[int], index: 
             found.append(partial)
         if step == len(order):
             return True
-        return any(walk(step + 1, p) for p in extend(elements[order[step]], partial, index))
+        i = order[step]
+        return any(walk(step + 1, p)
+                   for p in extend(elements[i], partial, index, turned.get(i, frozenset()),
+                                   join_order))
 
     walk(0, Partial({}))
     return best, found
@@ -191,11 +198,13 @@ def first_failure(production: Production, wmes: Sequence[WME], examples: int = 3
     # different types reads differently; where, in source order (as the rule reads) unless
     # that order matches where the matchers' does not
     joined = list(order)
-    depth, partials = _deepest(elements, joined, index, examples)
+    turned = turned_round(elements, [i for i in joined if isinstance(elements[i], Condition)
+                                     and not elements[i].negated], ())  # type: ignore[union-attr]
+    depth, partials = _deepest(elements, joined, index, examples, turned)
     if depth == len(joined):
         return None
     order = evaluation_order(elements)
-    written_depth, written = _deepest(elements, order, index, examples)
+    written_depth, written = _deepest(elements, order, index, examples, turned)
     if written_depth < len(order):
         depth, partials = written_depth, written
     else:
@@ -203,7 +212,8 @@ def first_failure(production: Production, wmes: Sequence[WME], examples: int = 3
     element = elements[order[depth]]
     alone: list[WME] = []
     if isinstance(element, Condition) and not element.negated:
-        alone = [w for w in wmes if match_condition(element, w, Partial({})) is not None]
+        own = turned.get(order[depth], frozenset())
+        alone = [w for w in wmes if match_condition(element, w, Partial({}), own) is not None]
     elif isinstance(element, Condition):
         for p in partials:
             ident = p.bindings.get(element.id)

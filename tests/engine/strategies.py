@@ -173,7 +173,7 @@ def _conjunction(
             negations.append(ConjunctiveNegation(draw(_conjunction(frozenset(bound), depth + 1, False))))
         else:
             c = draw(_skeleton(sorted(bound, key=lambda v: v.name), None))
-            c = draw(_with_relations(c, bound | _eq_vars(c)))
+            c = draw(_with_relations(c, bound))
             negations.append(Condition(c.id, c.attr, c.value, c.acceptable, True, goal=c.goal))
     elements: list[ConditionElement] = list(positives)
     for n in negations:

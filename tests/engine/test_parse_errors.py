@@ -150,6 +150,14 @@ CASES = [
     ("sp {t (state <s>) -(<s> ^a <x>) (<s> ^b < <x>) -->}", SEM, "1:43",
      "variable <x> is used in a relational test but never bound by an equality test in a "
      "positive condition, so the test cannot be evaluated"),
+    # Soar refuses it: "unbound referent in negated relational test" (a negated
+    # condition's own equality tests do not bind for its relational tests)
+    ("sp {t (state <s>) -(<s> ^{a <= <y>} <y>) -->}", SEM, "1:32",
+     "variable <y> is used in a relational test but never bound by an equality test in a "
+     "positive condition, so the test cannot be evaluated"),
+    ("sp {t (state <s>) -{(<s> ^{a <= <y>} <y>)} -->}", SEM, "1:33",
+     "variable <y> is used in a relational test but never bound by an equality test in a "
+     "positive condition, so the test cannot be evaluated"),
     # --- actions: syntax
     ("sp {t (state <s>) --> (<s> ^a)}", SYN, "1:30",
      "expected a value after the attribute, found ')'"),

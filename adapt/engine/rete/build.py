@@ -18,6 +18,11 @@ of the variables it shares with the conjunction's positive conditions.
 * new bindings, and *deferred* relations: a relation against a variable that
   a later positive condition binds, checked at that condition's join.
 
+A relational test is read as written (``<y> < <x>``) or turned round
+(``<x> > <y>``) as Soar's reorderer puts it back
+(:func:`adapt.engine.conditions.turned_round`); between values of different
+types the two readings differ.
+
 Examples
 --------
 >>> from adapt.engine.production import Condition, EqualityTest, RelationalTest, Variable
@@ -34,7 +39,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Sequence
 
-from adapt.engine.conditions import evaluation_order
+from adapt.engine.conditions import REVERSED, evaluation_order
 from adapt.engine.production import (
     FIELD_ATTR,
     FIELD_ID,
@@ -67,7 +72,8 @@ class ConditionSpec:
     wme_fields: tuple[int, ...]
     tests: tuple[JoinTest, ...]
     binds: dict[Variable, int]
-    deferred: tuple[tuple[str, int, Variable], ...]
+    #: ``(relation, field, variable, turned)`` of each relation waiting for a later binding
+    deferred: tuple[tuple[str, int, Variable, bool], ...]
 
 
 def is_positive(element: ConditionElement) -> bool:
@@ -75,20 +81,22 @@ def is_positive(element: ConditionElement) -> bool:
     return isinstance(element, Condition) and not element.negated
 
 
-def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> ConditionSpec:
-    """Sort the tests of ``cond`` given the variables bound above it."""
+def compile_condition(cond: Condition, bound: dict[Variable, Site],
+                      turned: frozenset[tuple[int, int]] = frozenset()) -> ConditionSpec:
+    """Sort the tests of ``cond`` given the variables bound above it; ``turned``
+    holds the ``(field, position)`` of its relational tests read turned round."""
     local: dict[Variable, int] = {}
     keys: list[object] = [ANY, ANY, ANY]
     alpha: list[AlphaTest] = []
     token_fields: list[Site] = []
     wme_fields: list[int] = []
     tests: list[JoinTest] = []
-    relations: list[tuple[str, int, Term]] = []
+    relations: list[tuple[str, int, Term, bool]] = []
     if cond.goal:
         alpha.append(GOAL_TEST)
     for field, test in ((FIELD_ID, EqualityTest(cond.id)), (FIELD_ATTR, cond.attr),
                         (FIELD_VALUE, cond.value)):
-        for t in simple_tests(test):
+        for k, t in enumerate(simple_tests(test)):
             if isinstance(t, EqualityTest):
                 term = t.term
                 if isinstance(term, Variable):
@@ -106,18 +114,20 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site]) -> Condition
             elif isinstance(t, DisjunctionTest):
                 alpha.append(("in", field, True, t.values))
             else:
-                relations.append((t.relation, field, t.term))
-    deferred: list[tuple[str, int, Variable]] = []
-    for relation, field, term in relations:
+                relations.append((t.relation, field, t.term, (field, k) in turned))
+    deferred: list[tuple[str, int, Variable, bool]] = []
+    for relation, field, term, turn in relations:
         if not isinstance(term, Variable):
             alpha.append((relation, field, True, term))
         elif term in bound:
             level, other = bound[term]
-            tests.append((relation, -1, field, level, other))
+            tests.append((REVERSED[relation], level, other, -1, field) if turn
+                         else (relation, -1, field, level, other))
         elif term in local:
-            alpha.append((relation, field, False, local[term]))
+            alpha.append((REVERSED[relation], local[term], False, field) if turn
+                         else (relation, field, False, local[term]))
         else:
-            deferred.append((relation, field, term))
+            deferred.append((relation, field, term, turn))
     return ConditionSpec(
         (keys[FIELD_ATTR], keys[FIELD_VALUE], cond.acceptable),
         tuple(alpha),

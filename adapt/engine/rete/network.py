@@ -45,7 +45,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
-from adapt.engine.conditions import REVERSED
+from adapt.engine.conditions import REVERSED, turned_round
 from adapt.engine.matcher import Match
 from adapt.engine.production import ConditionElement, ConjunctiveNegation, Production, Variable
 from adapt.engine.reorder import ConstantOrder
@@ -282,18 +282,20 @@ class Rete:
         each positive element.
         """
         bound = dict(outer)
-        deferred: dict[Variable, list[tuple[str, int, int]]] = {}
+        deferred: dict[Variable, list[tuple[str, int, int, bool]]] = {}
         levels: dict[int, int] = {}
         hops = 0
         node = parent
-        for i in order_elements(elements, set(bound), self.multi_attributes, self.constants):
+        order = order_elements(elements, set(bound), self.multi_attributes, self.constants)
+        turned = turned_round(elements, [i for i in order if is_positive(elements[i])], bound)
+        for i in order:
             element = elements[i]
             hops += 1
             if isinstance(element, ConjunctiveNegation):
                 bottom, _, sub_hops, _ = self._build(node, element.conditions, bound, depth)
                 node = self._ncc(node, bottom, sub_hops)
                 continue
-            spec = compile_condition(element, bound)
+            spec = compile_condition(element, bound, turned.get(i, frozenset()))
             if element.negated:
                 if spec.deferred:
                     raise _Unbound(spec.deferred[0][2])
@@ -303,11 +305,12 @@ class Rete:
                 continue
             tests = list(spec.tests)
             for var, field in spec.binds.items():
-                for relation, level, other in deferred.pop(var, ()):
-                    # turned round, as Soar's reorderer moves the test here
-                    tests.append((REVERSED[relation], -1, field, level, other))
-            for relation, field, var in spec.deferred:
-                deferred.setdefault(var, []).append((relation, depth, field))
+                for relation, level, other, turn in deferred.pop(var, ()):
+                    # read as Soar's reorderer puts the test back (conditions.turned_round)
+                    tests.append((REVERSED[relation], -1, field, level, other) if turn
+                                 else (relation, level, other, -1, field))
+            for relation, field, var, turn in spec.deferred:
+                deferred.setdefault(var, []).append((relation, depth, field, turn))
             node = self._two_input(JoinNode, node, spec.alpha_key, spec.alpha_tests,
                                    spec.token_fields, spec.wme_fields, tuple(tests),
                                    bound.get(element.id))
