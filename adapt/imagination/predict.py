@@ -428,17 +428,39 @@ def ensemble(
     if base_ball is None:
         raise ImaginationError(f"{name!r} is not a ball; ensembles vary ball parameters")
     drawn = {key: rng.uniform(lo, hi, size=n) for key, (lo, hi) in ranges.items()}
+    if scene.robot is None and len(scene.balls) == 1:
+        samples, out_t = _members_together(world, base_ball, start, drawn, n, steps)
+    else:
+        samples, out_t = _members_in_turn(world, base_ball, start, drawn, n, steps)
+    pct = {float(q): np.percentile(samples, q, axis=0) for q in percentiles}
+    return Ensemble(name, out_t, samples, samples.mean(axis=0), pct, drawn)
+
+
+#: The ball parameters a member may draw (the others turn and scale its velocity).
+_MEMBER_PARAMETERS = ("restitution", "friction", "rolling_resistance", "mass", "floor_friction",
+                      "drag")
+
+
+def _member(drawn: Mapping[str, FloatArray], m: int) -> tuple[dict[str, float], dict[str, float]]:
+    """Member ``m``'s draws, and those of them that are ball parameters."""
+    values = {k: float(v[m]) for k, v in drawn.items()}
+    return values, {k: values[k] for k in _MEMBER_PARAMETERS if k in values}
+
+
+def _members_in_turn(world: World, ball: Ball, start: WorldState,
+                     drawn: Mapping[str, FloatArray], n: int, steps: Sequence[int]
+                     ) -> tuple[FloatArray, FloatArray]:
+    """The members one after another in one fork of the whole scene (other balls, the
+    robot): each gets its parameters in place and the start state (building a world per
+    member costs about as much as a second of physics)."""
+    name = ball.name
     samples = np.empty((n, len(steps), 2))
     out_t = np.empty(len(steps))
-    # one world for every member: each gets its parameters in place and the start state
-    # (building a world per member costs about as much as a second of physics)
-    fork = World(scene, dt=world.dt, seed=world.seed, state=start, record_contacts=False)
+    fork = World(world.scene, dt=world.dt, seed=world.seed, state=start, record_contacts=False)
     for m in range(n):
-        values = {k: float(v[m]) for k, v in drawn.items()}
-        params = {k: values[k] for k in ("restitution", "friction", "rolling_resistance", "mass",
-                                          "floor_friction", "drag") if k in values}
+        values, params = _member(drawn, m)
         if params:
-            fork.set_ball_parameters(name, **params)
+            fork.set_ball_parameters(name, **params)  # type: ignore[arg-type]
         fork.set_state(_member_state(start, name, values))
         b = fork.body(name)
         done = 0
@@ -449,8 +471,44 @@ def ensemble(
             p = b.position
             samples[m, i] = (p[0], p[1])
             out_t[i] = fork.time
-    pct = {float(q): np.percentile(samples, q, axis=0) for q in percentiles}
-    return Ensemble(name, out_t, samples, samples.mean(axis=0), pct, drawn)
+    return samples, out_t
+
+
+def _members_together(world: World, ball: Ball, start: WorldState,
+                      drawn: Mapping[str, FloatArray], n: int, steps: Sequence[int]
+                      ) -> tuple[FloatArray, FloatArray]:
+    """Every member a copy of the ball in one world, the copies passing through one
+    another: when the ball is the scene's only moving body, the same rollouts as one
+    after another (but that the fastest copy sets every copy's sub-steps), for one
+    physics step per time step instead of one per member."""
+    scene = world.scene
+    taken = {w.name for w in scene.walls} | {o.name for o in scene.obstacles}
+    prefix = ball.name + "#"
+    while any(t.startswith(prefix) for t in taken):
+        prefix += "#"
+    names = [f"{prefix}{m}" for m in range(n)]
+    own = WorldState(start.time, start.step, (start.body(ball.name),), start.command)
+    copies, bodies = [], []
+    for m, copy in enumerate(names):
+        values, params = _member(drawn, m)
+        copies.append(replace(ball, name=copy).with_parameters(**params))  # type: ignore[arg-type]
+        bodies.append(replace(_member_state(own, ball.name, values).bodies[0], name=copy))
+    fork = World(replace(scene, balls=tuple(copies)), dt=world.dt, seed=world.seed,
+                 record_contacts=False, ball_collisions=False)
+    fork.set_state(WorldState(start.time, start.step, tuple(bodies), start.command))
+    handles = [fork.body(c) for c in names]
+    samples = np.empty((n, len(steps), 2))
+    out_t = np.empty(len(steps))
+    done = 0
+    for i, k in enumerate(steps):
+        if k > done:
+            fork.step(k - done)
+            done = k
+        for m, b in enumerate(handles):
+            p = b.position
+            samples[m, i] = (p[0], p[1])
+        out_t[i] = fork.time
+    return samples, out_t
 
 
 def _member_state(state: WorldState, name: str, values: dict[str, float]) -> WorldState:

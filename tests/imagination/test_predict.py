@@ -111,6 +111,44 @@ def test_ensemble_mean_without_variation_is_the_rollout(bundled: Scenario) -> No
     assert e.mean[-1] == pytest.approx(path.positions[-1], abs=1e-9)
 
 
+def test_an_ensemble_of_one_ball_runs_its_members_together_as_they_would_in_turn() -> None:
+    """A ball alone in its scene: the members run as copies in one world (one physics step
+    per time step), and each follows the path it follows run on its own -- bounces off
+    the walls, rolling resistance, a spinning sphere's slip and all."""
+    scene = SceneSpec(
+        balls=(Ball("ball", radius=0.1, restitution=0.8, rolling_resistance=0.02,
+                    velocity=(1.5, 0.7), floor_friction=0.2),),
+        walls=(Wall("east", (2.0, -1.0), (2.0, 1.0)), Wall("west", (-2.0, 1.0), (-2.0, -1.0)),
+               Wall("north", (-2.0, 1.0), (2.0, 1.0)), Wall("south", (2.0, -1.0), (-2.0, -1.0))),
+    )
+    world = World(scene, seed=3)
+    ranges = {"restitution": (0.5, 0.9), "rolling_resistance": (0.0, 0.05),
+              "speed_scale": (0.8, 1.2), "heading_deg": (-10.0, 10.0)}
+    together = ensemble(world, 2.0, ranges, n=6, times=[0.5, 1.0, 2.0], seed=5)
+    for m in range(6):
+        drawn = {k: float(v[m]) for k, v in together.parameters.items()}
+        ball = scene.balls[0].with_parameters(restitution=drawn["restitution"],
+                                              rolling_resistance=drawn["rolling_resistance"])
+        turn = math.radians(drawn["heading_deg"])
+        vx, vy = (drawn["speed_scale"] * v for v in (1.5, 0.7))
+        alone = World(SceneSpec(walls=scene.walls, balls=(ball,)), seed=3)
+        alone.set_velocity("ball", (vx * math.cos(turn) - vy * math.sin(turn),
+                                    vx * math.sin(turn) + vy * math.cos(turn)))
+        path = rollout(alone, 2.0, times=[0.5, 1.0, 2.0])
+        assert together.samples[m] == pytest.approx(path.positions, abs=1e-9)
+    assert np.ptp(together.samples[:, -1, 0]) > 0.1  # the members do differ
+
+
+def test_an_ensemble_beside_another_ball_runs_its_members_in_turn() -> None:
+    """Members that share the scene with another moving body cannot be copies in one world
+    (every copy would push it): they run one after another, each meeting the other ball."""
+    scene = SceneSpec(balls=(Ball("ball", radius=0.1, velocity=(1.0, 0.0)),
+                             Ball("other", radius=0.1, position=(1.0, 0.0))))
+    e = ensemble(World(scene), 1.5, {"speed_scale": (0.9, 1.1)}, n=4, times=[1.5], seed=1)
+    # every member hits the other ball and stops short of where it would roll alone
+    assert np.all(e.samples[:, -1, 0] < 1.0)
+
+
 def test_ensemble_rejects_unknown_parameters() -> None:
     with pytest.raises(ImaginationError, match="cannot vary 'colour'"):
         ensemble(corridor(), 1.0, {"colour": (0.0, 1.0)})
