@@ -22,7 +22,7 @@ this matcher is that module plus the bookkeeping of a
 
 Examples
 --------
->>> from adapt.engine.production import ConditionElement, Production, Variable, Condition, EqualityTest, Variable
+>>> from adapt.engine.production import Production, Condition, EqualityTest, Variable
 >>> from adapt.engine.symbols import Identifier
 >>> from adapt.engine.wme import WME
 >>> s, x = Variable("<s>"), Variable("<x>")
