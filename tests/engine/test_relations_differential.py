@@ -88,8 +88,8 @@ def test_random_rules_are_well_formed_and_vary() -> None:
 @pytest.mark.soar
 @pytest.mark.parametrize("seed", range(1, 13))
 def test_random_relations_match_as_in_real_soar(seed: int, tmp_path: Path) -> None:
-    """The same rules fire, as often, in Soar and in adapt with either matcher (each of the
-    first four seeds failed with the readings adapt had before 2026-11-29)."""
+    """The same rules fire, as often, in Soar and in adapt with either matcher (every one of
+    these seeds failed with the readings adapt had before 2026-11-29)."""
     path = tmp_path / f"relations-{seed}.soar"
     path.write_text(random_rules(seed, 80))
     soar = run_soar(path)
