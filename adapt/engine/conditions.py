@@ -312,9 +312,15 @@ class PendingRelation:
 
     def holds(self, bound: Symbol) -> bool:
         """Whether the test holds with its variable bound to ``bound``."""
-        if self.turned:
-            return relation_holds(REVERSED[self.relation], bound, self.value)
-        return relation_holds(self.relation, self.value, bound)
+        return _reads(self.relation, self.value, bound, self.turned)
+
+
+def _reads(relation: str, value: object, other: object, turned: bool) -> bool:
+    """``value relation other`` as Soar reads it: as written, or turned round
+    (``other`` with the relation reversed against ``value``)."""
+    if turned:
+        return relation_holds(REVERSED[relation], other, value)
+    return relation_holds(relation, value, other)
 
 
 @dataclass(frozen=True, slots=True)
@@ -362,10 +368,7 @@ def _relations(test: Test | None, field: int, value: Symbol, b: Bindings,
             if isinstance(term, Variable):
                 turn = (field, k) in turned
                 if term in b:
-                    if turn:
-                        if not relation_holds(REVERSED[t.relation], b[term], value):
-                            return False
-                    elif not relation_holds(t.relation, value, b[term]):
+                    if not _reads(t.relation, value, b[term], turn):
                         return False
                 else:
                     pending.append(PendingRelation(t.relation, value, term, turn))

@@ -56,7 +56,8 @@ from adapt.engine.reorder import ConstantOrder, join_order
 from adapt.engine.rete.alpha import ANY, GOAL_TEST, AlphaKey, AlphaTest
 from adapt.engine.rete.join import JoinTest
 
-__all__ = ["ConditionSpec", "compile_condition", "order_elements", "is_positive"]
+__all__ = ["ConditionSpec", "compile_condition", "order_elements", "is_positive",
+           "relation_test"]
 
 #: Where a variable is bound: (token level, WME field).
 Site = tuple[int, int]
@@ -74,6 +75,19 @@ class ConditionSpec:
     binds: dict[Variable, int]
     #: ``(relation, field, variable, turned)`` of each relation waiting for a later binding
     deferred: tuple[tuple[str, int, Variable, bool], ...]
+
+
+def relation_test(relation: str, own: Site, other: Site, turned: bool) -> JoinTest:
+    """The join test of ``own relation other`` -- ``own`` the tested field's site, ``other``
+    the variable's (level ``-1``: the new WME) -- as written, or turned round as Soar reads
+    it (:func:`adapt.engine.conditions.turned_round`): ``other`` with the relation reversed.
+
+    >>> relation_test("<", (-1, 2), (0, 2), False), relation_test("<", (-1, 2), (0, 2), True)
+    (('<', -1, 2, 0, 2), ('>', 0, 2, -1, 2))
+    """
+    if turned:
+        return (REVERSED[relation], other[0], other[1], own[0], own[1])
+    return (relation, own[0], own[1], other[0], other[1])
 
 
 def is_positive(element: ConditionElement) -> bool:
@@ -120,9 +134,7 @@ def compile_condition(cond: Condition, bound: dict[Variable, Site],
         if not isinstance(term, Variable):
             alpha.append((relation, field, True, term))
         elif term in bound:
-            level, other = bound[term]
-            tests.append((REVERSED[relation], level, other, -1, field) if turn
-                         else (relation, -1, field, level, other))
+            tests.append(relation_test(relation, (-1, field), bound[term], turn))
         elif term in local:
             alpha.append((REVERSED[relation], local[term], False, field) if turn
                          else (relation, field, False, local[term]))

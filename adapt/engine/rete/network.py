@@ -45,12 +45,17 @@ from __future__ import annotations
 
 from typing import Sequence
 
-from adapt.engine.conditions import REVERSED, turned_round
+from adapt.engine.conditions import turned_round
 from adapt.engine.matcher import Match
 from adapt.engine.production import ConditionElement, ConjunctiveNegation, Production, Variable
 from adapt.engine.reorder import ConstantOrder
 from adapt.engine.rete.alpha import ANY, AlphaGroup, AlphaKey, AlphaMemory, AlphaTest
-from adapt.engine.rete.build import compile_condition, is_positive, order_elements
+from adapt.engine.rete.build import (
+    compile_condition,
+    is_positive,
+    order_elements,
+    relation_test,
+)
 from adapt.engine.rete.join import JoinNode, JoinTest, TwoInputNode
 from adapt.engine.rete.ncc import NccNode, NccPartner
 from adapt.engine.rete.negative import NegativeNode
@@ -307,8 +312,7 @@ class Rete:
             for var, field in spec.binds.items():
                 for relation, level, other, turn in deferred.pop(var, ()):
                     # read as Soar's reorderer puts the test back (conditions.turned_round)
-                    tests.append((REVERSED[relation], -1, field, level, other) if turn
-                                 else (relation, level, other, -1, field))
+                    tests.append(relation_test(relation, (level, other), (-1, field), turn))
             for relation, field, var, turn in spec.deferred:
                 deferred.setdefault(var, []).append((relation, depth, field, turn))
             node = self._two_input(JoinNode, node, spec.alpha_key, spec.alpha_tests,
